@@ -1,1 +1,65 @@
-int main() { return 0; }
+// rtgi-bench: the headless benchmark and main job (EGL; never links GLFW).
+#include "bench/cli.h"
+#include "bench/run.h"
+#include "bench/sweep.h"
+#include "gl/context.h"
+#include "gl/program.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+using namespace rtgi;
+
+int main(int argc, char** argv) {
+    CommandLine cl;
+    try {
+        cl = parseCommandLine(argc, argv);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return 2;
+    }
+    if (cl.help) {
+        std::printf("rtgi-bench: headless real-time GI benchmark (OpenGL 4.5+ compute through EGL)\n\n%s\n%s",
+                    commonHelp().c_str(), settingsHelp().c_str());
+        return 0;
+    }
+    if (cl.listDevices) {
+        auto devs = gl::HeadlessContext::listDevices();
+        for (std::size_t i = 0; i < devs.size(); ++i) std::printf("%zu: %s\n", i, devs[i].c_str());
+        return 0;
+    }
+    try {
+        if (!cl.sweep.empty()) return runSweepCommand(cl);
+        Scene scene = loadScenes(cl.run.scenes);
+        for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
+        nlohmann::json r = runBenchmark(ctx->info(), scene, cl.settings, cl.run);
+        std::filesystem::create_directories(cl.run.outDir);
+        std::ofstream(cl.run.outDir + "/results.json") << r.dump(2) << "\n";
+        std::ofstream csv(cl.run.outDir + "/results.csv");
+        csv << resultsCsvHeader() << "\n";
+        for (auto& row : resultsCsvRows(r)) csv << row << "\n";
+        std::cout << formatTimingTable(r);
+        std::cout << "  wrote " << cl.run.outDir << "/results.json, results.csv"
+                  << (cl.run.writeImages ? ", final.png, final.pfm and debug images" : "") << "\n";
+        if (cl.run.check && r["check"]["non_finite"].get<std::uint64_t>() > 0) {
+            std::fprintf(stderr, "rtgi-bench: --check found non-finite values (see results.json \"check\")\n");
+            return 5;
+        }
+        return 0;
+    } catch (const SceneError& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return 3;
+    } catch (const ConfigError& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return 2;
+    } catch (const gl::ShaderError& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return 4;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return 4;
+    }
+}

@@ -1,0 +1,19 @@
+// Frame constants and the conventions every pass shares.
+#pragma once
+#include "lib/shared.h"
+
+layout(std140, binding = RTGI_UBO_FRAME) uniform FrameBlock { FrameUniforms frame; };
+
+const float PI = 3.14159265358979323846;
+const float INV_PI = 0.31830988618379067154;
+
+ivec2 frameSize() { return frame.size.xy; }
+bool cameraCut() { return frame.size.w != 0; }
+uint frameIndex() { return uint(frame.size.z); }
+
+// Linear algebra on the frame's matrices.
+vec3 viewToWorldPoint(vec3 p) { return (frame.invView * vec4(p, 1.0)).xyz; }
+vec3 viewToWorldDir(vec3 d) { return mat3(frame.invView) * d; }
+vec3 worldToViewDir(vec3 d) { return mat3(frame.view) * d; }
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }

@@ -1,0 +1,69 @@
+// Structs and binding indices shared by C++ and GLSL (std140 / std430).
+// C++ includes this through src/render/gpu_types.h, which static_asserts the
+// sizes; GLSL includes it as "lib/shared.h" (RTGI_GLSL is defined there).
+#ifndef RTGI_SHARED_H
+#define RTGI_SHARED_H
+
+#ifdef RTGI_GLSL
+#define RTGI_STRUCT(name) struct name
+#else
+#define RTGI_STRUCT(name) struct alignas(16) name
+namespace rtgi::gpu {
+using mat4 = glm::mat4;
+using vec4 = glm::vec4;
+using ivec4 = glm::ivec4;
+using uvec4 = glm::uvec4;
+using uint = std::uint32_t;
+#endif
+
+// ---- binding points used by every pass --------------------------------------
+#define RTGI_UBO_FRAME 0        // FrameUniforms
+#define RTGI_SSBO_MATERIALS 1   // GpuMaterial[]
+#define RTGI_SSBO_LIGHTS 2      // GpuLight[]
+#define RTGI_TEX_MATERIALS 0    // sampler2DArray of base-colour textures (raster passes)
+#define RTGI_ATTR_POSITION 0
+#define RTGI_ATTR_NORMAL 1
+#define RTGI_ATTR_UV 2
+#define RTGI_ATTR_MATERIAL 3
+
+// Per-frame camera and lighting constants (std140).
+RTGI_STRUCT(FrameUniforms) {
+    mat4 view;
+    mat4 proj;
+    mat4 viewProj;
+    mat4 invView;
+    mat4 invProj;
+    mat4 prevViewProj;
+    mat4 prevView;
+    mat4 shadowViewProj;  // world -> shadow clip (light's orthographic frustum)
+    vec4 cameraPos;       // xyz world position, w = 1
+    vec4 sunDirection;    // xyz: unit vector towards the sun (world), w = 1 when a sun exists
+    vec4 sunIrradiance;   // rgb: E⊥ of the sun (colour × intensity), a = shadow bias (world units)
+    vec4 sky;             // rgb: constant sky radiance; a = exposure
+    vec4 projParams;      // near, far, tan(fovY/2), aspect
+    ivec4 size;           // width, height, frame index, camera cut (1) or not (0)
+    ivec4 counts;         // number of punctual (point/spot) lights, material count, flags, unused
+};
+
+// Material table (std430): index stored per vertex.
+RTGI_STRUCT(GpuMaterial) {
+    vec4 baseColor;  // linear rgb, a = alpha
+    vec4 emissive;   // rgb radiance, a unused
+    vec4 params;     // x roughness, y metallic, z texture layer (-1 none), w unused
+};
+
+// Point / spot lights (std430). Directional lights live in FrameUniforms.
+RTGI_STRUCT(GpuLight) {
+    vec4 positionRange;   // xyz world position, w range (0 = infinite)
+    vec4 colorIntensity;  // rgb colour × intensity (W/sr)
+    vec4 directionType;   // xyz direction the light travels, w: 1 point, 2 spot
+    vec4 cone;            // cos(inner), cos(outer)
+};
+
+#define RTGI_LIGHT_POINT 1
+#define RTGI_LIGHT_SPOT 2
+
+#ifndef RTGI_GLSL
+}  // namespace rtgi::gpu
+#endif
+#endif

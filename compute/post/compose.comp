@@ -1,0 +1,37 @@
+// Composition and tonemapping:
+//   hdr = direct + diffuseAlbedo·sky·AO + indirectDiffuse·AO' + specular
+// AO' = AO unless the LPV apply already used directional occlusion
+// (bent normals / S3HO), so occlusion is never applied twice.
+#include "lib/common.glsl"
+#include "lib/brdf.glsl"
+#include "lib/tonemap.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = 0) uniform sampler2D uDirect;
+layout(binding = 1) uniform sampler2D uAlbedo;
+layout(binding = 2) uniform sampler2D uMaterial;
+layout(binding = 3) uniform sampler2D uIndirect;
+layout(binding = 4) uniform sampler2D uSpecular;
+layout(binding = 5) uniform sampler2D uAo;
+layout(rgba32f, binding = 0) uniform writeonly image2D uHdr;
+layout(rgba8, binding = 1) uniform writeonly image2D uLdr;
+
+layout(location = 0) uniform ivec4 uHave;  // indirect, specular, ao, ao already applied to indirect
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, frameSize()))) return;
+    vec4 direct = texelFetch(uDirect, p, 0);
+    vec3 color = direct.rgb;
+    if (direct.a > 0.0) {  // geometry (a = 0 marks sky)
+        vec3 albedo = texelFetch(uAlbedo, p, 0).rgb;
+        float metallic = texelFetch(uMaterial, p, 0).g;
+        float ao = uHave.z != 0 ? clamp(texelFetch(uAo, p, 0).r, 0.0, 1.0) : 1.0;
+        color += diffuseAlbedo(albedo, metallic) * frame.sky.rgb * ao;
+        if (uHave.x != 0) color += texelFetch(uIndirect, p, 0).rgb * (uHave.w != 0 ? 1.0 : ao);
+        if (uHave.y != 0) color += texelFetch(uSpecular, p, 0).rgb;
+    }
+    imageStore(uHdr, p, vec4(color, 1.0));
+    imageStore(uLdr, p, vec4(tonemap(color, frame.sky.a), 1.0));
+}

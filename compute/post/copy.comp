@@ -1,0 +1,9 @@
+// Copies a texture into an image of the same size (frame history).
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D uSource;
+layout(rgba16f, binding = 0) uniform writeonly image2D uTarget;
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, imageSize(uTarget)))) return;
+    imageStore(uTarget, p, texelFetch(uSource, p, 0));
+}

@@ -1,0 +1,74 @@
+// Direct lighting: sun (shadow-mapped, 3x3 PCF), point/spot lights
+// (unshadowed), emission; sky radiance where no geometry was rasterized.
+#include "lib/common.glsl"
+#include "lib/depth.glsl"
+#include "lib/brdf.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = 0) uniform sampler2D uLinearDepth;
+layout(binding = 1) uniform sampler2D uNormal;
+layout(binding = 2) uniform sampler2D uAlbedo;
+layout(binding = 3) uniform sampler2D uMaterial;
+layout(binding = 4) uniform sampler2D uEmissive;
+layout(binding = 5) uniform sampler2DShadow uShadowMap;
+layout(rgba16f, binding = 0) uniform writeonly image2D uDirect;
+
+layout(location = 0) uniform int uHasShadowMap;
+
+layout(std430, binding = RTGI_SSBO_LIGHTS) readonly buffer LightBlock { GpuLight lights[]; };
+
+float sunVisibility(vec3 worldPos, vec3 worldNormal) {
+    if (uHasShadowMap == 0) return 1.0;
+    // Normal offset against acne; bias in world units from the frame block.
+    vec3 p = worldPos + worldNormal * frame.sunIrradiance.a;
+    vec4 c = frame.shadowViewProj * vec4(p, 1.0);
+    vec3 s = c.xyz / c.w * 0.5 + 0.5;
+    if (any(lessThan(s, vec3(0.0))) || any(greaterThan(s, vec3(1.0)))) return 1.0;
+    vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0));
+    float v = 0.0;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) v += texture(uShadowMap, vec3(s.xy + vec2(x, y) * texel, s.z));
+    return v / 9.0;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, frameSize()))) return;
+    float d = texelFetch(uLinearDepth, p, 0).r;
+    if (isSky(d)) {
+        imageStore(uDirect, p, vec4(frame.sky.rgb, 0.0));
+        return;
+    }
+    vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
+    vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
+    vec3 wp = viewToWorldPoint(vp);
+    vec3 n = viewToWorldDir(texelFetch(uNormal, p, 0).xyz);
+    float nl = length(n);
+    n = nl > 0.0 ? n / nl : vec3(0.0, 1.0, 0.0);
+    vec3 v = normalize(frame.cameraPos.xyz - wp);
+    vec3 albedo = texelFetch(uAlbedo, p, 0).rgb;
+    vec2 rm = texelFetch(uMaterial, p, 0).rg;
+    vec3 radiance = texelFetch(uEmissive, p, 0).rgb;
+    if (frame.sunDirection.w > 0.0) {
+        vec3 l = frame.sunDirection.xyz;
+        radiance += evalBrdfCos(n, v, l, albedo, rm.x, rm.y) * frame.sunIrradiance.rgb * sunVisibility(wp, n);
+    }
+    for (int i = 0; i < frame.counts.x; ++i) {
+        GpuLight L = lights[i];
+        vec3 toL = L.positionRange.xyz - wp;
+        float dist2 = max(dot(toL, toL), 1e-8);
+        vec3 l = toL * inversesqrt(dist2);
+        float atten = 1.0 / dist2;
+        if (L.positionRange.w > 0.0) {  // KHR_lights_punctual range window
+            float r = sqrt(dist2) / L.positionRange.w;
+            atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
+        }
+        if (int(L.directionType.w) == RTGI_LIGHT_SPOT) {
+            float cd = dot(-l, normalize(L.directionType.xyz));
+            atten *= smoothstep(L.cone.y, L.cone.x, cd);
+        }
+        radiance += evalBrdfCos(n, v, l, albedo, rm.x, rm.y) * L.colorIntensity.rgb * atten;
+    }
+    imageStore(uDirect, p, vec4(radiance, 1.0));
+}

@@ -1,0 +1,33 @@
+// Vertex stage of every scene rasterization (G-buffer, shadow map, RSM).
+// RTGI_VP_UNIFORM selects a light's view-projection instead of the camera's.
+#include "lib/common.glsl"
+
+layout(location = RTGI_ATTR_POSITION) in vec3 inPosition;
+layout(location = RTGI_ATTR_NORMAL) in vec3 inNormal;
+layout(location = RTGI_ATTR_UV) in vec2 inUv;
+layout(location = RTGI_ATTR_MATERIAL) in uint inMaterial;
+
+layout(location = 0) uniform mat4 uLightViewProj;  // used by shadow/RSM variants
+
+layout(location = 0) out vec3 vWorldPos;
+layout(location = 1) out vec3 vNormal;
+layout(location = 2) out vec2 vUv;
+layout(location = 3) flat out uint vMaterial;
+layout(location = 4) out vec4 vCurClip;
+layout(location = 5) out vec4 vPrevClip;
+
+void main() {
+    vWorldPos = inPosition;  // the scene is flattened to world space
+    vNormal = inNormal;
+    vUv = inUv;
+    vMaterial = inMaterial;
+#ifdef RTGI_LIGHT_VIEW
+    gl_Position = uLightViewProj * vec4(inPosition, 1.0);
+    vCurClip = gl_Position;
+    vPrevClip = gl_Position;
+#else
+    gl_Position = frame.viewProj * vec4(inPosition, 1.0);
+    vCurClip = gl_Position;
+    vPrevClip = frame.prevViewProj * vec4(inPosition, 1.0);
+#endif
+}

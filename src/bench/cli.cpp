@@ -1,0 +1,110 @@
+#include "bench/cli.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace rtgi {
+
+namespace {
+int toInt(const std::string& opt, const std::string& v, int lo, int hi) {
+    char* end = nullptr;
+    long x = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end || x < lo || x > hi)
+        throw ConfigError(opt + " '" + v + "': expected an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+    return int(x);
+}
+}  // namespace
+
+CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<std::string, bool>>& hostOptions) {
+    CommandLine c;
+    std::vector<std::string> sets;
+    std::vector<std::string> configs;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw ConfigError(a + ": missing value");
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") c.help = true;
+        else if (a == "--scene") {
+            if (!c.scenesGiven) c.run.scenes.clear();
+            c.scenesGiven = true;
+            c.run.scenes.push_back(value());
+        } else if (a == "--res") {
+            std::string v = value();
+            auto x = v.find('x');
+            if (x == std::string::npos) throw ConfigError("--res '" + v + "': expected WxH, e.g. 1920x1080");
+            c.run.resolution = {toInt("--res", v.substr(0, x), 1, 16384), toInt("--res", v.substr(x + 1), 1, 16384)};
+        } else if (a == "--frames") c.run.frames = toInt(a, value(), 1, 1000000);
+        else if (a == "--warmup") c.run.warmup = toInt(a, value(), 0, 1000000);
+        else if (a == "--device") c.device = toInt(a, value(), 0, 64);
+        else if (a == "--out") c.run.outDir = value();
+        else if (a == "--set") sets.push_back(value());
+        else if (a == "--config") configs.push_back(value());
+        else if (a == "--sweep") c.sweep = value();
+        else if (a == "--shard") {
+            std::string v = value();
+            auto s = v.find('/');
+            if (s == std::string::npos) throw ConfigError("--shard '" + v + "': expected i/n, e.g. 0/4");
+            c.shardIndex = toInt("--shard", v.substr(0, s), 0, 1 << 20);
+            c.shardCount = toInt("--shard", v.substr(s + 1), 1, 1 << 20);
+            if (c.shardIndex >= c.shardCount) throw ConfigError("--shard '" + v + "': i must be below n");
+        } else if (a == "--check") c.run.check = true;
+        else if (a == "--debug") c.debug = true;
+        else if (a == "--no-images") c.run.writeImages = false;
+        else if (a == "--list-devices") c.listDevices = true;
+        else {
+            bool handled = false;
+            for (auto& [name, takesValue] : hostOptions)
+                if (a == name) {
+                    c.extra.push_back(a);
+                    if (takesValue) c.extra.push_back(value());
+                    handled = true;
+                }
+            if (!handled) throw ConfigError("unknown option '" + a + "' (see --help)");
+        }
+    }
+    // --config files first, then --set in order: the command line wins.
+    for (auto& f : configs) {
+        std::ifstream in(f);
+        if (!in) throw ConfigError("--config " + f + ": cannot open the file");
+        std::stringstream ss;
+        ss << in.rdbuf();
+        applyJsonConfig(c.settings, ss.str(), f);
+    }
+    for (auto& s : sets) applyAssignment(c.settings, s);
+    return c;
+}
+
+std::string commonHelp() {
+    return R"(Options:
+  --scene builtin:NAME|PATH.gltf|PATH.glb   scene (repeatable: merged; a model on builtin:plane stands on it)
+                           built-ins: cornell atrium restaurant plane corner box-on-plane sphere-on-plane
+  --res WxH                resolution (default 1280x720)
+  --frames N               measured frames (default 100)
+  --warmup N               warm-up frames before measuring (default 20)
+  --device N               EGL device index (default: NVIDIA if present, else Mesa)
+  --out DIR                output directory for images and results (default out)
+  --set key=value          configuration (repeatable; see the keys below)
+  --config FILE.json       configuration file (keys as below, nested objects allowed)
+  --sweep FILE.json        run every configuration of a sweep
+  --shard i/n              run only the i-th of n parts of a sweep
+  --check                  count NaN/Inf/negative/fp16-saturated values in every pass output
+  --no-images              do not write images
+  --debug                  KHR_debug output
+  --list-devices           list EGL devices and exit
+  --help                   this text
+)";
+}
+
+std::string settingsHelp() {
+    std::string s = "Configuration keys (--set key=value):\n";
+    for (auto& k : settingKeys()) {
+        std::string line = "  " + k.key;
+        if (line.size() < 26) line.resize(26, ' ');
+        s += line + " " + k.values + "  " + k.doc + "\n";
+    }
+    return s;
+}
+
+}  // namespace rtgi

@@ -1,0 +1,30 @@
+#pragma once
+// Command-line options shared by rtgi-bench and rtgi-view (SPEC section 12).
+#include "bench/run.h"
+
+#include <string>
+#include <vector>
+
+namespace rtgi {
+
+struct CommandLine {
+    RunOptions run;
+    Settings settings;
+    int device = -1;
+    bool debug = false;
+    bool help = false;
+    bool listDevices = false;
+    std::string sweep;    // --sweep FILE.json
+    int shardIndex = 0, shardCount = 1;
+    bool scenesGiven = false;
+    std::vector<std::string> extra;  // host-specific options left for the caller
+};
+
+// Parses argv; throws ConfigError naming the option on bad input. Options a
+// host handles itself are returned in `extra` when listed in hostOptions
+// (name -> takes a value).
+CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<std::string, bool>>& hostOptions = {});
+std::string commonHelp();
+std::string settingsHelp();
+
+}  // namespace rtgi

@@ -1,0 +1,217 @@
+#include "bench/run.h"
+
+#include "gl/image_io.h"
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace rtgi {
+
+Scene loadScenes(const std::vector<std::string>& specs) {
+    if (specs.empty()) throw SceneError("--scene: no scene given");
+    std::vector<Scene> floors, models;
+    for (auto& s : specs) {
+        Scene sc = loadSceneSpec(s);
+        bool isFloor = s == "builtin:plane";
+        (isFloor && specs.size() > 1 ? floors : models).push_back(std::move(sc));
+    }
+    Scene merged;
+    for (auto& m : models) merged.merge(m);
+    if (floors.empty()) return merged;
+
+    Aabb mb = merged.bounds();
+    glm::vec3 shift(-mb.center().x, -mb.lo.y, -mb.center().z);
+    for (auto& v : merged.vertices) v.position += shift;
+    for (auto& l : merged.lights) l.position += shift;
+    for (auto& c : merged.cameras) {
+        c.position += shift;
+        c.target += shift;
+    }
+    float footprint = std::max(mb.extent().x, mb.extent().z);
+    Scene out;
+    for (auto& f : floors) {
+        Aabb fb = f.bounds();
+        float fext = std::max(fb.extent().x, fb.extent().z);
+        float scale = fext > 0 ? 10.0f * footprint / fext : 1.0f;
+        for (auto& v : f.vertices) v.position = glm::vec3(v.position.x * scale, v.position.y, v.position.z * scale);
+        f.cameras.clear();  // the floor's camera does not frame the model
+        out.merge(f);
+    }
+    Scene framed = merged;
+    out.merge(merged);
+    if (merged.cameras.empty()) {
+        out.cameras.insert(out.cameras.begin(), defaultCamera(framed));
+    }
+    std::string name;
+    for (auto& s : specs) name += (name.empty() ? "" : "+") + s;
+    out.name = name;
+    return out;
+}
+
+namespace {
+
+nlohmann::json stats(const gl::TimingStats& s) {
+    return {{"median", s.median}, {"min", s.min}, {"max", s.max}, {"mean", s.mean}};
+}
+
+void writeTexture(const std::string& dir, const std::string& name, const gl::Texture& tex, float scale = 1.0f,
+                  bool srgb = true) {
+    if (!tex) return;
+    FloatImage img = readTexture(tex);
+    writePng(dir + "/" + name + ".png", img, scale, srgb);
+}
+
+}  // namespace
+
+nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, const Settings& settings,
+                            const RunOptions& opts) {
+    gl::Profiler profiler(info.timerQuery);
+    Renderer renderer(scene, settings, profiler);
+    renderer.setCheck(opts.check);
+    Camera cam = resolveCamera(scene, settings);
+    View prev;
+    int total = opts.warmup + opts.frames;
+    for (int f = 0; f < total; ++f) {
+        profiler.setMeasuring(f >= opts.warmup);
+        View v = makeView(cam, opts.resolution, f == 0 ? nullptr : &prev, unsigned(f));
+        renderer.render(v);
+        prev = v;
+    }
+    profiler.flush();
+
+    nlohmann::json r;
+    r["device"] = info.renderer;
+    r["driver"] = info.version;
+    r["vendor"] = info.vendor;
+    r["gl_version"] = std::to_string(info.major) + "." + std::to_string(info.minor);
+    r["egl_device"] = info.device;
+    r["timer"] = profiler.timer();
+    r["scene"] = scene.name;
+    r["triangles"] = scene.triangleCount();
+    r["resolution"] = std::to_string(opts.resolution.x) + "x" + std::to_string(opts.resolution.y);
+    r["frames"] = opts.frames;
+    r["warmup"] = opts.warmup;
+    nlohmann::json cfg = nlohmann::json::object();
+    for (auto& [k, v] : describe(settings)) cfg[k] = v;
+    r["config"] = cfg;
+    r["camera"] = {{"position", {cam.position.x, cam.position.y, cam.position.z}},
+                   {"target", {cam.target.x, cam.target.y, cam.target.z}},
+                   {"fov", glm::degrees(cam.fovY)}, {"near", cam.near}, {"far", cam.far}};
+    nlohmann::json passes = nlohmann::json::array();
+    double totalMs = 0;
+    for (auto& t : profiler.results()) {
+        if (t.name == "frame") {
+            totalMs = t.ms.median;
+            continue;
+        }
+        passes.push_back({{"name", t.name}, {"gpu_ms", stats(t.ms)}, {"dispatches", t.dispatchesPerFrame}});
+    }
+    r["passes"] = passes;
+    nlohmann::json skipped = nlohmann::json::array();
+    for (auto& s : renderer.skipped()) skipped.push_back({{"name", s.name}, {"reason", s.reason}});
+    r["skipped"] = skipped;
+    r["total_ms"] = totalMs;
+    nlohmann::json mem = {{"total", renderer.ledger().total()}};
+    nlohmann::json per = nlohmann::json::object();
+    for (auto& [k, v] : renderer.ledger().entries()) per[k] = v;
+    mem["resources"] = per;
+    r["memory_bytes"] = mem;
+    nlohmann::json st = nlohmann::json::object();
+    for (auto& p : renderer.passes())
+        for (auto& [k, v] : p->stats()) st[p->name() + "." + k] = v;
+    if (!st.empty()) r["stats"] = st;
+    if (!scene.warnings.empty()) r["warnings"] = scene.warnings;
+    if (opts.check) {
+        nlohmann::json fc = nlohmann::json::array();
+        std::uint64_t bad = 0;
+        for (auto& c : renderer.finiteCounts()) {
+            fc.push_back({{"pass", c.pass}, {"output", c.resource}, {"nan", c.nan}, {"inf", c.inf},
+                          {"negative", c.negative}, {"fp16_saturated", c.fp16Saturated}});
+            bad += c.nan + c.inf;
+        }
+        r["check"] = {{"outputs", fc}, {"non_finite", bad}};
+    }
+
+    if (opts.writeImages) {
+        std::filesystem::create_directories(opts.outDir);
+        FrameResources& res = renderer.resources();
+        writeTexture(opts.outDir, "final", res.ldr, 1.0f, false);
+        if (res.hdr) writePfm(opts.outDir + "/final.pfm", readTexture(res.hdr));
+        writeTexture(opts.outDir, "gbuffer.albedo", res.gbuffer.albedo, 1.0f, true);
+        {
+            FloatImage n = readTexture(res.gbuffer.normal);
+            for (std::size_t i = 0; i < n.data.size(); i += 4)
+                for (int c = 0; c < 3; ++c) n.data[i + std::size_t(c)] = n.data[i + std::size_t(c)] * 0.5f + 0.5f;
+            writePng(opts.outDir + "/gbuffer.normal.png", n);
+            FloatImage d = readTexture(res.gbuffer.linearDepth);
+            float far = 0;
+            for (std::size_t i = 0; i < d.data.size(); i += 4) far = std::max(far, d.data[i]);
+            for (std::size_t i = 0; i < d.data.size(); i += 4)
+                d.data[i + 1] = d.data[i + 2] = d.data[i] = far > 0 ? d.data[i] / far : 0;
+            writePng(opts.outDir + "/gbuffer.depth.png", d);
+        }
+        writeTexture(opts.outDir, "direct", res.direct, settings.post.exposure, true);
+        writeTexture(opts.outDir, "indirect", res.indirectDiffuse, settings.post.exposure, true);
+        writeTexture(opts.outDir, "specular", res.specular, settings.post.exposure, true);
+        writeTexture(opts.outDir, "ao", res.ao, 1.0f, false);
+        for (auto& p : renderer.passes())
+            for (auto& d : p->debugImages())
+                if (d.tex && *d.tex) writeTexture(opts.outDir, d.name, *d.tex, d.scale, false);
+        r["images"] = opts.outDir;
+    }
+    return r;
+}
+
+std::string resultsCsvHeader() {
+    return "scene,resolution,timer,device,config,pass,median_ms,min_ms,max_ms,mean_ms,dispatches,total_ms,memory_bytes";
+}
+
+std::vector<std::string> resultsCsvRows(const nlohmann::json& r) {
+    std::string cfg;
+    for (auto& [k, v] : r["config"].items()) cfg += (cfg.empty() ? "" : ";") + k + "=" + v.get<std::string>();
+    auto q = [](std::string s) {
+        std::string o = "\"";
+        for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+        return o + "\"";
+    };
+    std::vector<std::string> rows;
+    for (auto& p : r["passes"]) {
+        std::ostringstream o;
+        o << q(r["scene"]) << "," << r["resolution"].get<std::string>() << "," << r["timer"].get<std::string>() << ","
+          << q(r["device"]) << "," << q(cfg) << "," << p["name"].get<std::string>() << "," << p["gpu_ms"]["median"]
+          << "," << p["gpu_ms"]["min"] << "," << p["gpu_ms"]["max"] << "," << p["gpu_ms"]["mean"] << ","
+          << p["dispatches"] << "," << r["total_ms"] << "," << r["memory_bytes"]["total"];
+        rows.push_back(o.str());
+    }
+    return rows;
+}
+
+std::string formatTimingTable(const nlohmann::json& r) {
+    std::ostringstream o;
+    o << "rtgi-bench: " << r["scene"].get<std::string>() << " at " << r["resolution"].get<std::string>() << ", "
+      << r["frames"] << " frames after " << r["warmup"] << " warm-up, timer=" << r["timer"].get<std::string>();
+    if (r["timer"] == "cpu") o << " (no GPU timer queries: glFinish + CPU clock per pass)";
+    o << "\n  device: " << r["device"].get<std::string>() << " | " << r["driver"].get<std::string>() << "\n";
+    o << std::left << std::setw(26) << "  pass" << std::right << std::setw(11) << "median ms" << std::setw(10)
+      << "min" << std::setw(10) << "max" << std::setw(10) << "mean" << std::setw(12) << "dispatches" << "\n";
+    o << std::fixed;
+    for (auto& p : r["passes"]) {
+        o << "  " << std::left << std::setw(24) << p["name"].get<std::string>() << std::right << std::setprecision(4)
+          << std::setw(11) << p["gpu_ms"]["median"].get<double>() << std::setw(10) << p["gpu_ms"]["min"].get<double>()
+          << std::setw(10) << p["gpu_ms"]["max"].get<double>() << std::setw(10) << p["gpu_ms"]["mean"].get<double>()
+          << std::setprecision(1) << std::setw(12) << p["dispatches"].get<double>() << "\n";
+    }
+    o << "  " << std::left << std::setw(24) << "frame (total)" << std::right << std::setprecision(4) << std::setw(11)
+      << r["total_ms"].get<double>() << "\n";
+    for (auto& s : r["skipped"]) o << "  skipped " << s["name"].get<std::string>() << ": " << s["reason"].get<std::string>() << "\n";
+    o << "  GPU memory: " << std::setprecision(2) << r["memory_bytes"]["total"].get<double>() / (1024.0 * 1024.0)
+      << " MiB\n";
+    return o.str();
+}
+
+}  // namespace rtgi

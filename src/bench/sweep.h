@@ -1,0 +1,7 @@
+#pragma once
+// Sweeps (--sweep FILE.json): many configurations in one process.
+#include "bench/cli.h"
+
+namespace rtgi {
+int runSweepCommand(const CommandLine& cl);
+}  // namespace rtgi

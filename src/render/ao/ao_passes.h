@@ -1,0 +1,13 @@
+#pragma once
+// Screen-space AO family (seed 003 sections 3-5, seed 000 sections 4, 5.3; SPEC 4, 6).
+#include "render/pass.h"
+
+#include <memory>
+#include <vector>
+
+namespace rtgi {
+// ao.<variant>, ao.blur, ao.temporal, ao.upsample, ... (before LPV apply).
+void appendAoPasses(std::vector<std::unique_ptr<Pass>>& frame);
+// ao.nearfield (after LPV apply: adds into res.indirectDiffuse).
+void appendNearFieldPasses(std::vector<std::unique_ptr<Pass>>& frame);
+}  // namespace rtgi

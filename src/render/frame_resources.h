@@ -1,0 +1,47 @@
+#pragma once
+// Resources shared between passes (a typed blackboard, no string lookups).
+// The pass that produces a resource allocates it in its execute() through
+// Texture::ensure (so a pass that is not in the frame allocates nothing);
+// consumers test it (`if (res.ao)`) or declare it in reads() so the frame
+// checks the order when it is built.
+#include "gl/resources.h"
+
+#include <glm/glm.hpp>
+
+namespace rtgi {
+
+struct GBuffer {
+    gl::Texture depth;       // D32F, rasterizer depth
+    gl::Texture linearDepth; // R32F, positive view-space distance along -z (0 = sky)
+    gl::Texture normal;      // RGBA16F, view-space unit normal (xyz), a = 1 for geometry
+    gl::Texture albedo;      // RGBA8, linear base colour
+    gl::Texture material;    // RGBA8, r roughness, g metallic
+    gl::Texture emissive;    // R11F_G11F_B10F, emitted radiance
+    gl::Texture velocity;    // RG16F, previous − current projected position in UV
+};
+
+struct FrameResources {
+    GBuffer gbuffer;
+
+    // shadow (sun)
+    gl::Texture shadowMap;     // D32F
+    glm::mat4 shadowViewProj{1.0f};
+
+    // lighting
+    gl::Texture direct;           // RGBA16F, direct sun/punctual + emissive radiance
+    gl::Texture indirectDiffuse;  // RGBA16F, outgoing indirect diffuse radiance (LPV, near-field)
+    gl::Texture specular;         // RGBA16F, indirect specular radiance (LPV specular, SSR)
+    gl::Texture ao;               // R16F full resolution, final filtered AO (1 = unoccluded)
+    gl::Texture bentNormal;       // RGBA16F view-space bent normal (xyz) + AO (w), or empty
+    gl::Texture s3ho;             // RGBA16F SH visibility (band 0-1), or empty
+    gl::Texture specularOcclusion;// R16F SSR confidence (1 = hit), or empty
+
+    // output
+    gl::Texture hdr;       // RGBA16F composed radiance
+    gl::Texture ldr;       // RGBA8 tonemapped, sRGB-encoded
+    gl::Texture history;   // RGBA16F previous frame's hdr (only when a pass reads it)
+    gl::Texture diffuseHistory;  // RGBA16F previous frame's diffuse-only radiance (ssr.diffuse_history)
+    bool historyValid = false;
+};
+
+}  // namespace rtgi

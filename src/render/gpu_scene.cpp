@@ -1,0 +1,201 @@
+#include "render/gpu_scene.h"
+
+#include "gl/embedded.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace rtgi {
+
+std::optional<Sun> resolveSun(const Scene& scene, const Settings& s) {
+    const Light* l = scene.sun();
+    if (!l && !s.light.sunIrradiance) return std::nullopt;
+    Sun sun;
+    glm::vec3 color = l ? l->color : glm::vec3(1.0f);
+    float e = s.light.sunIrradiance ? *s.light.sunIrradiance : (l ? l->intensity : 0.0f);
+    sun.irradiance = color * e * s.light.sunScale;
+    glm::vec3 toward = l ? -l->direction : glm::vec3(0.3f, 1.0f, 0.2f);
+    if (s.light.sunDirection) toward = *s.light.sunDirection;
+    float len = glm::length(toward);
+    sun.towardSun = len > 0 ? toward / len : glm::vec3(0, 1, 0);
+    return sun;
+}
+
+glm::vec3 resolveSky(const Scene& scene, const Settings& s) {
+    return s.light.sky ? glm::vec3(*s.light.sky) : scene.sky;
+}
+
+Camera resolveCamera(const Scene& scene, const Settings& s) {
+    Camera c = scene.cameras.empty() ? defaultCamera(scene) : scene.cameras.front();
+    if (!s.camera.view.empty()) {
+        // benchmarks/views/<scene>.json: {"views": {"name": {"position": [..], "target": [..], "fov": deg}}}
+        std::string sceneKey = scene.name;
+        if (sceneKey.rfind("builtin:", 0) == 0) sceneKey = sceneKey.substr(8);
+        for (char& ch : sceneKey)
+            if (ch == '/' || ch == '+' || ch == ':') ch = '_';
+        bool found = false;
+        for (int i = 0; i < kEmbeddedFileCount && !found; ++i) {
+            std::string path = kEmbeddedFiles[i].path;
+            if (path.rfind("benchmarks/views/", 0) != 0) continue;
+            auto j = nlohmann::json::parse(kEmbeddedFiles[i].text, nullptr, false);
+            if (j.is_discarded() || !j.contains("views")) continue;
+            std::string fileScene = j.value("scene", "");
+            if (!fileScene.empty() && sceneKey.find(fileScene) == std::string::npos) continue;
+            if (!j["views"].contains(s.camera.view)) continue;
+            auto v = j["views"][s.camera.view];
+            auto vec = [](const nlohmann::json& a) { return glm::vec3(a[0].get<float>(), a[1].get<float>(), a[2].get<float>()); };
+            c.position = vec(v["position"]);
+            c.target = vec(v["target"]);
+            if (v.contains("fov")) c.fovY = glm::radians(v["fov"].get<float>());
+            c.name = s.camera.view;
+            found = true;
+        }
+        if (!found)
+            throw ConfigError("setting 'view': no view named '" + s.camera.view + "' for scene " + scene.name +
+                              " in benchmarks/views/");
+    }
+    if (s.camera.position) c.position = *s.camera.position;
+    if (s.camera.target) c.target = *s.camera.target;
+    if (s.camera.fovDeg) c.fovY = glm::radians(*s.camera.fovDeg);
+    if (s.camera.nearPlane) c.near = *s.camera.nearPlane;
+    if (s.camera.farPlane) c.far = *s.camera.farPlane;
+    if (!(c.far > c.near)) throw ConfigError("camera: far plane must lie beyond the near plane");
+    if (glm::length(c.target - c.position) <= 0.0f)
+        throw ConfigError("camera: position and target coincide");
+    return c;
+}
+
+std::vector<Material> resolveMaterials(const Scene& scene, const Settings& s) {
+    std::vector<Material> mats = scene.materials;
+    for (auto& m : mats) m.emissive *= s.light.emissiveScale;
+    if (s.floorRoughness && !scene.draws.empty()) {
+        // The material of the lowest upward-facing triangle is the floor.
+        float lowest = 1e30f;
+        int floorMat = -1;
+        for (auto& d : scene.draws)
+            for (std::uint32_t t = 0; t < d.indexCount; t += 3) {
+                const Vertex& a = scene.vertices[scene.indices[d.firstIndex + t]];
+                if (a.normal.y > 0.9f && a.position.y < lowest) {
+                    lowest = a.position.y;
+                    floorMat = d.material;
+                }
+            }
+        if (floorMat >= 0) mats[std::size_t(floorMat)].roughness = *s.floorRoughness;
+    }
+    return mats;
+}
+
+namespace {
+
+// Bilinear resample of an RGBA8 image to size x size (for the texture array).
+std::vector<std::uint8_t> resample(const Image& img, int size) {
+    std::vector<std::uint8_t> out(std::size_t(size * size * 4));
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            float fx = (x + 0.5f) * img.width / size - 0.5f, fy = (y + 0.5f) * img.height / size - 0.5f;
+            int x0 = std::clamp(int(std::floor(fx)), 0, img.width - 1), y0 = std::clamp(int(std::floor(fy)), 0, img.height - 1);
+            int x1 = std::min(x0 + 1, img.width - 1), y1 = std::min(y0 + 1, img.height - 1);
+            float tx = std::clamp(fx - x0, 0.0f, 1.0f), ty = std::clamp(fy - y0, 0.0f, 1.0f);
+            for (int c = 0; c < 4; ++c) {
+                auto at = [&](int xx, int yy) { return float(img.rgba[std::size_t((yy * img.width + xx) * 4 + c)]); };
+                float v = (at(x0, y0) * (1 - tx) + at(x1, y0) * tx) * (1 - ty) + (at(x0, y1) * (1 - tx) + at(x1, y1) * tx) * ty;
+                out[std::size_t((y * size + x) * 4 + c)] = std::uint8_t(std::clamp(v + 0.5f, 0.0f, 255.0f));
+            }
+        }
+    return out;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings) {
+    std::vector<GpuVertex> verts(scene.vertices.size());
+    for (std::size_t i = 0; i < verts.size(); ++i) {
+        const Vertex& v = scene.vertices[i];
+        verts[i] = {{v.position.x, v.position.y, v.position.z}, {v.normal.x, v.normal.y, v.normal.z}, {v.uv.x, v.uv.y}, 0};
+    }
+    // Vertices are never shared between primitives (the loaders flatten each
+    // primitive into its own range), so the material can live per vertex.
+    for (auto& d : scene.draws)
+        for (std::uint32_t k = 0; k < d.indexCount; ++k) verts[scene.indices[d.firstIndex + k]].material = std::uint32_t(d.material);
+    vbo_ = gl::Buffer(ledger, "scene.vertices", std::int64_t(verts.size() * sizeof(GpuVertex)), verts.data(), 0);
+    // Only indices of kept draws (validateAndRepair may have dropped some).
+    std::vector<std::uint32_t> idx;
+    for (auto& d : scene.draws)
+        idx.insert(idx.end(), scene.indices.begin() + d.firstIndex, scene.indices.begin() + d.firstIndex + d.indexCount);
+    indexCount_ = int(idx.size());
+    ibo_ = gl::Buffer(ledger, "scene.indices", std::int64_t(idx.size() * 4), idx.data(), 0);
+
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    vao_ = gl::VertexArrayHandle(vao);
+    vao_.label("scene.vao");
+    glVertexArrayVertexBuffer(vao, 0, vbo_.id(), 0, sizeof(GpuVertex));
+    glVertexArrayElementBuffer(vao, ibo_.id());
+    auto attrib = [&](GLuint loc, int n, GLenum type, std::size_t off) {
+        glEnableVertexArrayAttrib(vao, loc);
+        if (type == GL_UNSIGNED_INT)
+            glVertexArrayAttribIFormat(vao, loc, n, type, GLuint(off));
+        else
+            glVertexArrayAttribFormat(vao, loc, n, type, GL_FALSE, GLuint(off));
+        glVertexArrayAttribBinding(vao, loc, 0);
+    };
+    attrib(RTGI_ATTR_POSITION, 3, GL_FLOAT, offsetof(GpuVertex, position));
+    attrib(RTGI_ATTR_NORMAL, 3, GL_FLOAT, offsetof(GpuVertex, normal));
+    attrib(RTGI_ATTR_UV, 2, GL_FLOAT, offsetof(GpuVertex, uv));
+    attrib(RTGI_ATTR_MATERIAL, 1, GL_UNSIGNED_INT, offsetof(GpuVertex, material));
+
+    std::vector<Material> mats = resolveMaterials(scene, settings);
+    std::vector<gpu::GpuMaterial> gm;
+    for (auto& m : mats)
+        gm.push_back({m.baseColor, glm::vec4(m.emissive, 0), glm::vec4(m.roughness, m.metallic, float(m.baseColorTexture), 0)});
+    if (gm.empty()) gm.push_back({});
+    materialCount_ = int(mats.size());
+    materials_ = gl::Buffer(ledger, "scene.materials", std::int64_t(gm.size() * sizeof(gpu::GpuMaterial)), gm.data(), 0);
+
+    std::vector<gpu::GpuLight> gls;
+    for (auto& l : scene.lights) {
+        if (l.type == LightType::Directional) continue;
+        gpu::GpuLight g{};
+        g.positionRange = glm::vec4(l.position, l.range);
+        g.colorIntensity = glm::vec4(l.color * l.intensity, 0);
+        g.directionType = glm::vec4(l.direction, l.type == LightType::Point ? RTGI_LIGHT_POINT : RTGI_LIGHT_SPOT);
+        g.cone = glm::vec4(std::cos(l.innerCone), std::cos(l.outerCone), 0, 0);
+        gls.push_back(g);
+    }
+    lightCount_ = int(gls.size());
+    if (gls.empty()) gls.push_back({});
+    lights_ = gl::Buffer(ledger, "scene.lights", std::int64_t(gls.size() * sizeof(gpu::GpuLight)), gls.data(), 0);
+
+    // Base-colour textures: one 2D array at a common size (at least one layer
+    // so the sampler is always complete).
+    const int size = 512;
+    int layers = std::max<int>(1, int(scene.images.size()));
+    int levels = 1 + int(std::log2(size));
+    textures_ = gl::Texture(ledger, "scene.textures", {GL_TEXTURE_2D_ARRAY, GL_SRGB8_ALPHA8, size, size, layers, levels});
+    for (int i = 0; i < int(scene.images.size()); ++i) {
+        auto px = resample(scene.images[std::size_t(i)], size);
+        glTextureSubImage3D(textures_.id(), 0, 0, 0, i, size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+    }
+    if (scene.images.empty()) {
+        std::vector<std::uint8_t> white(std::size_t(size * size * 4), 255);
+        glTextureSubImage3D(textures_.id(), 0, 0, 0, 0, size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, white.data());
+    }
+    glGenerateTextureMipmap(textures_.id());
+    textures_.setSampling(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_REPEAT);
+}
+
+void GpuScene::draw() const {
+    glBindVertexArray(vao_.id());
+    glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
+}
+
+void GpuScene::bindTables() const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_MATERIALS, materials_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LIGHTS, lights_.id());
+    glBindTextureUnit(RTGI_TEX_MATERIALS, textures_.id());
+}
+
+}  // namespace rtgi

@@ -1,0 +1,59 @@
+#pragma once
+// The scene on the GPU: one vertex buffer (position, normal, uv, material id
+// per vertex), one index buffer, the material table, punctual lights and the
+// base-colour textures resampled into one 2D array. One draw call renders
+// the whole scene (G-buffer, shadow map, RSM).
+#include "gl/resources.h"
+#include "render/gpu_types.h"
+#include "render/settings.h"
+#include "scene/scene.h"
+
+#include <optional>
+
+namespace rtgi {
+
+struct GpuVertex {
+    float position[3];
+    float normal[3];
+    float uv[2];
+    std::uint32_t material;
+};
+static_assert(sizeof(GpuVertex) == 36);
+
+// The effective sun after settings overrides.
+struct Sun {
+    glm::vec3 towardSun{0, 1, 0};  // unit, world
+    glm::vec3 irradiance{0.0f};    // E⊥ rgb
+};
+std::optional<Sun> resolveSun(const Scene& scene, const Settings& settings);
+glm::vec3 resolveSky(const Scene& scene, const Settings& settings);
+// Camera after the scene's own, a named view and --set camera.* overrides.
+Camera resolveCamera(const Scene& scene, const Settings& settings);
+// Materials after settings overrides (floor.roughness, emissive.scale).
+std::vector<Material> resolveMaterials(const Scene& scene, const Settings& settings);
+
+class GpuScene {
+public:
+    GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings);
+    // Binds the VAO and issues the one indexed draw (the caller binds the program).
+    void draw() const;
+    GLuint vao() const { return vao_.id(); }
+    const gl::Buffer& vertices() const { return vbo_; }
+    const gl::Buffer& indices() const { return ibo_; }
+    const gl::Buffer& materials() const { return materials_; }
+    const gl::Buffer& lights() const { return lights_; }
+    const gl::Texture& textures() const { return textures_; }
+    int indexCount() const { return indexCount_; }
+    int punctualLightCount() const { return lightCount_; }
+    int materialCount() const { return materialCount_; }
+    // Binds materials, lights and the texture array at their shared bindings.
+    void bindTables() const;
+
+private:
+    gl::VertexArrayHandle vao_;
+    gl::Buffer vbo_, ibo_, materials_, lights_;
+    gl::Texture textures_;
+    int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
+};
+
+}  // namespace rtgi

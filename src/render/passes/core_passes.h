@@ -1,0 +1,16 @@
+#pragma once
+// The foundation's passes (one file each).
+#include "render/pass.h"
+
+#include <memory>
+
+namespace rtgi {
+std::unique_ptr<Pass> makeGBufferPass();
+std::unique_ptr<Pass> makeShadowPass();
+std::unique_ptr<Pass> makeDirectPass();
+std::unique_ptr<Pass> makeComposePass();
+
+// Light-space orthographic view-projection that encloses `box` seen from a
+// light travelling along -towardLight (used by the shadow map and the RSM).
+glm::mat4 orthoLightViewProj(const Aabb& box, glm::vec3 towardLight);
+}  // namespace rtgi

@@ -1,0 +1,44 @@
+// direct: sun + punctual lights + emission into res.direct (compute).
+#include "gl/program.h"
+#include "render/gpu_scene.h"
+#include "render/passes/core_passes.h"
+
+namespace rtgi {
+namespace {
+
+class DirectPass final : public Pass {
+public:
+    std::string name() const override { return "direct"; }
+    Need needed(const Scene&, const Settings&) const override { return Need::yes(); }
+    std::vector<std::string> reads() const override {
+        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
+    }
+    std::vector<std::string> writes() const override { return {"direct"}; }
+
+    void execute(FrameContext& ctx) override {
+        const glm::ivec2 s = ctx.view.size;
+        ctx.res.direct.ensure(ctx.ledger, "direct", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+        const GBuffer& g = ctx.res.gbuffer;
+        const gl::Program& prog = ctx.programs.compute("post/direct.comp");
+        // Producer: gbuffer raster pass (framebuffer writes) and shadow pass.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glBindTextureUnit(0, g.linearDepth.id());
+        glBindTextureUnit(1, g.normal.id());
+        glBindTextureUnit(2, g.albedo.id());
+        glBindTextureUnit(3, g.material.id());
+        glBindTextureUnit(4, g.emissive.id());
+        bool shadow = bool(ctx.res.shadowMap);
+        glBindTextureUnit(5, shadow ? ctx.res.shadowMap.id() : 0);
+        prog.set(0, shadow ? 1 : 0);
+        ctx.gpuScene.bindTables();
+        glBindImageTexture(0, ctx.res.direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        gl::dispatch(prog, s.x, s.y);
+        glBindTextureUnit(5, 0);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Pass> makeDirectPass() { return std::make_unique<DirectPass>(); }
+
+}  // namespace rtgi

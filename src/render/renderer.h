@@ -1,0 +1,77 @@
+#pragma once
+// The renderer shared by rtgi-bench, the tests and rtgi-view: owns the GPU
+// scene, the program cache, the memory ledger and the frame (a list of
+// passes built by the frame script in frame.cpp from scene + settings).
+#include "gl/profiler.h"
+#include "gl/program.h"
+#include "gl/resources.h"
+#include "render/gpu_scene.h"
+#include "render/pass.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rtgi {
+
+struct SkippedPass {
+    std::string name;
+    std::string reason;
+};
+
+// The frame script: every candidate pass in execution order (frame.cpp).
+std::vector<std::unique_ptr<Pass>> frameScript();
+
+// Result of a finite check over one pass output (--check).
+struct FiniteCount {
+    std::string pass, resource;
+    std::uint64_t nan = 0, inf = 0, negative = 0, fp16Saturated = 0;
+};
+
+class Renderer {
+public:
+    Renderer(const Scene& scene, const Settings& settings, gl::Profiler& profiler);
+    ~Renderer();
+    // Rebuilds the pass list for new settings (keeps the GPU scene unless a
+    // setting baked into it changed).
+    void configure(const Settings& settings);
+    void render(const View& view);
+
+    const std::vector<std::unique_ptr<Pass>>& passes() const { return passes_; }
+    const std::vector<SkippedPass>& skipped() const { return skipped_; }
+    Pass* findPass(const std::string& name) const;
+    FrameResources& resources() { return res_; }
+    const Scene& scene() const { return scene_; }
+    const Settings& settings() const { return settings_; }
+    gl::MemoryLedger& ledger() { return ledger_; }
+    gl::ProgramCache& programs() { return programs_; }
+    gl::Profiler& profiler() { return profiler_; }
+
+    // --check: count NaN/Inf/negative/fp16-saturated values in every pass's
+    // written textures after each frame's pass (costly; off by default).
+    void setCheck(bool on) { check_ = on; }
+    const std::vector<FiniteCount>& finiteCounts() const { return finite_; }
+
+private:
+    void uploadFrameUniforms(const View& view);
+    void checkOutputs(const Pass& pass);
+
+    Scene scene_;
+    Settings settings_;
+    gl::Profiler& profiler_;
+    gl::MemoryLedger ledger_;
+    gl::ProgramCache programs_;
+    std::unique_ptr<GpuScene> gpuScene_;
+    gl::Buffer frameUbo_;
+    FrameResources res_;
+    std::vector<std::unique_ptr<Pass>> passes_;
+    std::vector<SkippedPass> skipped_;
+    bool check_ = false;
+    std::vector<FiniteCount> finite_;
+};
+
+// Texture of FrameResources by the name used in Pass::reads()/writes()
+// (used only to validate the frame and by --check; nullptr when unknown).
+const gl::Texture* findResource(const FrameResources& res, const std::string& name);
+
+}  // namespace rtgi

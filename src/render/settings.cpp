@@ -1,0 +1,341 @@
+#include "render/settings.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace rtgi {
+namespace {
+
+[[noreturn]] void bad(const std::string& key, const std::string& value, const std::string& expected) {
+    throw ConfigError("setting '" + key + "': '" + value + "' is not valid (expected " + expected + ")");
+}
+
+int parseInt(const std::string& key, const std::string& v, int lo, int hi) {
+    char* end = nullptr;
+    long x = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || x < lo || x > hi)
+        bad(key, v, "an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+    return int(x);
+}
+
+float parseFloat(const std::string& key, const std::string& v, double lo, double hi) {
+    char* end = nullptr;
+    double x = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(x) || x < lo || x > hi) {
+        std::ostringstream r;
+        r << "a finite number in [" << lo << ", " << hi << "]";
+        bad(key, v, r.str());
+    }
+    return float(x);
+}
+
+bool parseBool(const std::string& key, const std::string& v) {
+    if (v == "on" || v == "true" || v == "1") return true;
+    if (v == "off" || v == "false" || v == "0") return false;
+    bad(key, v, "on|off");
+}
+
+template <class E, std::size_t N>
+E parseEnum(const std::string& key, const std::string& v, const char* const (&names)[N]) {
+    for (std::size_t i = 0; i < N; ++i)
+        if (v == names[i]) return E(i);
+    std::string all;
+    for (std::size_t i = 0; i < N; ++i) all += (i ? "|" : "") + std::string(names[i]);
+    bad(key, v, all);
+}
+
+glm::vec3 parseVec3(const std::string& key, const std::string& v) {
+    glm::vec3 r;
+    std::string s = v;
+    std::replace(s.begin(), s.end(), ',', ' ');
+    std::istringstream in(s);
+    std::string rest;
+    if (!(in >> r.x >> r.y >> r.z) || (in >> rest) || !std::isfinite(r.x) || !std::isfinite(r.y) ||
+        !std::isfinite(r.z))
+        bad(key, v, "three numbers x,y,z");
+    return r;
+}
+
+glm::ivec3 parseGrid(const std::string& key, const std::string& v) {
+    // "N" or "NxMxK"; each 1..512
+    glm::ivec3 g;
+    auto one = [&](const std::string& s) { return parseInt(key, s, 1, 512); };
+    auto a = v.find('x');
+    if (a == std::string::npos) return glm::ivec3(one(v));
+    auto b = v.find('x', a + 1);
+    if (b == std::string::npos) bad(key, v, "N or NxMxK with 1 <= N <= 512");
+    g.x = one(v.substr(0, a));
+    g.y = one(v.substr(a + 1, b - a - 1));
+    g.z = one(v.substr(b + 1));
+    return g;
+}
+
+std::string fmt(double x) {
+    std::ostringstream o;
+    o << x;
+    return o.str();
+}
+std::string fmt3(glm::vec3 v) { return fmt(v.x) + "," + fmt(v.y) + "," + fmt(v.z); }
+template <class T>
+std::string fmtOpt(const std::optional<T>& o) {
+    if (!o) return "auto";
+    if constexpr (std::is_same_v<T, glm::vec3>)
+        return fmt3(*o);
+    else
+        return fmt(double(*o));
+}
+const char* onOff(bool b) { return b ? "on" : "off"; }
+
+const char* const kToggle[] = {"auto", "on", "off"};
+const char* const kLpvPath[] = {"compute", "raster"};
+const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
+const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
+const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
+const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
+                                     "dynamic3", "dynamic4", "dynamic5", "dynamic6"};
+const char* const kAoDepthSource[] = {"camera", "light"};
+const char* const kSsrTracer[] = {"auto", "off", "linear", "dda", "hiz"};
+const char* const kReference[] = {"off", "ao", "indirect", "full"};
+const char* const kResolution[] = {"full", "half"};
+
+template <class T>
+std::optional<float> optFloat(const std::string& key, const std::string& v, double lo, double hi) {
+    if (v == "auto") return std::nullopt;
+    return parseFloat(key, v, lo, hi);
+}
+
+#define KEY(name, doc, values, parseBody, showBody)                                              \
+    SettingKey {                                                                                 \
+        name, doc, values, [](Settings& s, const std::string& v) { parseBody; },                 \
+            [](const Settings& s) -> std::string { return showBody; }                            \
+    }
+
+std::vector<SettingKey> buildKeys() {
+    return {
+        // ---- camera --------------------------------------------------------
+        KEY("camera.position", "camera position in world units (default: scene camera or framed bounds)", "auto|x,y,z",
+            s.camera.position = v == "auto" ? std::nullopt : std::optional(parseVec3("camera.position", v)),
+            fmtOpt(s.camera.position)),
+        KEY("camera.target", "point the camera looks at", "auto|x,y,z",
+            s.camera.target = v == "auto" ? std::nullopt : std::optional(parseVec3("camera.target", v)),
+            fmtOpt(s.camera.target)),
+        KEY("camera.fov", "vertical field of view in degrees", "auto|0.5..175",
+            s.camera.fovDeg = optFloat<float>("camera.fov", v, 0.5, 175), fmtOpt(s.camera.fovDeg)),
+        KEY("camera.near", "near plane distance", "auto|1e-6..1e6",
+            s.camera.nearPlane = optFloat<float>("camera.near", v, 1e-6, 1e6), fmtOpt(s.camera.nearPlane)),
+        KEY("camera.far", "far plane distance", "auto|1e-5..1e9",
+            s.camera.farPlane = optFloat<float>("camera.far", v, 1e-5, 1e9), fmtOpt(s.camera.farPlane)),
+        KEY("view", "named camera view from benchmarks/views/<scene>.json", "name|\"\"", s.camera.view = v,
+            s.camera.view),
+        // ---- lights --------------------------------------------------------
+        KEY("sun.scale", "multiplier on the scene's sun irradiance", "0..1e12",
+            s.light.sunScale = parseFloat("sun.scale", v, 0, 1e12), fmt(s.light.sunScale)),
+        KEY("sun.irradiance", "sun irradiance E⊥ (overrides the scene's)", "auto|0..1e12",
+            s.light.sunIrradiance = optFloat<float>("sun.irradiance", v, 0, 1e12), fmtOpt(s.light.sunIrradiance)),
+        KEY("sun.direction", "direction towards the sun (overrides the scene's)", "auto|x,y,z",
+            s.light.sunDirection = v == "auto" ? std::nullopt : std::optional(parseVec3("sun.direction", v)),
+            fmtOpt(s.light.sunDirection)),
+        KEY("sky", "constant sky radiance (overrides the scene's)", "auto|0..1e12",
+            s.light.sky = optFloat<float>("sky", v, 0, 1e12), fmtOpt(s.light.sky)),
+        KEY("emissive.scale", "multiplier on emissive materials", "0..1e12",
+            s.light.emissiveScale = parseFloat("emissive.scale", v, 0, 1e12), fmt(s.light.emissiveScale)),
+        KEY("shadow.size", "sun shadow map side in texels", "16..16384",
+            s.light.shadowSize = parseInt("shadow.size", v, 16, 16384), fmt(s.light.shadowSize)),
+        KEY("post.exposure", "exposure multiplier before tonemapping", "1e-12..1e12",
+            s.post.exposure = parseFloat("post.exposure", v, 1e-12, 1e12), fmt(s.post.exposure)),
+        KEY("passes.off", "comma-separated pass names forced off", "name,name,...", s.post.passesOff = v,
+            s.post.passesOff),
+        KEY("floor.roughness", "roughness override for the lowest horizontal surface's material", "auto|0..1",
+            s.floorRoughness = optFloat<float>("floor.roughness", v, 0, 1), fmtOpt(s.floorRoughness)),
+        // ---- LPV -----------------------------------------------------------
+        KEY("lpv", "Light Propagation Volumes (auto: on when the scene has a sun)", "auto|on|off",
+            s.lpv.mode = parseEnum<Toggle>("lpv", v, kToggle), kToggle[int(s.lpv.mode)]),
+        KEY("lpv.path", "compute dispatches or the seed's raster method", "compute|raster",
+            s.lpv.path = parseEnum<LpvSettings::Path>("lpv.path", v, kLpvPath), kLpvPath[int(s.lpv.path)]),
+        KEY("lpv.grid", "volume resolution", "N|NxMxK (1..512)", s.lpv.grid = parseGrid("lpv.grid", v),
+            s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
+                ? fmt(s.lpv.grid.x)
+                : fmt(s.lpv.grid.x) + "x" + fmt(s.lpv.grid.y) + "x" + fmt(s.lpv.grid.z)),
+        KEY("lpv.cell", "cell size in scene units (0 = fit the scene)", "0|1e-4..1e4",
+            s.lpv.cell = parseFloat("lpv.cell", v, 0, 1e4), fmt(s.lpv.cell)),
+        KEY("lpv.iterations", "propagation iterations", "1..64",
+            s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),
+        KEY("lpv.rsm", "reflective shadow map side", "16..4096", s.lpv.rsm = parseInt("lpv.rsm", v, 16, 4096),
+            fmt(s.lpv.rsm)),
+        KEY("lpv.format", "propagation volume format", "rgba16f|rgba32f",
+            s.lpv.format = parseEnum<LpvSettings::Format>("lpv.format", v, kLpvFormat), kLpvFormat[int(s.lpv.format)]),
+        KEY("lpv.occlusion", "geometry-volume occlusion during propagation", "on|off",
+            s.lpv.occlusion = parseBool("lpv.occlusion", v), onOff(s.lpv.occlusion)),
+        KEY("lpv.bounce", "secondary bounce off the geometry volume", "on|off",
+            s.lpv.bounce = parseBool("lpv.bounce", v), onOff(s.lpv.bounce)),
+        KEY("lpv.specular", "LPV specular (auto: when a material is glossy)", "auto|on|off",
+            s.lpv.specular = parseEnum<Toggle>("lpv.specular", v, kToggle), kToggle[int(s.lpv.specular)]),
+        KEY("lpv.temporal", "blend factor with the previous volume (0 = off)", "0..0.99",
+            s.lpv.temporal = parseFloat("lpv.temporal", v, 0, 0.99), fmt(s.lpv.temporal)),
+        KEY("lpv.energy_conserving", "renormalize the propagation so free-space flux is conserved", "on|off",
+            s.lpv.energyConserving = parseBool("lpv.energy_conserving", v), onOff(s.lpv.energyConserving)),
+        KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
+            s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
+        // ---- AO ------------------------------------------------------------
+        KEY("ao", "screen-space AO variant", "off|ssao-disk|ssao-sphere|ssao-hemisphere|vo|hbao|gtao",
+            s.ao.variant = parseEnum<AoSettings::Variant>("ao", v, kAoVariant), kAoVariant[int(s.ao.variant)]),
+        KEY("ao.samples", "samples per pixel (hbao/gtao: directions x steps, 8->4x2, 16->4x4, 24->6x4)", "1..64",
+            s.ao.samples = parseInt("ao.samples", v, 1, 64), fmt(s.ao.samples)),
+        KEY("ao.radius", "AO radius in view-space units", "0..1e6", s.ao.radius = parseFloat("ao.radius", v, 0, 1e6),
+            fmt(s.ao.radius)),
+        KEY("ao.resolution", "AO resolution", "full|half",
+            s.ao.halfResolution = parseEnum<int>("ao.resolution", v, kResolution) == 1,
+            s.ao.halfResolution ? "half" : "full"),
+        KEY("ao.blur", "edge-preserving separable blur", "on|off", s.ao.blur = parseBool("ao.blur", v),
+            onOff(s.ao.blur)),
+        KEY("ao.temporal", "temporal reprojection filter", "on|off", s.ao.temporal = parseBool("ao.temporal", v),
+            onOff(s.ao.temporal)),
+        KEY("ao.upsample", "depth-aware upsampling (half resolution)", "on|off",
+            s.ao.upsample = parseBool("ao.upsample", v), onOff(s.ao.upsample)),
+        KEY("ao.directional", "directional occlusion for the LPV lookup", "off|bent-normals|s3ho",
+            s.ao.directional = parseEnum<AoSettings::Directional>("ao.directional", v, kAoDirectional),
+            kAoDirectional[int(s.ao.directional)]),
+        KEY("ao.nearfield", "near-field indirect light strength (0 = off)", "0..100",
+            s.ao.nearfield = parseFloat("ao.nearfield", v, 0, 100), fmt(s.ao.nearfield)),
+        KEY("ao.radius_mode", "fixed, dual radii or dynamic radius algorithm 1..6", "fixed|dual|dynamic1..dynamic6",
+            s.ao.radiusMode = parseEnum<AoSettings::RadiusMode>("ao.radius_mode", v, kAoRadiusMode),
+            kAoRadiusMode[int(s.ao.radiusMode)]),
+        KEY("ao.depth_source", "depth used for AO", "camera|light",
+            s.ao.depthSource = parseEnum<AoSettings::DepthSource>("ao.depth_source", v, kAoDepthSource),
+            kAoDepthSource[int(s.ao.depthSource)]),
+        KEY("ao.edge_highlight_removal", "ssao-disk: clip values above 0.5 and scale by 2", "on|off",
+            s.ao.removeEdgeHighlight = parseBool("ao.edge_highlight_removal", v), onOff(s.ao.removeEdgeHighlight)),
+        KEY("ao.normals", "hbao: use G-buffer normals", "on|off", s.ao.useNormals = parseBool("ao.normals", v),
+            onOff(s.ao.useNormals)),
+        KEY("ao.angle_bias", "hbao angle bias in degrees", "0..89",
+            s.ao.angleBiasDeg = parseFloat("ao.angle_bias", v, 0, 89), fmt(s.ao.angleBiasDeg)),
+        KEY("ao.multibounce", "gtao multi-bounce fit", "on|off", s.ao.multiBounce = parseBool("ao.multibounce", v),
+            onOff(s.ao.multiBounce)),
+        KEY("ao.probe", "dynamic radius probe size K", "4|9|20|328",
+            s.ao.dynamicProbe = parseInt("ao.probe", v, 4, 328);
+            if (s.ao.dynamicProbe != 4 && s.ao.dynamicProbe != 9 && s.ao.dynamicProbe != 20 &&
+                s.ao.dynamicProbe != 328) bad("ao.probe", v, "4|9|20|328"),
+            fmt(s.ao.dynamicProbe)),
+        // ---- SSR -----------------------------------------------------------
+        KEY("ssr", "screen-space reflection tracer (auto: linear when a material is glossy)",
+            "auto|off|linear|dda|hiz",
+            s.ssr.tracer = parseEnum<SsrSettings::Tracer>("ssr", v, kSsrTracer), kSsrTracer[int(s.ssr.tracer)]),
+        KEY("ssr.steps", "maximum ray-march steps", "1..1024", s.ssr.steps = parseInt("ssr.steps", v, 1, 1024),
+            fmt(s.ssr.steps)),
+        KEY("ssr.thickness", "depth-buffer thickness in view-space units", "0..1e6",
+            s.ssr.thickness = parseFloat("ssr.thickness", v, 0, 1e6), fmt(s.ssr.thickness)),
+        KEY("ssr.resolution", "SSR trace resolution", "full|half",
+            s.ssr.halfResolution = parseEnum<int>("ssr.resolution", v, kResolution) == 1,
+            s.ssr.halfResolution ? "half" : "full"),
+        KEY("ssr.diffuse_history", "reflect a diffuse-only history (seed 000 6.2.6)", "on|off",
+            s.ssr.diffuseHistory = parseBool("ssr.diffuse_history", v), onOff(s.ssr.diffuseHistory)),
+        KEY("ssr.roughness_cutoff", "materials rougher than this get no SSR / LPV specular", "0..1",
+            s.ssr.roughnessCutoff = parseFloat("ssr.roughness_cutoff", v, 0, 1), fmt(s.ssr.roughnessCutoff)),
+        // ---- reference -----------------------------------------------------
+        KEY("reference", "in-framework ray-traced reference", "off|ao|indirect|full",
+            s.reference.kind = parseEnum<ReferenceSettings::Kind>("reference", v, kReference),
+            kReference[int(s.reference.kind)]),
+        KEY("reference.spp", "reference samples (rays or paths) per pixel", "1..65536",
+            s.reference.spp = parseInt("reference.spp", v, 1, 65536), fmt(s.reference.spp)),
+        KEY("reference.bounces", "maximum path length of the path tracer", "1..64",
+            s.reference.bounces = parseInt("reference.bounces", v, 1, 64), fmt(s.reference.bounces)),
+        KEY("reference.cache", "directory of cached references", "path", s.reference.cacheDir = v,
+            s.reference.cacheDir),
+    };
+}
+
+}  // namespace
+
+const char* toString(Toggle t) { return kToggle[int(t)]; }
+const char* toString(AoSettings::Variant v) { return kAoVariant[int(v)]; }
+const char* toString(SsrSettings::Tracer t) { return kSsrTracer[int(t)]; }
+
+const std::vector<SettingKey>& settingKeys() {
+    static const std::vector<SettingKey> keys = buildKeys();
+    return keys;
+}
+
+void applySetting(Settings& s, const std::string& key, const std::string& value) {
+    for (auto& k : settingKeys())
+        if (k.key == key) {
+            k.parse(s, value);
+            return;
+        }
+    // Suggest the closest key by common prefix (users mistype families).
+    std::string hint;
+    std::size_t best = 0;
+    for (auto& k : settingKeys()) {
+        std::size_t n = 0;
+        while (n < k.key.size() && n < key.size() && k.key[n] == key[n]) ++n;
+        if (n > best) {
+            best = n;
+            hint = k.key;
+        }
+    }
+    throw ConfigError("unknown setting '" + key + "'" + (best >= 2 ? " (did you mean '" + hint + "'?)" : "") +
+                      "; rtgi-bench --help lists every key");
+}
+
+void applyAssignment(Settings& s, const std::string& a) {
+    auto eq = a.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw ConfigError("--set '" + a + "': expected key=value");
+    applySetting(s, a.substr(0, eq), a.substr(eq + 1));
+}
+
+std::map<std::string, std::string> describe(const Settings& s) {
+    std::map<std::string, std::string> m;
+    for (auto& k : settingKeys()) m[k.key] = k.show(s);
+    return m;
+}
+
+void applyJsonConfig(Settings& s, const std::string& text, const std::string& source) {
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const std::exception& e) {
+        throw ConfigError(source + ": not valid JSON (" + std::string(e.what()) + ")");
+    }
+    if (!j.is_object()) throw ConfigError(source + ": the configuration must be a JSON object");
+    // Nested objects are flattened into dotted keys; "lpv": {"grid": 32}
+    // means lpv.grid, and "lpv": "on" sets the family key itself.
+    std::function<void(const nlohmann::json&, const std::string&)> walk = [&](const nlohmann::json& o,
+                                                                             const std::string& prefix) {
+        for (auto it = o.begin(); it != o.end(); ++it) {
+            std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
+            const auto& v = it.value();
+            std::string str;
+            if (v.is_object()) {
+                walk(v, key);
+                continue;
+            } else if (v.is_string()) {
+                str = v.get<std::string>();
+            } else if (v.is_boolean()) {
+                str = v.get<bool>() ? "on" : "off";
+            } else if (v.is_number_integer()) {
+                str = std::to_string(v.get<long long>());
+            } else if (v.is_number()) {
+                std::ostringstream o2;
+                o2.precision(9);
+                o2 << v.get<double>();
+                str = o2.str();
+            } else if (v.is_array() && v.size() == 3) {
+                str = fmt(v[0].get<double>()) + "," + fmt(v[1].get<double>()) + "," + fmt(v[2].get<double>());
+            } else {
+                throw ConfigError(source + ": value of '" + key + "' must be a string, number, boolean or [x,y,z]");
+            }
+            try {
+                applySetting(s, key, str);
+            } catch (const ConfigError& e) {
+                throw ConfigError(source + ": " + e.what());
+            }
+        }
+    };
+    walk(j, "");
+}
+
+}  // namespace rtgi

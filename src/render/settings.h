@@ -1,0 +1,130 @@
+#pragma once
+// User-facing settings (SPEC section 12): typed, with ranges and defaults,
+// parsed from --set key=value, --config FILE.json and sweep files through one
+// key table (settings.cpp). Unknown keys and bad values are errors naming the
+// key. GPU constant blocks are derived from these by pure functions in each
+// pass family, never read from here inside shaders.
+#include <glm/glm.hpp>
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rtgi {
+
+class ConfigError : public std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+enum class Toggle { Auto, On, Off };
+
+struct CameraSettings {
+    std::optional<glm::vec3> position, target;  // unset: scene camera or default
+    std::optional<float> fovDeg, nearPlane, farPlane;
+    std::string view;  // named view from benchmarks/views/<scene>.json ("" = none)
+};
+
+struct LightSettings {
+    float sunScale = 1.0f;              // multiplies the scene's sun irradiance
+    std::optional<float> sunIrradiance; // overrides it
+    std::optional<glm::vec3> sunDirection;  // direction towards the sun (overrides)
+    std::optional<float> sky;           // constant sky radiance override
+    float emissiveScale = 1.0f;
+    int shadowSize = 2048;
+};
+
+struct PostSettings {
+    float exposure = 1.0f;
+    std::string passesOff;  // comma-separated pass names forced off
+};
+
+struct LpvSettings {
+    Toggle mode = Toggle::Auto;          // auto: on when the scene has a sun
+    enum class Path { Compute, Raster } path = Path::Compute;
+    glm::ivec3 grid{32};
+    float cell = 1.0f;                   // 0 = fit to the scene (auto)
+    int iterations = 8;
+    int rsm = 256;
+    enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
+    bool occlusion = true;
+    bool bounce = true;
+    Toggle specular = Toggle::Auto;
+    float temporal = 0.0f;               // blend factor with the previous volume, 0 = off
+    bool energyConserving = false;
+    float strength = 1.0f;               // global multiplier on LPV indirect light (1 = physical)
+};
+
+struct AoSettings {
+    enum class Variant { Off, SsaoDisk, SsaoSphere, SsaoHemisphere, Vo, Hbao, Gtao } variant = Variant::Off;
+    int samples = 16;
+    float radius = 0.5f;       // view-space units
+    bool halfResolution = true;
+    bool blur = true;
+    bool temporal = true;
+    bool upsample = true;
+    enum class Directional { Off, BentNormals, S3ho } directional = Directional::Off;
+    float nearfield = 0.0f;    // strength, 0 = off
+    enum class RadiusMode { Fixed, Dual, Dynamic1, Dynamic2, Dynamic3, Dynamic4, Dynamic5, Dynamic6 } radiusMode =
+        RadiusMode::Fixed;
+    enum class DepthSource { Camera, Light } depthSource = DepthSource::Camera;
+    bool removeEdgeHighlight = true;  // ssao-disk
+    bool useNormals = true;           // hbao with/without normals
+    float angleBiasDeg = 30.0f;       // hbao
+    bool multiBounce = false;         // gtao
+    int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
+};
+
+struct SsrSettings {
+    enum class Tracer { Auto, Off, Linear, Dda, Hiz } tracer = Tracer::Auto;
+    int steps = 64;
+    float thickness = 0.2f;
+    bool halfResolution = true;
+    bool diffuseHistory = false;
+    float roughnessCutoff = 0.5f;  // materials rougher than this get no SSR
+};
+
+struct ReferenceSettings {
+    enum class Kind { Off, Ao, Indirect, Full } kind = Kind::Off;
+    int spp = 256;
+    int bounces = 4;
+    std::string cacheDir = "rtgi-cache";
+};
+
+struct Settings {
+    CameraSettings camera;
+    LightSettings light;
+    PostSettings post;
+    LpvSettings lpv;
+    AoSettings ao;
+    SsrSettings ssr;
+    ReferenceSettings reference;
+    std::optional<float> floorRoughness;  // override for the material of the lowest surface (SSR benchmarks)
+};
+
+// One entry of the key table.
+struct SettingKey {
+    std::string key;
+    std::string doc;      // one line, with the range / allowed values
+    std::string values;   // "auto|on|off", "1..64", ...
+    void (*parse)(Settings&, const std::string&);
+    std::string (*show)(const Settings&);
+};
+
+const std::vector<SettingKey>& settingKeys();
+// Applies key=value; throws ConfigError("--set KEY: ...") for unknown keys / bad values.
+void applySetting(Settings& s, const std::string& key, const std::string& value);
+// "key=value" form.
+void applyAssignment(Settings& s, const std::string& assignment);
+// Every key with its effective value (results.json "config").
+std::map<std::string, std::string> describe(const Settings& s);
+// A JSON object of key -> value (strings, numbers or bools) or nested objects
+// whose dotted paths are keys; `source` names the file for errors.
+void applyJsonConfig(Settings& s, const std::string& jsonText, const std::string& source);
+
+const char* toString(Toggle t);
+const char* toString(AoSettings::Variant v);
+const char* toString(SsrSettings::Tracer t);
+
+}  // namespace rtgi

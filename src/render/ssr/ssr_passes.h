@@ -1,0 +1,13 @@
+#pragma once
+// Screen-space reflections (seed 000 sections 4.4, 5.4; SPEC 5).
+#include "render/pass.h"
+
+#include <memory>
+#include <vector>
+
+namespace rtgi {
+void appendSsrPasses(std::vector<std::unique_ptr<Pass>>& frame);
+// The tracer that runs for this scene + settings (Off when none; `auto`
+// resolves to linear when some material is at most ssr.roughness_cutoff).
+SsrSettings::Tracer effectiveSsrTracer(const Scene& scene, const Settings& settings);
+}  // namespace rtgi

@@ -1,0 +1,80 @@
+#pragma once
+// Shared helpers of the GPU tier: a fresh EGL context per test case (Mesa
+// llvmpipe in CI), with KHR_debug on, and small analytic scenes.
+#include "gl/context.h"
+#include "gl/image_io.h"
+#include "render/renderer.h"
+
+#include <doctest/doctest.h>
+
+#include <memory>
+
+namespace rtgi::test {
+
+struct GpuFixture {
+    std::unique_ptr<gl::HeadlessContext> ctx;
+    GpuFixture() {
+        ctx = gl::HeadlessContext::create({-1, true});
+        gl::takeDebugErrorCount();
+    }
+    ~GpuFixture() {
+        // Every GPU test also asserts that the driver reported no GL error.
+        CHECK(gl::takeDebugErrorCount() == 0);
+    }
+    const gl::ContextInfo& info() const { return ctx->info(); }
+};
+
+// Appends a quad (two triangles) with corners a, b, c, d (counter-clockwise
+// seen from the side the normal points to) and material m.
+inline void addQuad(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int m) {
+    glm::vec3 n = glm::normalize(glm::cross(b - a, d - a));
+    auto base = std::uint32_t(s.vertices.size());
+    for (auto p : {a, b, c, d}) s.vertices.push_back({p, n, {0, 0}});
+    DrawRange r{std::uint32_t(s.indices.size()), 6, m};
+    for (auto i : {0u, 1u, 2u, 0u, 2u, 3u}) s.indices.push_back(base + i);
+    s.draws.push_back(r);
+}
+
+// A horizontal square floor at y = 0 of half-size h, albedo `albedo`, with
+// an optional sun (direction towards the sun, irradiance).
+inline Scene floorScene(float h, glm::vec3 albedo, bool withSun, glm::vec3 towardSun = {0, 1, 0}, float e = 1.0f) {
+    Scene s;
+    s.name = "test:floor";
+    Material m;
+    m.baseColor = glm::vec4(albedo, 1);
+    m.roughness = 1.0f;
+    s.materials.push_back(m);
+    addQuad(s, {-h, 0, h}, {h, 0, h}, {h, 0, -h}, {-h, 0, -h}, 0);
+    if (withSun) {
+        Light l;
+        l.type = LightType::Directional;
+        l.direction = -glm::normalize(towardSun);
+        l.intensity = e;
+        s.lights.push_back(l);
+    }
+    Camera c;
+    c.position = {0, 2, 3};
+    c.target = {0, 0, 0};
+    c.fovY = glm::radians(60.0f);
+    c.near = 0.1f;
+    c.far = 50.0f;
+    s.cameras.push_back(c);
+    return s;
+}
+
+// Renders `frames` frames of scene with settings at size; returns the renderer.
+inline std::unique_ptr<Renderer> renderFrames(const Scene& scene, const Settings& settings, glm::ivec2 size,
+                                              gl::Profiler& profiler, int frames = 1) {
+    auto r = std::make_unique<Renderer>(scene, settings, profiler);
+    Camera cam = resolveCamera(scene, settings);
+    View prev;
+    for (int f = 0; f < frames; ++f) {
+        View v = makeView(cam, size, f == 0 ? nullptr : &prev, unsigned(f));
+        r->render(v);
+        prev = v;
+    }
+    glFinish();
+    return r;
+}
+
+}  // namespace rtgi::test

@@ -1,0 +1,133 @@
+#include "gpu_fixture.h"
+
+#include "gl/embedded.h"
+#include "gl/program.h"
+#include "gl/profiler.h"
+
+using namespace rtgi;
+using namespace rtgi::test;
+
+TEST_CASE("headless EGL context offers OpenGL 4.5 core with compute and float image atomics") {
+    GpuFixture gpu;
+    const auto& i = gpu.info();
+    CHECK((i.major > 4 || (i.major == 4 && i.minor >= 5)));
+    CHECK_FALSE(i.renderer.empty());
+    CHECK(i.debugOutput);
+    GLint maxInvocations = 0;
+    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &maxInvocations);
+    CHECK(maxInvocations >= 256);
+    // llvmpipe and NVIDIA both expose GL_NV_shader_atomic_float; the LPV
+    // injection relies on it (SPEC 2).
+    CHECK(i.atomicFloat);
+}
+
+TEST_CASE("an invalid --device index is a clear error, not a crash") {
+    CHECK_THROWS_WITH_AS(gl::HeadlessContext::create({63, false}), doctest::Contains("--device 63"),
+                         std::runtime_error);
+}
+
+TEST_CASE("compute programs: #include expansion, #define variants, workgroup size read back") {
+    GpuFixture gpu;
+    gl::ProgramCache cache;
+    std::map<std::string, std::string> files = {{"lib/twice.glsl", "float twice(float x) { return 2.0 * x; }\n"}};
+    const char* src = R"(#include "lib/twice.glsl"
+layout(local_size_x = 4, local_size_y = 2) in;
+layout(std430, binding = 0) buffer B { float v[]; };
+void main() { uint i = gl_GlobalInvocationID.y * 8u + gl_GlobalInvocationID.x; v[i] = twice(float(i)) + float(FACTOR); }
+)";
+    const gl::Program& p = cache.computeFromSource("test/twice.comp", src, files, {{"FACTOR", "3"}});
+    CHECK(p.localSize() == glm::ivec3(4, 2, 1));
+    gl::MemoryLedger ledger;
+    gl::Buffer buf(ledger, "test.buffer", 8 * 4 * 4);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf.id());
+    gl::dispatch(p, 8, 4);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> out(32);
+    buf.download(out.data(), 128);
+    for (int i = 0; i < 32; ++i) CHECK(out[std::size_t(i)] == doctest::Approx(2.0 * i + 3));
+    CHECK(ledger.total() == 128);
+}
+
+TEST_CASE("shader compile errors name the original file and line after #include expansion") {
+    GpuFixture gpu;
+    gl::ProgramCache cache;
+    std::map<std::string, std::string> files = {
+        {"lib/good.glsl", "float good() { return 1.0; }\n"},
+        {"lib/bad.glsl", "// line 1\n// line 2\nfloat bad() { return undefined_symbol; }\n"}};
+    const char* src = "#include \"lib/good.glsl\"\n#include \"lib/bad.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
+    std::string msg;
+    try {
+        cache.computeFromSource("test/uses_bad.comp", src, files);
+    } catch (const gl::ShaderError& e) {
+        msg = e.what();
+    }
+    INFO(msg);
+    CHECK(msg.find("lib/bad.glsl:3") != std::string::npos);
+    // An error in the main file after the includes keeps its own line number.
+    const char* src2 = "#include \"lib/good.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() { int x = ; }\n";
+    msg.clear();
+    try {
+        cache.computeFromSource("test/main_error.comp", src2, files);
+    } catch (const gl::ShaderError& e) {
+        msg = e.what();
+    }
+    INFO(msg);
+    CHECK(msg.find("test/main_error.comp:3") != std::string::npos);
+    gl::takeDebugErrorCount();  // the failed compiles are expected errors
+}
+
+TEST_CASE("every embedded shader of the project compiles") {
+    GpuFixture gpu;
+    gl::ProgramCache cache;
+    int compiled = 0;
+    for (int i = 0; i < kEmbeddedFileCount; ++i) {
+        std::string path = kEmbeddedFiles[i].path;
+        if (path.rfind("compute/", 0) != 0 || path.size() < 5 || path.substr(path.size() - 5) != ".comp") continue;
+        std::string rel = path.substr(8);
+        INFO(rel);
+        // Variants that need defines declare "// rtgi-variants: A,B" on the first line; compile the default.
+        CHECK_NOTHROW(cache.compute(rel));
+        ++compiled;
+    }
+    CHECK(compiled >= 3);
+}
+
+TEST_CASE("profiler: every pass is timed once per measured frame, in frame order, without stalls") {
+    GpuFixture gpu;
+    gl::Profiler prof(gpu.info().timerQuery);
+    Scene s = floorScene(5, glm::vec3(0.5f), true);
+    Settings st;
+    auto r = renderFrames(s, st, {32, 24}, prof, 3);
+    prof.reset();
+    prof.setMeasuring(true);
+    Camera cam = resolveCamera(s, st);
+    for (int f = 0; f < 12; ++f) r->render(makeView(cam, {32, 24}, nullptr, unsigned(f)));
+    prof.flush();
+    auto res = prof.results();
+    REQUIRE(res.size() == r->passes().size() + 1);
+    for (std::size_t i = 0; i < r->passes().size(); ++i) {
+        CHECK(res[i].name == r->passes()[i]->name());
+        CHECK(res[i].ms.samples == 12);
+        CHECK(res[i].ms.min >= 0.0);
+        CHECK(res[i].ms.min <= res[i].ms.median);
+        CHECK(res[i].ms.median <= res[i].ms.max);
+        CHECK(res[i].dispatchesPerFrame >= 1.0);
+    }
+    CHECK(res.back().name == "frame");
+    CHECK(res.back().ms.samples == 12);
+    // The frame contains its passes: its median is at least the largest pass median.
+    double largest = 0;
+    for (std::size_t i = 0; i + 1 < res.size(); ++i) largest = std::max(largest, res[i].ms.median);
+    CHECK(res.back().ms.median >= largest);
+    CHECK((std::string(prof.timer()) == "gpu" || std::string(prof.timer()) == "cpu"));
+}
+
+TEST_CASE("timing statistics: median, min, max, mean") {
+    auto s = gl::computeStats({4, 1, 3, 2});
+    CHECK(s.median == doctest::Approx(2.5));
+    CHECK(s.min == 1);
+    CHECK(s.max == 4);
+    CHECK(s.mean == doctest::Approx(2.5));
+    auto t = gl::computeStats({5, 1, 3});
+    CHECK(t.median == 3);
+}
