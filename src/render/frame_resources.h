@@ -35,6 +35,7 @@ struct FrameResources {
     gl::Texture bentNormal;       // RGBA16F view-space bent normal (xyz) + AO (w), or empty
     gl::Texture s3ho;             // RGBA16F SH visibility (band 0-1), or empty
     gl::Texture specularOcclusion;// R16F SSR confidence (1 = hit), or empty
+    gl::Texture brdfLut;          // RG16F split-sum LUT (NdotV x roughness), made once by the brdf_lut pass
 
     // output
     gl::Texture hdr;       // RGBA16F composed radiance

@@ -8,4 +8,8 @@
 namespace rtgi {
 // Appends lpv.rsm, lpv.inject, lpv.inject_geometry, lpv.propagate, lpv.apply, ...
 void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& frame);
+// Whether LPV runs for this scene + settings (auto: when the scene has a sun).
+bool lpvActive(const Scene& scene, const Settings& settings);
+// Whether LPV specular runs (auto: when a material is at most ssr.roughness_cutoff rough).
+bool lpvSpecularActive(const Scene& scene, const Settings& settings);
 }  // namespace rtgi
