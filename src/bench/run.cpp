@@ -1,6 +1,7 @@
 #include "bench/run.h"
 
 #include "gl/image_io.h"
+#include "render/reference/reference_runner.h"
 #include "render/renderer.h"
 
 #include <algorithm>
@@ -164,6 +165,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, con
                 if (d.tex && *d.tex) writeTexture(opts.outDir, d.name, *d.tex, d.scale, false);
         r["images"] = opts.outDir;
     }
+    if (opts.reference) r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages);
     return r;
 }
 

@@ -22,6 +22,7 @@ struct RunOptions {
     bool writeImages = true;
     bool check = false;
     bool quiet = false;
+    bool reference = false;  // --reference: compare the output with the matching ray-traced reference
 };
 
 // Loads and merges the --scene list. A glTF model merged with a built-in

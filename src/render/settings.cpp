@@ -243,8 +243,12 @@ std::vector<SettingKey> buildKeys() {
             s.reference.spp = parseInt("reference.spp", v, 1, 65536), fmt(s.reference.spp)),
         KEY("reference.bounces", "maximum path length of the path tracer", "1..64",
             s.reference.bounces = parseInt("reference.bounces", v, 1, 64), fmt(s.reference.bounces)),
-        KEY("reference.cache", "directory of cached references", "path", s.reference.cacheDir = v,
-            s.reference.cacheDir),
+        KEY("reference.cache", "directory of cached references (off = always render)", "path|off",
+            s.reference.cacheDir = v, s.reference.cacheDir),
+        KEY("reference.seed", "seed of the reference's sample sequence (same seed, same image)", "0..2147483647",
+            s.reference.seed = parseInt("reference.seed", v, 0, 2147483647), fmt(s.reference.seed)),
+        KEY("reference.specular", "GGX lobe in the path tracer (off: Lambert only)", "on|off",
+            s.reference.specular = parseBool("reference.specular", v), s.reference.specular ? "on" : "off"),
     };
 }
 

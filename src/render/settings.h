@@ -89,7 +89,9 @@ struct ReferenceSettings {
     enum class Kind { Off, Ao, Indirect, Full } kind = Kind::Off;
     int spp = 256;
     int bounces = 4;
-    std::string cacheDir = "rtgi-cache";
+    std::string cacheDir = "rtgi-cache";  // "off" = no cache
+    int seed = 1;                         // fixed seed of the sample sequence
+    bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
 };
 
 struct Settings {
