@@ -61,15 +61,15 @@ struct Builder {
         glm::vec3 ext = cbounds.hi - cbounds.lo;
         for (int axis = 0; axis < 3; ++axis) {
             if (!(ext[axis] > 0.0f)) continue;
-            std::vector<Box> bin(std::size_t(nb));
-            std::vector<std::uint32_t> n(std::size_t(nb), 0);
+            std::vector<Box> bin(static_cast<std::size_t>(nb));
+            std::vector<std::uint32_t> n(static_cast<std::size_t>(nb), 0u);
             float scale = float(nb) / ext[axis];
             for (std::uint32_t i = first; i < first + count; ++i) {
                 int b = std::min(nb - 1, int((centroid[order[i]][axis] - cbounds.lo[axis]) * scale));
                 bin[std::size_t(b)].grow(triBox[order[i]]);
                 ++n[std::size_t(b)];
             }
-            std::vector<float> rightCost(std::size_t(nb), 0.0f);
+            std::vector<float> rightCost(static_cast<std::size_t>(nb), 0.0f);
             Box acc;
             std::uint32_t cnt = 0;
             for (int b = nb - 1; b > 0; --b) {

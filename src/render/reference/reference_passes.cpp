@@ -192,7 +192,8 @@ private:
         for (int first = 0; first < c.spp; first += c.samplesPerDispatch) {
             int n = std::min(c.samplesPerDispatch, c.spp - first);
             rayCounter_.clearZero();
-            prog.set(0, glm::uvec4(unsigned(first), unsigned(n), c.seed, unsigned(c.bounces)));
+            // uvec4 uSamples (Program has no uvec4 setter).
+            glProgramUniform4ui(prog.id(), 0, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
             // Producer: the previous dispatch of this loop (accumulation images).
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
             gl::dispatch(prog, s.x, s.y);
