@@ -4,6 +4,7 @@
 // RTGI_REF_TONEMAP_ONLY only tonemaps a mean loaded from the cache.
 #include "lib/common.glsl"
 #include "lib/tonemap.glsl"
+#include "lib/bvh_shared.h"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
 
