@@ -70,8 +70,9 @@ TEST_CASE("SSIM: 1 for identical images, symmetric, below 1 for different ones")
 TEST_CASE("Error heat map: colour bar to the right, zero error black, the maximum at the top of the ramp") {
     FloatImage t = grey(8, 4, std::vector<float>(32, 0.0f)), r = t;
     r.data[0] = r.data[1] = r.data[2] = 0.5f;  // pixel (0,0) differs by 0.5
-    double mx = maxAbsError(t, r, 1);
+    double mx = errorQuantile(t, r, 1, 1.0);
     CHECK(mx == doctest::Approx(0.5));
+    CHECK(errorQuantile(t, r, 1, 0.5) == 0.0);  // 31 of 32 pixels are equal
     FloatImage h = errorHeatmap(t, r, 1, mx);
     CHECK(h.width == 8 + 44);
     CHECK(h.height == 4);

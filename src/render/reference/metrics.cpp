@@ -104,12 +104,14 @@ double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, dou
     return sum / double(x.size());
 }
 
-double maxAbsError(const FloatImage& t, const FloatImage& r, int channels) {
+double errorQuantile(const FloatImage& t, const FloatImage& r, int channels, double q) {
     checkSizes(t, r);
-    double m = 0;
-    for (std::size_t i = 0; i < std::size_t(t.width) * std::size_t(t.height); ++i)
-        m = std::max(m, std::abs(pixelLuminance(t, i, channels) - pixelLuminance(r, i, channels)));
-    return m;
+    std::vector<double> e(std::size_t(t.width) * std::size_t(t.height));
+    if (e.empty()) return 0.0;
+    for (std::size_t i = 0; i < e.size(); ++i) e[i] = std::abs(pixelLuminance(t, i, channels) - pixelLuminance(r, i, channels));
+    auto k = std::size_t(std::clamp(q, 0.0, 1.0) * double(e.size() - 1) + 0.5);
+    std::nth_element(e.begin(), e.begin() + std::ptrdiff_t(k), e.end());
+    return e[k];
 }
 
 namespace {
@@ -169,7 +171,7 @@ FloatImage errorHeatmap(const FloatImage& t, const FloatImage& r, int channels, 
     out.channels = 4;
     out.data.assign(std::size_t(out.width * out.height * 4), 0.0f);
     for (std::size_t i = 3; i < out.data.size(); i += 4) out.data[i] = 1.0f;
-    double scale = maxError > 0 ? maxError : 1.0;
+    double scale = maxError > 0 ? maxError : 1.0;  // all-equal images: any scale shows black
     for (int y = 0; y < t.height; ++y)
         for (int x = 0; x < t.width; ++x) {
             std::size_t i = std::size_t(y * t.width + x);

@@ -30,10 +30,11 @@ ErrorMetrics compareImages(const FloatImage& test, const FloatImage& ref, int ch
 double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, double dynamicRange);
 
 // |luminance(test) − luminance(ref)| mapped from 0 (black) to `maxError`
-// (yellow) through a perceptually ordered ramp, with a colour bar and its
+// (yellow, larger errors saturate) through a perceptually ordered ramp, with a colour bar and its
 // two end values printed on the right. Returns an RGBA image in [0,1].
 FloatImage errorHeatmap(const FloatImage& test, const FloatImage& ref, int channels, double maxError);
-// The largest per-pixel luminance error (the heat map's default scale).
-double maxAbsError(const FloatImage& test, const FloatImage& ref, int channels);
+// Quantile q in [0,1] of the per-pixel |Δ luminance| (q = 1: the largest).
+// The heat maps use q = 0.99 so that a few fireflies do not darken the rest.
+double errorQuantile(const FloatImage& test, const FloatImage& ref, int channels, double q);
 
 }  // namespace rtgi

@@ -76,13 +76,14 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     nlohmann::json e = metricsJson(m, kind != K::Ao);
     e["compared"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirectDiffuse" : "hdr";
     e["peak"] = peak;
-    double heatMax = maxAbsError(test, mean, channels);
+    double heatMax = errorQuantile(test, mean, channels, 0.99);
     e["heatmap_max"] = heatMax;
     nlohmann::json refInfo = referenceSettingsJson(referenceConstants(rs, run.scene().bounds()));
+    for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
+    refInfo["spp"] = rs.reference.spp;
     refInfo["from_cache"] = out->fromCache();
     refInfo["cache_key"] = out->cacheKey();
     refInfo["cache_dir"] = rs.reference.cacheDir;
-    for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
     e["reference"] = refInfo;
 
     if (writeImages) {
@@ -111,7 +112,7 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
     j["image"] = image;
     j["reference"] = reference;
     j["peak"] = peak;
-    double heatMax = maxAbsError(t, r, 3);
+    double heatMax = errorQuantile(t, r, 3, 0.99);
     j["heatmap_max"] = heatMax;
     std::filesystem::create_directories(outDir);
     writePng(outDir + "/error.heatmap.png", errorHeatmap(t, r, 3, heatMax));
