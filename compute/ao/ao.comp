@@ -35,6 +35,25 @@ float sceneDepth(vec2 uv) {
     return texelFetch(uDepth, ivec2(uv * vec2(aoSize())), 0).r;
 }
 vec3 viewPosAt(vec2 uv, float d) { return viewPositionFromDepth(uv, d, tanHalfFov(), aspect()); }
+// Centre of the texel that holds uv: depth read there belongs to this uv, so
+// positions reconstructed from a fetched depth must use it (not the raw uv).
+vec2 snapUv(vec2 uv) { return (floor(uv * vec2(aoSize())) + 0.5) / vec2(aoSize()); }
+
+// Depth of the scene along the ray through uv: the fetched texel's surface
+// (its depth and normal) extended as a plane to the exact uv, so point tests
+// do not self-occlude on the staircase of a coarse depth buffer.
+float sceneDepthAlongRay(vec2 uv) {
+    float z = sceneDepth(uv);
+    if (isSky(z)) return z;
+    vec2 c = snapUv(uv);
+    vec3 Q = viewPosAt(c, z);
+    vec3 nQ = aoSafeNormal(texelFetch(uNormal, ivec2(c * vec2(aoSize())), 0).xyz, Q);
+    vec3 ray = viewPosAt(uv, 1.0);
+    float denom = dot(nQ, ray);
+    if (abs(denom) < 1e-4) return z;
+    float t = dot(nQ, Q) / denom;
+    return (t > 0.0 && abs(t - z) < 0.5 * z) ? t : z;
+}
 
 // Point test of the sample-point variants: how much the sample point S is
 // occluded (0 free .. 1 occluded, range-attenuated by the blocker distance).
@@ -51,7 +70,7 @@ float pointOcclusion(vec3 P, vec3 S, float R) {
     return rangeAttenuation(R, distance(b.xyz / b.w, P));
 #else
     vec3 uvS = uvFromViewPosition(S, tanHalfFov(), aspect());
-    float zScene = sceneDepth(uvS.xy);
+    float zScene = sceneDepthAlongRay(uvS.xy);
     if (isSky(zScene) || zScene >= uvS.z - 0.02 * R) return 0.0;  // bias: 2 % of R against self-occlusion
     return rangeAttenuation(R, abs(-P.z - zScene));
 #endif
@@ -96,7 +115,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         sum += 1.0 - pointOcclusion(P, S, R);
 #else
         vec3 uvS = uvFromViewPosition(S, tanHalfFov(), aspect());
-        float zScene = sceneDepth(uvS.xy);
+        float zScene = sceneDepthAlongRay(uvS.xy);
         sum += isSky(zScene) ? 1.0 : ssaoDiskSampleValue(d, uvS.z, zScene);
 #endif
     }
@@ -163,7 +182,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         if (ao.flags.y != 0) {
             tanT = -dot(n.xy, dir) / max(n.z, 0.05);
         } else {
-            vec2 uvT = uv + dir / vec2(aoSize());
+            vec2 uvT = snapUv(uv + dir / vec2(aoSize()));
             float dT = sceneDepth(uvT);
             vec3 T = isSky(dT) ? vec3(dir, 0.0) : viewPosAt(uvT, dT) - P;
             tanT = T.z / max(length(T.xy), 1e-6);
@@ -171,7 +190,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         float t = min(atan(tanT) + biasAngle, 1.5607);
         float tanHmax = tan(t), sinPrev = sin(t), a = 0.0;
         for (int j = 0; j < steps; ++j) {
-            vec2 uvS = uv + dir * rUv * ((float(j) + bn.y) / float(steps));
+            vec2 uvS = snapUv(uv + dir * rUv * ((float(j) + bn.y) / float(steps)));
             float zS = sceneDepth(uvS);
             if (isSky(zS)) continue;
             vec3 D = viewPosAt(uvS, zS) - P;
@@ -209,7 +228,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
             float s = (float(j) + bn.y) / float(steps);
             vec2 off = dir.xy * rUv * s;
             for (int side = 0; side < 2; ++side) {
-                vec2 uvS = side == 0 ? uv + off : uv - off;
+                vec2 uvS = snapUv(side == 0 ? uv + off : uv - off);
                 float zS = sceneDepth(uvS);
                 if (isSky(zS)) continue;
                 vec3 D = viewPosAt(uvS, zS) - P;

@@ -38,7 +38,7 @@ void main() {
         vec4 v = texelFetch(uLow, q, 0);
         float diff = abs(dLow - dFull);
         if (diff < bestDiff) bestDiff = diff, nearest = v;
-        float w = isSky(dFull) ? bilinear : upsampleWeight(bilinear, dFull, dLow);
+        float w = isSky(dFull) ? (isSky(dLow) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
         sum += w * v;
         wSum += w;
     }
