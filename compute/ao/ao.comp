@@ -11,6 +11,20 @@
 #include "lib/ao.glsl"
 #include "lib/noise.glsl"
 
+// Defaults (the pass always sets all four).
+#ifndef AO_VARIANT
+#define AO_VARIANT RTGI_AO_GTAO
+#endif
+#ifndef AO_DIRECTIONAL
+#define AO_DIRECTIONAL 0
+#endif
+#ifndef AO_RADIUS
+#define AO_RADIUS 0
+#endif
+#ifndef AO_DEPTH_LIGHT
+#define AO_DEPTH_LIGHT 0
+#endif
+
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };

@@ -7,6 +7,10 @@
 #include "lib/ao_shared.h"
 #include "lib/ao.glsl"
 
+#ifndef AO_RADIUS_ALG
+#define AO_RADIUS_ALG 6  // the algorithm that works (seed 003 6.4)
+#endif
+
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
 layout(binding = 0) uniform sampler2D uDepth;
