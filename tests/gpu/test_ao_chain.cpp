@@ -249,3 +249,43 @@ TEST_CASE("temporal filter (seed 000 listing 11): converges to the mean, off-scr
     outT = &tf.run(programs, ledger, "t.temporal", {}, cur[1], dT, velOut, false);
     CHECK(readTexture(*outT).at(3, 3, 0) == doctest::Approx(variants[1]).epsilon(1e-3));
 }
+
+TEST_CASE("AO options run without GL errors and keep outputs finite: radius modes, near-field, light depth") {
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene s = floorScene(10, glm::vec3(0.5f), true, {0.3f, 1, 0.2f}, 2.0f);
+    addQuad(s, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, 0);  // a wall: some occlusion
+    struct Case {
+        AoSettings::Variant v;
+        AoSettings::RadiusMode mode;
+        float nearfield;
+        AoSettings::DepthSource src;
+    };
+    using V = AoSettings::Variant;
+    using M = AoSettings::RadiusMode;
+    for (Case c : {Case{V::Vo, M::Dual, 0, AoSettings::DepthSource::Camera},
+                   Case{V::Hbao, M::Dynamic6, 0, AoSettings::DepthSource::Camera},
+                   Case{V::Gtao, M::Dynamic1, 3.0f, AoSettings::DepthSource::Camera},
+                   Case{V::SsaoHemisphere, M::Fixed, 3.0f, AoSettings::DepthSource::Light}}) {
+        Settings st = aoSettings(c.v);
+        st.ao.radiusMode = c.mode;
+        st.ao.nearfield = c.nearfield;
+        st.ao.depthSource = c.src;
+        auto r = renderFrames(s, st, {24, 16}, prof, 2);
+        FloatImage ao = readTexture(r->resources().ao);
+        for (float f : ao.data) {
+            CHECK(std::isfinite(f));
+            CHECK(f >= 0.0f);
+            CHECK(f <= 1.0f);
+        }
+        if (c.nearfield > 0) {
+            CHECK(r->findPass("ao.nearfield") != nullptr);
+            for (float f : readTexture(r->resources().indirectDiffuse).data) CHECK(std::isfinite(f));
+        }
+        if (c.mode >= M::Dynamic1) CHECK(r->findPass("ao.radius") != nullptr);
+    }
+    // Horizon variants cannot use the light's depth map: a ConfigError naming the key.
+    Settings bad = aoSettings(V::Hbao);
+    bad.ao.depthSource = AoSettings::DepthSource::Light;
+    CHECK_THROWS_AS(renderFrames(s, bad, {8, 8}, prof, 1), ConfigError);
+}
