@@ -121,8 +121,9 @@ TEST_CASE("Reference: GPU BVH traversal equals CPU brute force") {
     prog.set(0, unsigned(rays.size()));
     // Not gl::dispatch: it notes the dispatch in the last active Profiler,
     // which an earlier test case destroyed (gl::Profiler::active_ dangles).
+    glUseProgram(prog.id());
     glDispatchCompute(gl::groupCount(int(rays.size()), prog.localSize().x), 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: trace_test.comp (SSBO writes)
     std::vector<TestRay> out(rays.size());
     rayBuf.download(out.data(), std::int64_t(out.size() * sizeof(TestRay)));
     int hits = 0;
