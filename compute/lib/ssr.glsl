@@ -200,7 +200,7 @@ SsrHit ssrTraceHiz(sampler2D hiz, int levels, vec3 origin, vec3 dir, SsrCamera c
         vec2 boundary = (vec2(cell) + step(vec2(0.0), g.delta)) * cellSize;
         vec2 sb = (boundary - g.p0) * invDelta;
         sb = mix(sb, vec2(3.0e38), lessThan(abs(g.delta), vec2(1e-6)));
-        float sExit = min(min(sb.x, sb.y), 1.0);
+        float sExit = clamp(min(sb.x, sb.y), s, 1.0);
         float dEnter = ssrSegmentDepth(g, s), dExit = ssrSegmentDepth(g, sExit);
         float rayNear = min(dEnter, dExit), rayFar = max(dEnter, dExit);
         if (rayFar < dmin) {  // in front of everything in the cell

@@ -183,6 +183,7 @@ void Renderer::checkOutputs(const Pass& pass) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts.id());
         prog.set(0, channels);
         prog.set(1, out.mayBeNegative ? 1 : 0);
+        glUseProgram(prog.id());
         glDispatchCompute(gl::groupCount(t.width(), 8), gl::groupCount(t.height(), 8), GLuint(volume ? t.depth() : 1));
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         std::uint32_t c[4];

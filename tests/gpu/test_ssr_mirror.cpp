@@ -110,7 +110,7 @@ TraceResult runMirror(SsrSettings::Tracer tracer, glm::ivec2 size, int steps) {
     return out;
 }
 
-const char* tracerName(SsrSettings::Tracer t) { return toString(t); }
+std::string tracerName(SsrSettings::Tracer t) { return toString(t); }
 
 }  // namespace
 
@@ -136,6 +136,7 @@ TEST_CASE("SSR on a mirror floor reflects the wall where the mirrored ray hits i
                 }
                 float c = res.confidence.at(tx, ty, 0);
                 if (!m.wall) {
+                    INFO("hit at " << px + res.hit.at(tx, ty, 0) * size.x << "," << py + res.hit.at(tx, ty, 1) * size.y);
                     CHECK(c == 0.0f);  // the mirrored ray leaves the screen / passes the wall: a miss
                     ++missChecked;
                     found.emplace_back(-1, -1);
