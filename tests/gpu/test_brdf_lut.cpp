@@ -62,7 +62,7 @@ TEST_CASE("split-sum BRDF LUT matches a CPU quadrature of the split-sum integral
             double nv = (i + 0.5) / kBrdfLutSize, rough = (j + 0.5) / kBrdfLutSize;
             auto [A, B] = splitSumQuadrature(nv, rough);
             INFO("n.v " << nv << " roughness " << rough);
-            // 0.01 absolute: 1024-point Hammersley QMC (error ~ log N / N of the
+            // 0.01 absolute: 4096-point Hammersley QMC (error ~ log N / N of the
             // integrand's variation) + fp16 storage (~1e-3 at values <= 1).
             CHECK(std::abs(img.at(i, j, 0) - A) < 0.01);
             CHECK(std::abs(img.at(i, j, 1) - B) < 0.01);

@@ -238,7 +238,7 @@ TEST_CASE("SSR Hi-Z pyramid equals a CPU min over each cell's footprint (odd siz
     }
 }
 
-TEST_CASE("SSR pruning: rough scenes skip every ssr pass and allocate nothing; off allocates nothing") {
+TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates nothing") {
     GpuFixture gpu;
     gl::Profiler prof(false);
     Scene rough = floorScene(5, glm::vec3(0.5f), false);  // roughness 1 only (like builtin:cornell)

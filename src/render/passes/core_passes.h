@@ -13,7 +13,7 @@ std::unique_ptr<Pass> makeComposePass();
 // once when SSR or LPV specular runs.
 std::unique_ptr<Pass> makeBrdfLutPass();
 constexpr int kBrdfLutSize = 64;       // texels per side
-constexpr int kBrdfLutSamples = 1024;  // GGX importance samples per texel
+constexpr int kBrdfLutSamples = 4096;  // GGX importance samples per texel
 
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).
