@@ -61,6 +61,7 @@ void Renderer::configure(const Settings& settings) {
     settings_ = settings;
     passes_.clear();
     skipped_.clear();
+    finite_.clear();  // --check counts belong to one configuration
     res_ = FrameResources{};  // release everything; passes re-create what they need
     if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_);
 
