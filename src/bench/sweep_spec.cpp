@@ -114,6 +114,7 @@ struct SceneEntry {
     std::vector<std::string> scenes;
     std::string label;
     std::vector<std::string> views;  // "" = the scene's own camera
+    Assignments set;                 // per-scene settings (e.g. an AO radius fitted to the scene's scale)
 };
 
 std::vector<SceneEntry> parseScenes(const nlohmann::json& j, const std::string& source) {
@@ -138,6 +139,10 @@ std::vector<SceneEntry> parseScenes(const nlohmann::json& j, const std::string& 
             se.label = e.value("label", defaultLabel(se.scenes));
             if (e.contains("views"))
                 for (auto& v : e["views"]) se.views.push_back(v.get<std::string>());
+            if (e.contains("set")) {
+                if (!e["set"].is_object()) throw ConfigError(fail(source, "a scene's \"set\" must be an object"));
+                for (auto& [k, v] : e["set"].items()) se.set.emplace_back(k, valueString(v, source, k));
+            }
         } else {
             se.scenes = sceneList(e);
             se.label = defaultLabel(se.scenes);
@@ -207,8 +212,8 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
         throw ConfigError(source + ": not valid JSON (" + std::string(e.what()) + ")");
     }
     if (!j.is_object()) throw ConfigError(fail(source, "a sweep must be a JSON object"));
-    static const std::set<std::string> known = {"name",   "description", "scenes", "resolutions", "frames",
-                                                "warmup", "images",      "check",  "base",        "axes"};
+    static const std::set<std::string> known = {"name",   "description", "scenes", "resolutions", "frames",   "warmup",
+                                                "images", "check",       "base",   "axes",        "reference"};
     for (auto& [k, v] : j.items())
         if (!known.count(k)) throw ConfigError(fail(source, "unknown sweep field '" + k + "'"));
     SweepSpec spec;
@@ -235,6 +240,9 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
         if (!j["base"].is_object()) throw ConfigError(fail(source, "'base' must be an object"));
         walk(j["base"], "");
     }
+    // "reference": the kind of ground truth the error is measured against
+    // (the settings key `reference`; an axis may override it).
+    if (j.contains("reference")) base.emplace_back("reference", valueString(j["reference"], source, "reference"));
 
     // Axes: resolutions first (outermost after scenes and views), then the
     // listed axes in order; their cartesian product.
@@ -269,6 +277,7 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
                 std::map<std::string, std::string> assigned;  // last assignment wins
                 for (auto& [k, v] : base) assigned[k] = v;
                 if (!view.empty()) assigned["view"] = view;
+                for (auto& [k, v] : sc.set) assigned[k] = v;
                 std::map<std::string, std::string> axisAssigned;
                 for (auto& [k, v] : axisSet) assigned[k] = axisAssigned[k] = v;
                 if (!view.empty()) axisAssigned["view"] = view;
@@ -312,7 +321,7 @@ std::set<std::string> completedIds(std::istream& in, int* unreadable) {
             ++bad;
             continue;
         }
-        if (!j.contains("failed")) ids.insert(j["sweep"]["id"].get<std::string>());
+        if (!j.contains("failed") && !j.contains("retry")) ids.insert(j["sweep"]["id"].get<std::string>());
     }
     if (unreadable) *unreadable = bad;
     return ids;

@@ -54,7 +54,7 @@ std::string stableHash(const std::string& text);
 std::vector<SweepConfig> shardOf(const std::vector<SweepConfig>& all, int index, int count);
 
 // Ids of the configurations that completed in a results.jsonl stream (lines
-// with "sweep".id and no "failed"); unparsable lines (a run killed while
+// with "sweep".id and neither "failed" nor "retry"); unparsable lines (a run killed while
 // writing) are ignored and counted in *unreadable.
 std::set<std::string> completedIds(std::istream& jsonl, int* unreadable = nullptr);
 
