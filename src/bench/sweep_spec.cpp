@@ -156,10 +156,10 @@ std::vector<SceneEntry> parseScenes(const nlohmann::json& j, const std::string& 
 }  // namespace
 
 std::string stableHash(const std::string& text) {
-    std::uint64_t h = 1469598103934665603ull;  // FNV-1a 64 offset basis
+    std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a 64 offset basis
     for (unsigned char c : text) {
         h ^= c;
-        h *= 1099511628211ull;  // FNV 64 prime
+        h *= 0x100000001b3ull;  // FNV 64 prime
     }
     char buf[17];
     std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));

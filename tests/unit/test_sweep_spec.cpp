@@ -84,9 +84,9 @@ TEST_CASE("sweep: scenes x views x resolutions x axes expand to the full cartesi
     CHECK(s.configs.back().scenes == std::vector<std::string>{"builtin:plane", "$SCENES/dragon/dragon.gltf"});
     // Settings validate: the configuration's Settings carry the values.
     Settings st = s.configs.front().settings();
-    CHECK(st.ao.variant == AoSettings::Variant::Hbao);
+    CHECK((st.ao.variant == AoSettings::Variant::Hbao));
     CHECK(st.ao.samples == 8);
-    CHECK(st.lpv.mode == Toggle::Off);
+    CHECK((st.lpv.mode == Toggle::Off));
 }
 
 TEST_CASE("sweep: explicit lists, zipped keys and ranges") {

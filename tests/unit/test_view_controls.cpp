@@ -21,7 +21,7 @@ TEST_CASE("view keys: O cycles every AO variant of the settings table and back")
     CHECK(seen.size() == 7u);  // off + six variants (SPEC 12)
     CHECK(toString(s.ao.variant) == first);
     handleKey('O', key::ModShift, s);  // Shift goes backwards
-    CHECK(s.ao.variant == AoSettings::Variant::Gtao);
+    CHECK((s.ao.variant == AoSettings::Variant::Gtao));
 }
 
 TEST_CASE("view keys: SSR tracers, LPV toggle, directional AO cycle") {
@@ -32,13 +32,13 @@ TEST_CASE("view keys: SSR tracers, LPV toggle, directional AO cycle") {
         tracers.insert(toString(s.ssr.tracer));
     }
     CHECK(tracers == std::set<std::string>{"auto", "off", "linear", "dda", "hiz"});
-    CHECK(s.lpv.mode == Toggle::Auto);
+    CHECK((s.lpv.mode == Toggle::Auto));
     handleKey('L', 0, s);
-    CHECK(s.lpv.mode == Toggle::On);
+    CHECK((s.lpv.mode == Toggle::On));
     handleKey('L', 0, s);
-    CHECK(s.lpv.mode == Toggle::Off);
+    CHECK((s.lpv.mode == Toggle::Off));
     handleKey('B', 0, s);
-    CHECK(s.ao.directional == AoSettings::Directional::BentNormals);
+    CHECK((s.ao.directional == AoSettings::Directional::BentNormals));
     handleKey('G', 0, s);
     CHECK(!s.ao.halfResolution);
 }
@@ -103,7 +103,7 @@ TEST_CASE("view: the camera/config dump replays through --config to the same set
     c.far = 321.0f;
     Settings replay;
     applyJsonConfig(replay, dumpConfig(s, c), "dump.json");
-    CHECK(replay.ao.variant == AoSettings::Variant::Hbao);
+    CHECK((replay.ao.variant == AoSettings::Variant::Hbao));
     CHECK(replay.ao.samples == 24);
     CHECK(replay.lpv.iterations == 5);
     CHECK(replay.camera.view.empty());  // the explicit camera replaces the named view
