@@ -102,6 +102,20 @@ void writeScreenshot(const std::string& path, const DisplayImage& img, float far
     writePng(path, im, scale, img.mode == 1);
 }
 
+void writeWindowScreenshot(const std::string& path, glm::ivec2 size) {
+    std::vector<std::uint8_t> px(std::size_t(size.x) * std::size_t(size.y) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, size.x, size.y, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+    FloatImage im;
+    im.width = size.x;
+    im.height = size.y;
+    im.data.resize(px.size());
+    for (std::size_t i = 0; i < px.size(); ++i) im.data[i] = float(px[i]) / 255.0f;
+    writePng(path, im);
+}
+
 void ScreenPainter::drawText(gl::ProgramCache& programs, glm::ivec2 viewport, const std::vector<std::string>& lines,
                              float scale) {
     if (lines.empty()) return;

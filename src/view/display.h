@@ -26,6 +26,8 @@ std::vector<DisplayImage> displayImages(Renderer& renderer);
 // The image as it is displayed, for screenshots (the final image is written
 // exactly as rtgi-bench writes final.png).
 void writeScreenshot(const std::string& path, const DisplayImage& img, float farPlane);
+// The window's back buffer (image + overlay) as drawn this frame.
+void writeWindowScreenshot(const std::string& path, glm::ivec2 size);
 
 // Draws into the window's default framebuffer.
 class ScreenPainter {

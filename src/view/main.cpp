@@ -209,16 +209,19 @@ int run(int argc, char** argv) {
         if (help)
             for (auto& l : view::keyHelp()) lines.push_back(l);
         painter.drawText(programs, size, lines, size.y >= 900 ? 2.0f : 1.0f);
-        host->swapBuffers();
-        ++frame;
 
-        bool last = automate && int(frame) >= cl.run.frames;
+        bool last = automate && int(frame) + 1 >= cl.run.frames;
         if ((screenshot || (last && !screenshotPath.empty())) && shown) {
+            // The displayed image at render resolution (as rtgi-bench writes it) and the window with the overlay.
             std::string file = last && !screenshotPath.empty() ? screenshotPath
                                                                : "rtgi-view-" + std::to_string(shots++) + ".png";
             view::writeScreenshot(file, *shown, camera.far);
-            say("wrote " + file);
+            std::string windowFile = file.substr(0, file.size() - (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? 4 : 0)) + ".window.png";
+            view::writeWindowScreenshot(windowFile, size);
+            say("wrote " + file + " and " + windowFile);
         }
+        host->swapBuffers();
+        ++frame;
         if (last) break;
     }
     int glErrors = gl::takeDebugErrorCount();
