@@ -3,6 +3,9 @@
 
 #include <doctest/doctest.h>
 
+#include <fstream>
+#include <sstream>
+
 using namespace rtgi;
 
 TEST_CASE("every documented key parses its own printed default back to the same value") {
@@ -72,4 +75,15 @@ TEST_CASE("JSON configuration: nested objects are dotted keys, unknown keys are 
                          doctest::Contains("my.json: unknown setting 'lpv.gird'"), ConfigError);
     CHECK_THROWS_WITH_AS(applyJsonConfig(s, "{not json", "broken.json"), doctest::Contains("broken.json"), ConfigError);
     CHECK_THROWS_WITH_AS(applyJsonConfig(s, "[1,2]", "arr.json"), doctest::Contains("arr.json"), ConfigError);
+}
+
+TEST_CASE("docs/configuration.md documents every key") {
+    std::ifstream f(std::string(RTGI_SOURCE_DIR) + "/docs/configuration.md");
+    REQUIRE(f.good());
+    std::stringstream ss;
+    ss << f.rdbuf();
+    for (auto& k : settingKeys()) {
+        INFO(k.key);
+        CHECK(ss.str().find("`" + k.key + "`") != std::string::npos);
+    }
 }
