@@ -35,9 +35,16 @@ Scene loadScenes(const std::vector<std::string>& specs);
 nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, const Settings& settings,
                             const RunOptions& opts);
 
+// The same with an existing renderer (its profiler is reset first): a sweep
+// keeps one renderer per scene and only reconfigures it between runs.
+class Renderer;
+nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, const RunOptions& opts);
+
 // Flattens a results object into CSV header + row (one row per pass).
 std::string resultsCsvHeader();
 std::vector<std::string> resultsCsvRows(const nlohmann::json& results);
+// RFC 4180 quoting of one CSV field.
+std::string csvQuote(const std::string& s);
 
 // The per-pass table printed on stdout.
 std::string formatTimingTable(const nlohmann::json& results);
