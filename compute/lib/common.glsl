@@ -17,3 +17,10 @@ vec3 viewToWorldDir(vec3 d) { return mat3(frame.invView) * d; }
 vec3 worldToViewDir(vec3 d) { return mat3(frame.view) * d; }
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// Largest finite half float. Values stored into 16-bit float images are
+// clamped to it (overflow would become Inf); --check counts |x| >= this as
+// "fp16 saturated" so the clamp is visible in results (docs/STABILITY.md).
+const float HALF_MAX = 65504.0;
+vec4 clampHalf(vec4 x) { return clamp(x, vec4(-HALF_MAX), vec4(HALF_MAX)); }
+vec3 clampHalf(vec3 x) { return clamp(x, vec3(-HALF_MAX), vec3(HALF_MAX)); }

@@ -37,7 +37,7 @@ void main() {
     if (any(greaterThanEqual(p, frameSize()))) return;
     float d = texelFetch(uLinearDepth, p, 0).r;
     if (isSky(d)) {
-        imageStore(uDirect, p, vec4(frame.sky.rgb, 0.0));
+        imageStore(uDirect, p, vec4(clampHalf(frame.sky.rgb), 0.0));
         return;
     }
     vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
@@ -70,5 +70,5 @@ void main() {
         }
         radiance += evalBrdfCos(n, v, l, albedo, rm.x, rm.y) * L.colorIntensity.rgb * atten;
     }
-    imageStore(uDirect, p, vec4(radiance, 1.0));
+    imageStore(uDirect, p, vec4(clampHalf(radiance), 1.0));
 }

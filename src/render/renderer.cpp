@@ -160,33 +160,42 @@ void Renderer::render(const View& view) {
     profiler_.endFrame();
 }
 
+FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const gl::Texture& t,
+                           bool mayBeNegative) {
+    FiniteCount fc;
+    int channels = 4;
+    switch (t.format()) {
+        case GL_R32F: case GL_R16F: case GL_R8: channels = 1; break;
+        case GL_RG16F: case GL_RG32F: case GL_RG8: channels = 2; break;
+        case GL_R11F_G11F_B10F: channels = 3; break;
+        case GL_RGBA16F: case GL_RGBA32F: case GL_RGBA8: channels = 4; break;
+        default: return fc;  // integer / depth formats cannot hold non-finite values
+    }
+    bool volume = t.desc().target == GL_TEXTURE_3D;
+    const gl::Program& prog =
+        programs.compute("post/finite_check.comp", volume ? gl::Defines{{"RTGI_VOLUME", ""}} : gl::Defines{});
+    gl::Buffer counts(ledger, "check.counts", 16);
+    counts.clearZero();
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);  // producer: whichever pass wrote t just before
+    glUseProgram(prog.id());
+    glBindTextureUnit(0, t.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts.id());
+    prog.set(0, channels);
+    prog.set(1, mayBeNegative ? 1 : 0);
+    glDispatchCompute(gl::groupCount(t.width(), 8), gl::groupCount(t.height(), 8), GLuint(volume ? t.depth() : 1));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::uint32_t c[4];
+    counts.download(c, 16);
+    fc.nan = c[0];
+    fc.inf = c[1];
+    fc.negative = c[2];
+    fc.fp16Saturated = c[3];
+    return fc;
+}
+
 void Renderer::checkOutputs(const Pass& pass) {
-    static const int kChannels[] = {0};
-    (void)kChannels;
-    gl::Buffer counts(ledger_, "check.counts", 16);
     for (auto& out : pass.checkedOutputs(res_)) {
-        const gl::Texture& t = *out.tex;
-        bool volume = t.desc().target == GL_TEXTURE_3D;
-        const gl::Program& prog = programs_.compute("post/finite_check.comp",
-                                                    volume ? gl::Defines{{"RTGI_VOLUME", ""}} : gl::Defines{});
-        int channels = 4;
-        switch (t.format()) {
-            case GL_R32F: case GL_R16F: case GL_R8: channels = 1; break;
-            case GL_RG16F: case GL_RG32F: case GL_RG8: channels = 2; break;
-            case GL_R11F_G11F_B10F: channels = 3; break;
-            case GL_RGBA16F: case GL_RGBA32F: case GL_RGBA8: channels = 4; break;
-            default: continue;  // integer / depth formats
-        }
-        counts.clearZero();
-        glMemoryBarrier(GL_ALL_BARRIER_BITS);  // producer: the pass just executed
-        glBindTextureUnit(0, t.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts.id());
-        prog.set(0, channels);
-        prog.set(1, out.mayBeNegative ? 1 : 0);
-        glDispatchCompute(gl::groupCount(t.width(), 8), gl::groupCount(t.height(), 8), GLuint(volume ? t.depth() : 1));
-        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::uint32_t c[4];
-        counts.download(c, 16);
+        FiniteCount c = countNonFinite(programs_, ledger_, *out.tex, out.mayBeNegative);
         FiniteCount* fc = nullptr;
         for (auto& f : finite_)
             if (f.pass == pass.name() && f.resource == out.name) fc = &f;
@@ -194,10 +203,10 @@ void Renderer::checkOutputs(const Pass& pass) {
             finite_.push_back({pass.name(), out.name});
             fc = &finite_.back();
         }
-        fc->nan += c[0];
-        fc->inf += c[1];
-        fc->negative += c[2];
-        fc->fp16Saturated += c[3];
+        fc->nan += c.nan;
+        fc->inf += c.inf;
+        fc->negative += c.negative;
+        fc->fp16Saturated += c.fp16Saturated;
     }
 }
 

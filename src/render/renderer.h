@@ -70,6 +70,11 @@ private:
     std::vector<FiniteCount> finite_;
 };
 
+// Counts NaN, Inf, negative (unless allowed) and |x| >= 65504 values over all
+// texels/channels of a float texture (the --check reduction).
+FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const gl::Texture& tex,
+                           bool mayBeNegative);
+
 // Texture of FrameResources by the name used in Pass::reads()/writes()
 // (used only to validate the frame and by --check; nullptr when unknown).
 const gl::Texture* findResource(const FrameResources& res, const std::string& name);
