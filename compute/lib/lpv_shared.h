@@ -24,7 +24,7 @@
 // ---- bindings ----
 #define RTGI_UBO_LPV 1              // LpvUniforms
 #define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
-#define RTGI_LPV_GV_CHANNELS 6      // geometry accumulation: 4 SH of blocking, sum(A * albedo), sum(A)
+#define RTGI_LPV_GV_CHANNELS 8      // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A)
 // Workgroup sizes (read back after linking; listed here so C++ and GLSL agree on tiling).
 #define RTGI_LPV_LOCAL_2D 8
 #define RTGI_LPV_LOCAL_3D 4

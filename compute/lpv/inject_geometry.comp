@@ -1,6 +1,6 @@
 // lpv.inject_geometry: blocking potential B(w) = A_s s^-2 max(0, n.w) (seed
-// eq. 11, [KD10]) projected with the cosine lobe, plus A_s * albedo and A_s
-// for the mean albedo used by the bounce, accumulated with fp32 atomics on
+// eq. 11, [KD10]) projected with the cosine lobe, plus A_s * albedo (rgb) and
+// A_s for the mean albedo the bounce reflects with (colour bleeding), accumulated with fp32 atomics on
 // the corner lattice (offset by half a cell: corner g sits at origin + g*s).
 // Default source: the RSM; RTGI_LPV_GV_GBUFFER: the camera G-buffer sampled
 // at quarter resolution (every second pixel in x and y, seed 5.2.3).
@@ -25,14 +25,14 @@ layout(binding = 1) uniform sampler2D uNormal;
 layout(binding = 2) uniform sampler2D uDepth;
 #endif
 
-void addBlocker(vec3 p, vec3 n, float area, float albedo) {
+void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
     ivec3 g = ivec3(floor(lpvCellCoord(p) + 0.5));
     if (!lpvInside(g, lpv.grid.xyz + 1) || !(area > 0.0)) return;
     vec4 b = shCosineLobe(n) * (area * lpv.rsm.y);
     int x = RTGI_LPV_GV_CHANNELS * g.x;
     for (int k = 0; k < 4; ++k) imageAtomicAdd(uGeometryAccum, ivec3(x + k, g.y, g.z), b[k]);
-    imageAtomicAdd(uGeometryAccum, ivec3(x + 4, g.y, g.z), area * albedo);
-    imageAtomicAdd(uGeometryAccum, ivec3(x + 5, g.y, g.z), area);
+    for (int k = 0; k < 3; ++k) imageAtomicAdd(uGeometryAccum, ivec3(x + 4 + k, g.y, g.z), area * albedo[k]);
+    imageAtomicAdd(uGeometryAccum, ivec3(x + 7, g.y, g.z), area);
 }
 
 void main() {
@@ -52,7 +52,7 @@ void main() {
     float cosView = max(dot(vn, normalize(-vp)), lpv.rsm.w);
     float area = float(kStride * kStride) * pixel * pixel / cosView;
     vec3 albedo = diffuseAlbedo(texelFetch(uAlbedo, full, 0).rgb, texelFetch(uMaterial, full, 0).g);
-    addBlocker(viewToWorldPoint(vp), viewToWorldDir(vn), area, luminance(albedo));
+    addBlocker(viewToWorldPoint(vp), viewToWorldDir(vn), area, albedo);
 #else
     if (any(greaterThanEqual(t, ivec2(lpv.grid.w)))) return;
     vec4 nrm = texelFetch(uNormal, t, 0);
@@ -60,6 +60,10 @@ void main() {
     vec3 n = normalize(nrm.xyz);
     // A_texel is the area perpendicular to the light; on the surface it is A_texel / cos.
     float area = lpv.rsm.x / max(dot(n, frame.sunDirection.xyz), lpv.rsm.w);
-    addBlocker(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, area, texelFetch(uFlux, t, 0).a);
+    // The RSM stores albedo * E_perp * A_texel; divide back for the albedo.
+    vec3 e = frame.sunIrradiance.rgb * lpv.rsm.x;
+    vec3 flux = texelFetch(uFlux, t, 0).rgb;
+    vec3 albedo = vec3(e.r > 0.0 ? flux.r / e.r : 0.0, e.g > 0.0 ? flux.g / e.g : 0.0, e.b > 0.0 ? flux.b / e.b : 0.0);
+    addBlocker(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, area, clamp(albedo, 0.0, 1.0));
 #endif
 }

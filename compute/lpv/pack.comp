@@ -9,7 +9,7 @@ layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local
 #ifdef RTGI_LPV_PACK_GEOMETRY
 layout(binding = 0) uniform sampler3D uGeometryAccum;
 layout(RTGI_LPV_FORMAT, binding = 0) uniform writeonly image3D uGeometry;
-layout(r16f, binding = 1) uniform writeonly image3D uGeometryAlbedo;
+layout(rgba16f, binding = 1) uniform writeonly image3D uGeometryAlbedo;
 
 void main() {
     ivec3 g = ivec3(gl_GlobalInvocationID);
@@ -18,7 +18,8 @@ void main() {
     for (int k = 0; k < RTGI_LPV_GV_CHANNELS; ++k)
         a[k] = texelFetch(uGeometryAccum, ivec3(RTGI_LPV_GV_CHANNELS * g.x + k, g.y, g.z), 0).r;
     imageStore(uGeometry, g, lpvStorable(vec4(a[0], a[1], a[2], a[3])));
-    imageStore(uGeometryAlbedo, g, vec4(a[5] > 0.0 ? clamp(a[4] / a[5], 0.0, 1.0) : 0.0));
+    vec3 albedo = a[7] > 0.0 ? clamp(vec3(a[4], a[5], a[6]) / a[7], 0.0, 1.0) : vec3(0.0);
+    imageStore(uGeometryAlbedo, g, vec4(albedo, 1.0));
 }
 #else
 layout(binding = 0) uniform sampler3D uInjectR;

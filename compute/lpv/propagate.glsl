@@ -40,16 +40,16 @@ float lpvConservingScale(vec4 I) {
 
 // Blocking SH and mean albedo at the face between cell c and its neighbour
 // c + o: the mean of the 4 corner-lattice texels spanning that face.
-vec4 lpvFaceBlocking(sampler3D gv, sampler3D gvAlbedo, ivec3 c, ivec3 o, out float albedo) {
+vec4 lpvFaceBlocking(sampler3D gv, sampler3D gvAlbedo, ivec3 c, ivec3 o, out vec3 albedo) {
     ivec3 base = c + max(o, ivec3(0));
     ivec3 u = o.x != 0 ? ivec3(0, 1, 0) : ivec3(1, 0, 0);
     ivec3 v = o.z != 0 ? ivec3(0, 1, 0) : ivec3(0, 0, 1);
     vec4 sum = vec4(0.0);
-    albedo = 0.0;
+    albedo = vec3(0.0);
     for (int i = 0; i < 4; ++i) {
         ivec3 g = base + ((i & 1) != 0 ? u : ivec3(0)) + ((i & 2) != 0 ? v : ivec3(0));
         sum += texelFetch(gv, g, 0);
-        albedo += texelFetch(gvAlbedo, g, 0).r;
+        albedo += texelFetch(gvAlbedo, g, 0).rgb;
     }
     albedo *= 0.25;
     return 0.25 * sum;
@@ -86,9 +86,10 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
         if (!lpvInside(n, dims)) continue;
         vec3 d = -vec3(LPV_AXES[a]);  // flow from the neighbour into c
         vec4 I[3] = vec4[3](texelFetch(srcR, n, 0), texelFetch(srcG, n, 0), texelFetch(srcB, n, 0));
-        float transmit = 1.0, reflected = 0.0;
+        float transmit = 1.0;
+        vec3 reflected = vec3(0.0);
         if (geometry) {
-            float albedo;
+            vec3 albedo;
             vec4 B = lpvFaceBlocking(gv, gvAlbedo, c, LPV_AXES[a], albedo);
             // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)).
             float blocked = clamp(shEvaluate(B, -d), 0.0, 1.0);
@@ -100,7 +101,7 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
             float scale = lpv.flags.z != 0 ? lpvConservingScale(I[ch]) : 1.0;
             float total = lpvPropagateFaces(I[ch] * scale, d, transmit, acc[ch]);
             // The reflected part leaves the blocking surface back towards the source.
-            acc[ch] += (reflected * total * INV_PI) * shCosineLobe(-d);
+            acc[ch] += (reflected[ch] * total * INV_PI) * shCosineLobe(-d);
         }
         o.r += acc[0];
         o.g += acc[1];

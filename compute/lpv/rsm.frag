@@ -1,6 +1,6 @@
 // lpv.rsm: reflected flux per texel = albedo * E_perp * A_texel (SPEC 3.2; no
-// n.l factor for an orthographic light, SPEC 11.3), albedo luminance in .a
-// (geometry volume), world normal of the lit side.
+// n.l factor for an orthographic light, SPEC 11.3) and the world normal of
+// the lit side.
 #include "lpv/lpv_common.glsl"
 #include "lib/brdf.glsl"
 #include "raster/material.glsl"
@@ -20,6 +20,6 @@ void main() {
     // Two-sided surfaces: the side the sun sees is the side that reflects.
     if (dot(n, frame.sunDirection.xyz) < 0.0) n = -n;
     vec3 albedo = diffuseAlbedo(materialBaseColor(vMaterial, vUv).rgb, materials[vMaterial].params.y);
-    outFlux = vec4(albedo * frame.sunIrradiance.rgb * lpv.rsm.x, luminance(albedo));
+    outFlux = vec4(albedo * frame.sunIrradiance.rgb * lpv.rsm.x, 1.0);
     outNormal = vec4(n, 1.0);
 }

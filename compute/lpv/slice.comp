@@ -17,7 +17,7 @@ void main() {
     ivec3 c = ivec3(p, uZ);
 #ifdef RTGI_LPV_SLICE_GEOMETRY
     float b = texelFetch(uA, c, 0).x / (RTGI_SH_Y00 * 4.0 * PI);  // mean of B(w) over the sphere
-    imageStore(uSlice, p, vec4(b, texelFetch(uB, c, 0).r, 0.0, 1.0));
+    imageStore(uSlice, p, vec4(b, texelFetch(uB, c, 0).g, texelFetch(uB, c, 0).r, 1.0));
 #else
     imageStore(uSlice, p, vec4(texelFetch(uA, c, 0).x, texelFetch(uB, c, 0).x, texelFetch(uC, c, 0).x, 1.0));
 #endif

@@ -92,7 +92,7 @@ void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     glm::ivec3 c = grid + 1;
     geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z});
     geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z});
-    geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_R16F, c.x, c.y, c.z});
+    geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
 }
 
 void Volumes::ensureHistory(gl::MemoryLedger& ledger) {
@@ -190,7 +190,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindTextureUnit(0, v.geometryAccum.id());
     glBindImageTexture(0, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
-    glBindImageTexture(1, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R16F);
+    glBindImageTexture(1, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 

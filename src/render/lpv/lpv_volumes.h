@@ -15,7 +15,7 @@ using Rgb = std::array<gl::Texture, 3>;
 
 // RSM targets (lpv.rsm).
 struct Rsm {
-    gl::Texture flux;    // RGBA32F: albedo * E_perp * A_texel, a = albedo luminance
+    gl::Texture flux;    // RGBA32F: albedo * E_perp * A_texel
     gl::Texture normal;  // RGBA16F: world normal of the lit side, a = 1 where a surface was drawn
     gl::Texture depth;   // D32F
 };
@@ -26,9 +26,9 @@ struct Volumes {
     Rgb inject;                  // R32F (4X, Y, Z): fp32 atomic accumulation, coefficient k at 4x + k
     std::array<Rgb, 2> step;     // propagation ping-pong (format)
     Rgb accum;                   // sum of all iterations (format)
-    gl::Texture geometryAccum;   // R32F (6(X+1), Y+1, Z+1): blocking SH, sum(A albedo), sum(A)
+    gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A)
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
-    gl::Texture geometryAlbedo;  // R16F: mean albedo of the blockers
+    gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
     std::array<Rgb, 2> history;  // temporal blend targets (format)
     gl::FramebufferHandle injectFbo;                   // raster baseline: step[0] + accum, additive
     std::array<gl::FramebufferHandle, 2> propagateFbo; // raster baseline: step[k] + accum (blended)
