@@ -102,6 +102,12 @@ void Volumes::ensureHistory(gl::MemoryLedger& ledger) {
 }
 
 void Volumes::ensureRasterTargets() {
+    if (!emptyVao) {
+        GLuint vao = 0;
+        glCreateVertexArrays(1, &vao);
+        emptyVao = gl::VertexArrayHandle(vao);
+        emptyVao.label("lpv.empty_vao");
+    }
     if (!injectFbo) injectFbo = layeredFbo("lpv.inject.fbo", step[0], accum);
     for (int k = 0; k < 2; ++k)
         if (!propagateFbo[std::size_t(k)])
@@ -154,7 +160,7 @@ void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& 
     glBindTextureUnit(1, rsm.normal.id());
     glBindTextureUnit(2, rsm.depth.id());
     glUseProgram(prog.id());
-    glBindVertexArray(0);
+    glBindVertexArray(v.emptyVao.id());
     glDrawArrays(GL_POINTS, 0, rsmSize * rsmSize);
     gl::Profiler::noteDispatch();
     endRaster();
@@ -220,7 +226,7 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
                                               formatDefines(v.format), "lpv/propagate_raster.geom");
     bindUbo(ubo);
     glUseProgram(prog.id());
-    glBindVertexArray(0);
+    glBindVertexArray(v.emptyVao.id());
     glBindTextureUnit(3, v.geometry.id());
     glBindTextureUnit(4, v.geometryAlbedo.id());
     int src = 0;

@@ -32,6 +32,7 @@ struct Volumes {
     std::array<Rgb, 2> history;  // temporal blend targets (format)
     gl::FramebufferHandle injectFbo;                   // raster baseline: step[0] + accum, additive
     std::array<gl::FramebufferHandle, 2> propagateFbo; // raster baseline: step[k] + accum (blended)
+    gl::VertexArrayHandle emptyVao;                    // attribute-less draws need a bound VAO (core profile)
 
     // (Re)allocates the light volumes; returns true when they changed.
     bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format);
