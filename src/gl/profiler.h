@@ -26,6 +26,7 @@ public:
     enum class Mode { Gpu, Cpu };
     // Probes the timer (a timestamp pair around real work); pass Mode::Cpu to force.
     explicit Profiler(bool timerQuerySupported);
+    ~Profiler() { if (active_ == this) active_ = nullptr; }  // no dangling active profiler for dispatch()
     Mode mode() const { return mode_; }
     const char* timer() const { return mode_ == Mode::Gpu ? "gpu" : "cpu"; }
 

@@ -36,6 +36,10 @@ struct FrameResources {
     gl::Texture s3ho;             // RGBA16F SH visibility (band 0-1), or empty
     gl::Texture specularOcclusion;// R16F SSR confidence (1 = hit), or empty
     gl::Texture brdfLut;          // RG16F split-sum LUT (NdotV x roughness), made once by the brdf_lut pass
+    gl::Texture blueNoise;        // RGBA8 64x64x8 2D array: 4 blue-noise channels, 8 per-frame variants (render/noise.h)
+    // Frame index at which indirectDiffuse was last written by its producer
+    // (lpv.apply); ao.nearfield adds into it only when it is this frame's.
+    unsigned indirectDiffuseFrame = ~0u;
 
     // output
     gl::Texture hdr;       // RGBA16F composed radiance

@@ -98,6 +98,7 @@ const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
                                      "dynamic3", "dynamic4", "dynamic5", "dynamic6"};
 const char* const kAoDepthSource[] = {"camera", "light"};
+const char* const kAoDualCombine[] = {"product", "min"};
 const char* const kSsrTracer[] = {"auto", "off", "linear", "dda", "hiz"};
 const char* const kReference[] = {"off", "ao", "indirect", "full"};
 const char* const kResolution[] = {"full", "half"};
@@ -220,6 +221,9 @@ std::vector<SettingKey> buildKeys() {
             if (s.ao.dynamicProbe != 4 && s.ao.dynamicProbe != 9 && s.ao.dynamicProbe != 20 &&
                 s.ao.dynamicProbe != 328) bad("ao.probe", v, "4|9|20|328"),
             fmt(s.ao.dynamicProbe)),
+        KEY("ao.dual_combine", "dual radii: combine the two AO values by product or min", "product|min",
+            s.ao.dualCombineMin = parseEnum<int>("ao.dual_combine", v, kAoDualCombine) == 1,
+            s.ao.dualCombineMin ? "min" : "product"),
         // ---- SSR -----------------------------------------------------------
         KEY("ssr", "screen-space reflection tracer (auto: linear when a material is glossy)",
             "auto|off|linear|dda|hiz",

@@ -74,6 +74,7 @@ struct AoSettings {
     float angleBiasDeg = 30.0f;       // hbao
     bool multiBounce = false;         // gtao
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
+    bool dualCombineMin = false;      // dual radii: min instead of product (Loos & Sloan)
 };
 
 struct SsrSettings {

@@ -1,5 +1,385 @@
+// Screen-space AO family (SPEC 4, 6): ao.downsample -> ao.radius ->
+// ao.<variant> -> ao.blur -> ao.temporal -> ao.upsample, and ao.nearfield.
+// The passes share one AoChain (private textures + the AoParams block); the
+// last stage of the chain writes res.ao (R16F, full resolution).
 #include "render/ao/ao_passes.h"
+
+#include "gl/program.h"
+#include "render/ao/ao_params.h"
+#include "render/filter.h"
+#include "render/gpu_scene.h"
+#include "render/lpv/lpv_passes.h"
+#include "render/noise.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include <cstring>
+
 namespace rtgi {
-void appendAoPasses(std::vector<std::unique_ptr<Pass>>&) {}
-void appendNearFieldPasses(std::vector<std::unique_ptr<Pass>>&) {}
+namespace {
+
+using Variant = AoSettings::Variant;
+
+bool aoOn(const Settings& s) { return s.ao.variant != Variant::Off; }
+bool dynamicRadius(const AoSettings& a) { return int(a.radiusMode) >= int(AoSettings::RadiusMode::Dynamic1); }
+const FilterFormat kAoFormat{GL_R16F, "r16f"};
+
+enum class Stage { Estimate, Blur, Temporal, Upsample };
+// The stage that writes res.ao: the last one of the configured chain.
+Stage lastStage(const AoSettings& a) {
+    if (a.halfResolution) return Stage::Upsample;
+    if (a.temporal) return Stage::Temporal;
+    if (a.blur) return Stage::Blur;
+    return Stage::Estimate;
+}
+
+struct AoChain {
+    gl::Texture halfDepth, halfNormal;       // ao.downsample
+    gl::Texture radiusScale, radiusColor;    // ao.radius
+    gl::Texture raw;                         // ao.<variant> (unless it is the last stage)
+    gl::Texture blurTmp, blurred;            // ao.blur
+    TemporalFilter temporal;                 // ao.temporal
+    gl::Texture nearField;                   // ao.nearfield
+    gl::Buffer params;
+    const gl::Texture* current = nullptr;    // output of the last stage run this frame
+    // Cache key of the AoParams block (sample sets are generated on the CPU).
+    AoSettings lastSettings;
+    glm::ivec4 lastSizes{-1};
+    float lastFov = -1;
+
+    glm::ivec2 aoSize(const FrameContext& ctx) const {
+        glm::ivec2 s = ctx.view.size;
+        return ctx.settings.ao.halfResolution ? glm::max((s + 1) / 2, glm::ivec2(1)) : s;
+    }
+    const gl::Texture& depth(const FrameContext& ctx) const {
+        return ctx.settings.ao.halfResolution ? halfDepth : ctx.res.gbuffer.linearDepth;
+    }
+    const gl::Texture& normal(const FrameContext& ctx) const {
+        return ctx.settings.ao.halfResolution ? halfNormal : ctx.res.gbuffer.normal;
+    }
+    // Binds AoParams at RTGI_UBO_AO, regenerating it when settings or sizes change.
+    void bindParams(FrameContext& ctx) {
+        glm::ivec2 a = aoSize(ctx), f = ctx.view.size;
+        glm::ivec4 sizes(a, f);
+        const AoSettings& s = ctx.settings.ao;
+        bool same = params && sizes == lastSizes && lastFov == ctx.view.fovY &&
+                    std::memcmp(&s, &lastSettings, sizeof s) == 0;
+        if (!same) {
+            gpu::AoParams p = makeAoParams(s, a, f, ctx.view.fovY);
+            params.ensure(ctx.ledger, "ao.params", sizeof p);
+            params.upload(&p, sizeof p);
+            lastSettings = s;
+            lastSizes = sizes;
+            lastFov = ctx.view.fovY;
+        }
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_AO, params.id());
+    }
+    // Output texture of a stage: res.ao when it is the last stage.
+    gl::Texture& target(FrameContext& ctx, Stage st, gl::Texture& own) {
+        return lastStage(ctx.settings.ao) == st ? ctx.res.ao : own;
+    }
+};
+
+class AoPassBase : public Pass {
+public:
+    explicit AoPassBase(std::shared_ptr<AoChain> c) : chain_(std::move(c)) {}
+
+protected:
+    std::shared_ptr<AoChain> chain_;
+};
+
+// ---- ao.downsample ------------------------------------------------------------
+class DownsamplePass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.downsample"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (!s.ao.halfResolution) return Need::no("ao.resolution=full");
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        glm::ivec2 a = c.aoSize(ctx);
+        c.halfDepth.ensure(ctx.ledger, "ao.half.depth", {GL_TEXTURE_2D, GL_R32F, a.x, a.y});
+        c.halfNormal.ensure(ctx.ledger, "ao.half.normal", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y});
+        const gl::Program& prog = ctx.programs.compute("ao/downsample.comp");
+        // Producer: gbuffer (framebuffer writes).
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glBindTextureUnit(0, ctx.res.gbuffer.linearDepth.id());
+        glBindTextureUnit(1, ctx.res.gbuffer.normal.id());
+        glBindImageTexture(0, c.halfDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindImageTexture(1, c.halfNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        gl::dispatch(prog, a.x, a.y);
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return {{"ao.half.depth", &chain_->halfDepth}, {"ao.half.normal", &chain_->halfNormal, true}};
+    }
+};
+
+// ---- ao.radius (dynamic radius probe) ------------------------------------------
+class RadiusPass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.radius"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (!dynamicRadius(s.ao)) return Need::no("ao.radius_mode is not dynamic1..dynamic6");
+        return Need::yes();
+    }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        glm::ivec2 a = c.aoSize(ctx);
+        c.radiusScale.ensure(ctx.ledger, "ao.radius.scale", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
+        c.radiusColor.ensure(ctx.ledger, "ao.radius.color", {GL_TEXTURE_2D, GL_RGBA8, a.x, a.y});
+        int alg = int(ctx.settings.ao.radiusMode) - int(AoSettings::RadiusMode::Dynamic1) + 1;
+        const gl::Program& prog = ctx.programs.compute("ao/radius.comp", {{"AO_RADIUS_ALG", std::to_string(alg)}});
+        c.bindParams(ctx);
+        // Producer: ao.downsample or gbuffer.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glBindTextureUnit(0, c.depth(ctx).id());
+        glBindImageTexture(0, c.radiusScale.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        glBindImageTexture(1, c.radiusColor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        gl::dispatch(prog, a.x, a.y);
+    }
+    std::vector<DebugImage> debugImages() const override {
+        return {{"ao.radius.scale", &chain_->radiusColor, 1.0f}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return {{"ao.radius.scale", &chain_->radiusScale}};
+    }
+};
+
+// ---- ao.<variant> -------------------------------------------------------------
+class EstimatePass final : public AoPassBase {
+public:
+    EstimatePass(std::shared_ptr<AoChain> c, Variant v) : AoPassBase(std::move(c)), variant_(v) {}
+    std::string name() const override { return std::string("ao.") + toString(variant_); }
+    Need needed(const Scene& scene, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (s.ao.variant != variant_) return Need::no(std::string("ao=") + toString(s.ao.variant));
+        if (s.ao.depthSource == AoSettings::DepthSource::Light) {
+            if (variant_ == Variant::Vo || variant_ == Variant::Hbao || variant_ == Variant::Gtao)
+                throw ConfigError("ao.depth_source=light needs a point-sampling variant (ssao-disk, ssao-sphere, "
+                                  "ssao-hemisphere); " + std::string(toString(variant_)) + " marches the camera depth");
+            if (!resolveSun(scene, s))
+                throw ConfigError("ao.depth_source=light needs a directional light (its shadow map)");
+        }
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        const AoSettings& s = ctx.settings.ao;
+        glm::ivec2 a = c.aoSize(ctx);
+        gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
+        out.ensure(ctx.ledger, &out == &ctx.res.ao ? "ao" : "ao.raw", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
+        int directional = int(s.directional);
+        gl::Texture* dirTex = nullptr;
+        if (directional == 1) {
+            dirTex = &ctx.res.bentNormal;
+            dirTex->ensure(ctx.ledger, "ao.bent_normal", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y});
+        } else if (directional == 2) {
+            dirTex = &ctx.res.s3ho;
+            dirTex->ensure(ctx.ledger, "ao.s3ho", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y});
+        }
+        if (dirTex) dirTex->setSampling(GL_LINEAR, GL_LINEAR);
+        bool light = s.depthSource == AoSettings::DepthSource::Light;
+        int radius = s.radiusMode == AoSettings::RadiusMode::Fixed ? 0
+                     : s.radiusMode == AoSettings::RadiusMode::Dual ? 1
+                                                                     : 2;
+        const gl::Program& prog = ctx.programs.compute(
+            "ao/ao.comp", {{"AO_VARIANT", std::to_string(int(variant_))},
+                           {"AO_DIRECTIONAL", std::to_string(directional)},
+                           {"AO_RADIUS", std::to_string(radius)},
+                           {"AO_DEPTH_LIGHT", light ? "1" : "0"}});
+        c.bindParams(ctx);
+        const gl::Texture& noise = ensureBlueNoise(ctx.res, ctx.ledger);
+        if (light) {
+            glm::mat4 toShadow = ctx.res.shadowViewProj * glm::inverse(ctx.view.view);
+            prog.set(0, toShadow);
+            prog.set(1, glm::inverse(toShadow));
+        }
+        // Producers: ao.downsample / ao.radius (image stores), gbuffer, shadow.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glBindTextureUnit(0, c.depth(ctx).id());
+        glBindTextureUnit(1, c.normal(ctx).id());
+        glBindTextureUnit(2, noise.id());
+        glBindTextureUnit(3, radius == 2 ? c.radiusScale.id() : 0);
+        glBindTextureUnit(4, light ? ctx.res.shadowMap.id() : 0);
+        glBindTextureUnit(5, ctx.res.gbuffer.albedo.id());
+        glBindImageTexture(0, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        if (dirTex) glBindImageTexture(1, dirTex->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        gl::dispatch(prog, a.x, a.y);
+        glBindTextureUnit(3, 0);
+        glBindTextureUnit(4, 0);
+        c.current = &out;
+        lastDirectional_ = dirTex;
+    }
+    std::vector<DebugImage> debugImages() const override {
+        std::vector<DebugImage> d;
+        if (chain_->current) d.push_back({"ao.raw", chain_->raw ? &chain_->raw : chain_->current, 1.0f});
+        if (lastDirectional_) d.push_back({lastDirectional_->label(), lastDirectional_, 1.0f});
+        return d;
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        std::vector<Output> o;
+        if (chain_->raw) o.push_back({"ao.raw", &chain_->raw});
+        if (lastDirectional_) o.push_back({lastDirectional_->label(), lastDirectional_, true});
+        return o;
+    }
+
+private:
+    Variant variant_;
+    const gl::Texture* lastDirectional_ = nullptr;
+};
+
+// ---- ao.blur ------------------------------------------------------------------
+class BlurPass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.blur"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (!s.ao.blur) return Need::no("ao.blur=off");
+        return Need::yes();
+    }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        gl::Texture& out = c.target(ctx, Stage::Blur, c.blurred);
+        separableBlur(ctx.programs, ctx.ledger, &out == &ctx.res.ao ? "ao" : "ao.blur", kAoFormat, *c.current,
+                      c.depth(ctx), c.normal(ctx), c.blurTmp, out);
+        c.current = &out;
+    }
+    std::vector<DebugImage> debugImages() const override {
+        const gl::Texture* t = chain_->blurred ? &chain_->blurred : nullptr;
+        return t ? std::vector<DebugImage>{{"ao.blurred", t, 1.0f}} : std::vector<DebugImage>{};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return chain_->blurred ? std::vector<Output>{{"ao.blur", &chain_->blurred}} : std::vector<Output>{};
+    }
+};
+
+// ---- ao.temporal --------------------------------------------------------------
+class TemporalPass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.temporal"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (!s.ao.temporal) return Need::no("ao.temporal=off");
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override { return {"gbuffer.velocity"}; }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        const gl::Texture& filtered = c.temporal.run(ctx.programs, ctx.ledger, "ao.temporal", kAoFormat, *c.current,
+                                                     c.depth(ctx), ctx.res.gbuffer.velocity, ctx.view.cut);
+        c.current = &filtered;
+        if (lastStage(ctx.settings.ao) == Stage::Temporal) {
+            // The history must survive the next frame's passes, so res.ao gets a copy.
+            ctx.res.ao.ensure(ctx.ledger, "ao", {GL_TEXTURE_2D, GL_R16F, filtered.width(), filtered.height()});
+            // Producer: the temporal dispatch above (image stores).
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, ctx.res.ao.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                               filtered.width(), filtered.height(), 1);
+            c.current = &ctx.res.ao;
+        }
+    }
+    std::vector<DebugImage> debugImages() const override {
+        return {{"ao.temporal", &chain_->temporal.output(), 1.0f}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return {{"ao.temporal", &chain_->temporal.output()}};
+    }
+};
+
+// ---- ao.upsample --------------------------------------------------------------
+class UpsamplePass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.upsample"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (!s.ao.halfResolution) return Need::no("ao.resolution=full");
+        return Need::yes();
+    }
+    std::vector<std::string> writes() const override { return {"ao"}; }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        upsample(ctx.programs, ctx.ledger, "ao", kAoFormat, *c.current, c.halfDepth, ctx.res.gbuffer.linearDepth,
+                 ctx.res.ao, ctx.settings.ao.upsample);
+        c.current = &ctx.res.ao;
+    }
+};
+
+// ---- ao.nearfield -------------------------------------------------------------
+class NearFieldPass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.nearfield"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!aoOn(s)) return Need::no("ao=off");
+        if (!(s.ao.nearfield > 0.0f)) return Need::no("ao.nearfield=0");
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override {
+        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.velocity"};
+    }
+    std::vector<std::string> writes() const override { return {"indirectDiffuse"}; }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        FrameResources& r = ctx.res;
+        const glm::ivec2 s = ctx.view.size;
+        c.nearField.ensure(ctx.ledger, "ao.nearfield", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
+        // Add into the indirect term only when its producer (lpv.apply) wrote it this frame.
+        bool accumulate = bool(r.indirectDiffuse) && r.indirectDiffuseFrame == ctx.view.frame;
+        r.indirectDiffuse.ensure(ctx.ledger, "indirect_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+        r.indirectDiffuseFrame = ctx.view.frame;
+        const gl::Program& prog = ctx.programs.compute("ao/nearfield.comp");
+        c.bindParams(ctx);
+        const gl::Texture& noise = ensureBlueNoise(r, ctx.ledger);
+        bool history = bool(r.history) && r.historyValid;
+        prog.set(0, accumulate ? 1 : 0);
+        prog.set(1, history ? 1 : 0);
+        // Producers: gbuffer, post.history (last frame), lpv.apply (image stores).
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glBindTextureUnit(0, r.gbuffer.linearDepth.id());
+        glBindTextureUnit(1, r.gbuffer.normal.id());
+        glBindTextureUnit(2, r.gbuffer.albedo.id());
+        glBindTextureUnit(3, r.gbuffer.material.id());
+        glBindTextureUnit(4, history ? r.history.id() : 0);
+        glBindTextureUnit(5, r.gbuffer.velocity.id());
+        glBindTextureUnit(6, noise.id());
+        glBindImageTexture(0, c.nearField.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
+        glBindImageTexture(1, r.indirectDiffuse.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        gl::dispatch(prog, s.x, s.y);
+        glBindTextureUnit(4, 0);
+    }
+    std::vector<DebugImage> debugImages() const override { return {{"ao.nearfield", &chain_->nearField, 1.0f}}; }
+    std::vector<Output> checkedOutputs(const FrameResources& r) const override {
+        return {{"ao.nearfield", &chain_->nearField}, {"indirectDiffuse", &r.indirectDiffuse}};
+    }
+};
+
+}  // namespace
+
+void appendAoPasses(std::vector<std::unique_ptr<Pass>>& f) {
+    auto chain = std::make_shared<AoChain>();
+    f.push_back(std::make_unique<DownsamplePass>(chain));  // half-resolution depth + normals
+    f.push_back(std::make_unique<RadiusPass>(chain));      // dynamic radius scale (radius_mode=dynamic*)
+    for (Variant v : {Variant::SsaoDisk, Variant::SsaoSphere, Variant::SsaoHemisphere, Variant::Vo, Variant::Hbao,
+                      Variant::Gtao})
+        f.push_back(std::make_unique<EstimatePass>(chain, v));  // ao.<variant> (+ bent normals / S3HO)
+    f.push_back(std::make_unique<BlurPass>(chain));      // separable edge-preserving blur
+    f.push_back(std::make_unique<TemporalPass>(chain));  // seed 000 listing 11
+    f.push_back(std::make_unique<UpsamplePass>(chain));  // depth-aware half -> full
+}
+
+void appendNearFieldPasses(std::vector<std::unique_ptr<Pass>>& f) {
+    // Its own chain: it needs only the AoParams block and its output image.
+    f.push_back(std::make_unique<NearFieldPass>(std::make_shared<AoChain>()));
+}
+
 }  // namespace rtgi

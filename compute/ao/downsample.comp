@@ -1,0 +1,25 @@
+// ao.downsample: half-resolution depth and normals for the AO chain (seed 000
+// 5.3). Of each 2x2 block the nearest non-sky texel is kept with its normal,
+// so thin foreground geometry survives and depth/normal stay consistent.
+#include "lib/depth.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D uDepth;
+layout(binding = 1) uniform sampler2D uNormal;
+layout(r32f, binding = 0) uniform writeonly image2D uHalfDepth;
+layout(rgba16f, binding = 1) uniform writeonly image2D uHalfNormal;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, imageSize(uHalfDepth)))) return;
+    ivec2 full = textureSize(uDepth, 0);
+    float best = 0.0;
+    ivec2 bestAt = min(2 * p, full - 1);
+    for (int i = 0; i < 4; ++i) {
+        ivec2 q = min(2 * p + ivec2(i & 1, i >> 1), full - 1);
+        float d = texelFetch(uDepth, q, 0).r;
+        if (!isSky(d) && (isSky(best) || d < best)) best = d, bestAt = q;
+    }
+    imageStore(uHalfDepth, p, vec4(best));
+    imageStore(uHalfNormal, p, texelFetch(uNormal, bestAt, 0));
+}

@@ -1,0 +1,66 @@
+// ao.nearfield: near-field indirect light (seed 000 4.2.1, eq. 16) from the
+// previous frame's radiance reprojected with the velocity buffer; written to
+// its own R11F_G11F_B10F image and added into the indirect diffuse term
+// (or written alone when no producer filled it this frame).
+#include "lib/common.glsl"
+#include "lib/depth.glsl"
+#include "lib/brdf.glsl"
+#include "lib/ao_shared.h"
+#include "lib/ao.glsl"
+#include "lib/noise.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
+layout(binding = 0) uniform sampler2D uDepth;
+layout(binding = 1) uniform sampler2D uNormal;
+layout(binding = 2) uniform sampler2D uAlbedo;
+layout(binding = 3) uniform sampler2D uMaterial;
+layout(binding = 4) uniform sampler2D uHistory;   // previous frame HDR (post.history)
+layout(binding = 5) uniform sampler2D uVelocity;
+layout(binding = 6) uniform sampler2DArray uNoise;
+layout(r11f_g11f_b10f, binding = 0) uniform writeonly image2D uNearField;
+layout(rgba16f, binding = 1) uniform image2D uIndirect;
+layout(location = 0) uniform int uAccumulate;  // 1: add into uIndirect, 0: overwrite it
+layout(location = 1) uniform int uHistoryValid;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = frameSize();
+    if (any(greaterThanEqual(p, size))) return;
+    vec3 L = vec3(0.0);
+    float d = texelFetch(uDepth, p, 0).r;
+    if (!isSky(d) && uHistoryValid != 0) {
+        vec2 uv = (vec2(p) + 0.5) / vec2(size);
+        float tanHalf = frame.projParams.z, aspect = frame.projParams.w;
+        vec3 P = viewPositionFromDepth(uv, d, tanHalf, aspect);
+        vec3 n = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
+        vec4 bn = blueNoise(uNoise, p, frameIndex());
+        float a = 6.2831853 * bn.x;
+        mat3 basis = aoBasis(n, vec3(cos(a), sin(a), 0.0));
+        vec3 rho = diffuseAlbedo(texelFetch(uAlbedo, p, 0).rgb, texelFetch(uMaterial, p, 0).g);
+        float R = ao.radius.x;
+        int N = ao.counts.x;
+        float senderArea = PI * R * R / float(N);  // A_s = pi r_max^2 / N
+        for (int i = 0; i < N; ++i) {
+            vec3 o = ao.kernel[i].xyz;
+            o.z = abs(o.z);
+            vec3 S = P + R * (basis * o);
+            vec3 uvS = uvFromViewPosition(S, tanHalf, aspect);
+            if (any(lessThan(uvS.xy, vec2(0.0))) || any(greaterThanEqual(uvS.xy, vec2(1.0)))) continue;
+            ivec2 q = ivec2(uvS.xy * vec2(size));
+            float zScene = texelFetch(uDepth, q, 0).r;
+            // V(w_i) = 0 (occluded): the blocker visible there is the sender.
+            if (isSky(zScene) || zScene >= uvS.z - 0.02 * R) continue;
+            vec3 sender = viewPositionFromDepth(uvS.xy, zScene, tanHalf, aspect);
+            vec3 nS = aoSafeNormal(texelFetch(uNormal, q, 0).xyz, sender);
+            vec2 uvPrev = uvS.xy + texelFetch(uVelocity, q, 0).xy;
+            if (any(lessThan(uvPrev, vec2(0.0))) || any(greaterThanEqual(uvPrev, vec2(1.0)))) continue;
+            vec3 radiance = texture(uHistory, uvPrev).rgb;
+            L += nearFieldSample(rho, radiance, sender - P, nS, n, senderArea, R);
+        }
+        L *= ao.misc.y;  // strength (seed used 3)
+    }
+    imageStore(uNearField, p, vec4(L, 0.0));
+    vec4 base = uAccumulate != 0 ? imageLoad(uIndirect, p) : vec4(0.0, 0.0, 0.0, 1.0);
+    imageStore(uIndirect, p, vec4(base.rgb + L, base.a));
+}

@@ -1,0 +1,36 @@
+// Temporal reprojection filter exactly as seed 000 listing 11 (SPEC 6.2) on
+// any value texture (FILTER_FORMAT). Keeps its own history of value and
+// linear depth; uReset (camera cut / no history) takes the current value.
+#include "lib/depth.glsl"
+#include "lib/filter.glsl"
+
+#ifndef FILTER_FORMAT
+#define FILTER_FORMAT r16f
+#endif
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D uCurrent;
+layout(binding = 1) uniform sampler2D uHistory;       // previous output (bilinear)
+layout(binding = 2) uniform sampler2D uDepth;         // current linear depth, filter resolution
+layout(binding = 3) uniform sampler2D uHistoryDepth;  // previous linear depth, filter resolution (bilinear)
+layout(binding = 4) uniform sampler2D uVelocity;      // G-buffer velocity: previous - current uv
+layout(FILTER_FORMAT, binding = 0) uniform writeonly image2D uOut;
+layout(r32f, binding = 1) uniform writeonly image2D uOutDepth;
+layout(location = 0) uniform int uReset;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = imageSize(uOut);
+    if (any(greaterThanEqual(p, size))) return;
+    vec2 uv = (vec2(p) + 0.5) / vec2(size);
+    vec4 current = texelFetch(uCurrent, p, 0);
+    float depth = texelFetch(uDepth, p, 0).r;
+    vec2 velocity = texture(uVelocity, uv).xy;
+    vec2 uvPrev = uv + velocity;
+    float lastDepth = texture(uHistoryDepth, uvPrev).r;
+    float alpha = temporalAlpha(abs(depth - lastDepth), velocity, uvPrev);
+    if (uReset != 0 || isSky(depth)) alpha = 1.0;
+    vec4 last = texture(uHistory, uvPrev);
+    imageStore(uOut, p, (1.0 - alpha) * last + alpha * current);
+    imageStore(uOutDepth, p, vec4(depth));
+}

@@ -1,0 +1,89 @@
+// Pure AO estimator functions (XeGTAO style: every input is a parameter, no
+// bindings), shared by compute/ao/*.comp and the GPU tests. View space:
+// camera at the origin looking down -z; "depth" = positive distance along -z.
+#pragma once
+
+// Seed 003 eq. 5.3: a view-space radius R at depth z covers
+// 0.5 * R * focal / z in texture space, focal = (cot(fovY/2)/aspect, cot(fovY/2)).
+vec2 aoTextureRadius(float R, float depth, vec2 focal) { return 0.5 * R * focal / depth; }
+
+// Seed 003 eqs. 3.1-3.3 (Kajalin): visibility of a sample point at depth
+// zSample against the scene depth zScene seen through it, invalidated
+// relative to the scene depth (camera-distance dependent by design, SPEC 11.7).
+float ssaoDiskSampleValue(float zCenter, float zSample, float zScene) {
+    float visibility = zScene > zSample ? 1.0 : 0.0;
+    float validity = 1.0 - clamp((zCenter - zScene) / zScene, 0.0, 1.0);
+    return mix(0.5, visibility, validity);
+}
+
+// Seed 003 5.1.3: full-sphere estimators see half of the samples occluded on
+// a plane; clip above 0.5 and scale by 2 (plane -> 1). Used by ssao-disk
+// (edge-highlight removal) and as the normalization of ssao-sphere and VO.
+float halfSpaceNormalize(float visibleFraction) { return min(visibleFraction, 0.5) * 2.0; }
+
+// Seed 003 eq. 3.6: unoccluded length of a line sample of half-length zs
+// (unit sphere) when the scene lies dr sphere radii behind the centre, clamped
+// to the line (0 .. 2 zs).
+float voLineFree(float zs, float dr) { return clamp(min(zs, dr) + zs, 0.0, 2.0 * zs); }
+
+// HBAO attenuation W(r) = 1 - r^2/R^2 (Bavoil & Sainz 2008).
+float hbaoFalloff(float r2, float R2) { return clamp(1.0 - r2 / R2, 0.0, 1.0); }
+
+// [FM08] range check: blockers farther than R from the receiver fade out.
+float rangeAttenuation(float R, float distance) { return smoothstep(0.0, 1.0, R / max(distance, 1e-6)); }
+
+// GTAO (Jimenez et al. 2016, eq. 10): cosine-weighted visible arc of one
+// slice between horizon angles h0 <= n <= h1 (n: angle of the projected
+// normal), times the projected normal length.
+float gtaoSliceVisibility(float h0, float h1, float n, float projNormalLength) {
+    float cosN = cos(n), sinN = sin(n);
+    float a0 = 0.25 * (cosN + 2.0 * h0 * sinN - cos(2.0 * h0 - n));
+    float a1 = 0.25 * (cosN + 2.0 * h1 * sinN - cos(2.0 * h1 - n));
+    return projNormalLength * (a0 + a1);
+}
+
+// GTAO multi-bounce fit (Jimenez et al. 2016, eq. 14) for an albedo.
+float gtaoMultiBounce(float visibility, float albedo) {
+    float a = 2.0404 * albedo - 0.3324, b = -4.7951 * albedo + 0.6417, c = 2.7552 * albedo + 0.6903;
+    float x = visibility;
+    return max(x, ((x * a + b) * x + c) * x);
+}
+
+// Orthonormal basis around n, rotated by `tangentHint` (noise) about n.
+// Returns a matrix with columns (t, b, n); n must be unit length.
+mat3 aoBasis(vec3 n, vec3 tangentHint) {
+    vec3 t = tangentHint - n * dot(tangentHint, n);
+    if (dot(t, t) < 1e-8) t = abs(n.x) < 0.9 ? vec3(1, 0, 0) - n * n.x : vec3(0, 1, 0) - n * n.y;
+    t = normalize(t);
+    return mat3(t, cross(n, t), n);
+}
+
+// Cosine-weighted direction on the +z hemisphere for u in [0,1)^2 (pdf cos/pi).
+vec3 cosineHemisphere(vec2 u) {
+    float r = sqrt(u.x), phi = 6.28318530717958648 * u.y;
+    return vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
+}
+
+// Real SH basis, bands 0-1 (order Y00, Y1-1, Y10, Y11 = 0.2821, 0.4886 y, z, x).
+// NOTE: duplicate of the LPV family's compute/lib/sh.glsl basis while that is
+// not merged; the lead dedupes (same order and constants).
+vec4 aoShBasis01(vec3 d) { return vec4(0.28209479177387814, 0.48860251190291992 * vec3(d.y, d.z, d.x)); }
+
+// Seed 000 eq. 16 for one sender sample: rho/pi * L * (1 - V) * A_s cos(s) cos(r) / d^2,
+// with the distance clamped to 0.25 R (the sender disc area A_s = pi R^2 / N
+// makes the point-to-disc form factor invalid closer than that).
+vec3 nearFieldSample(vec3 rho, vec3 senderRadiance, vec3 toSender, vec3 senderNormal, vec3 receiverNormal,
+                     float senderArea, float R) {
+    float d2 = max(dot(toSender, toSender), 0.0625 * R * R);
+    vec3 l = toSender * inversesqrt(max(dot(toSender, toSender), 1e-12));
+    float cosS = max(0.0, dot(senderNormal, -l)), cosR = max(0.0, dot(receiverNormal, l));
+    return rho * 0.31830988618379067 * senderRadiance * senderArea * cosS * cosR / d2;
+}
+
+// Surface normal from the G-buffer, made safe: zero/NaN normals (holes,
+// broken meshes) fall back to facing the viewer.
+vec3 aoSafeNormal(vec3 n, vec3 viewPos) {
+    float l2 = dot(n, n);
+    if (!(l2 > 1e-6) || !(l2 < 1e6)) return normalize(-viewPos);
+    return n * inversesqrt(l2);
+}

@@ -1,0 +1,40 @@
+// AO family: binding points and the AoParams block shared by C++ and GLSL
+// (std140). C++ includes it through src/render/ao/ao_params.h, which
+// static_asserts the size; GLSL includes it as "lib/ao_shared.h".
+#ifndef RTGI_AO_SHARED_H
+#define RTGI_AO_SHARED_H
+#ifdef RTGI_GLSL
+#include "lib/shared.h"
+#else
+namespace rtgi::gpu {  // C++: included after compute/lib/shared.h (render/gpu_types.h)
+#endif
+
+#define RTGI_UBO_AO 3            // AoParams
+#define RTGI_AO_MAX_KERNEL 64    // sphere / hemisphere kernel size (ao.samples <= 64)
+#define RTGI_AO_MAX_VO_PAIRS 32  // VO line-sample pairs (2 x 32 = 64 line samples)
+#define RTGI_AO_MAX_PROBE 328    // dynamic radius probe (seed 003 4.2.2, K = 328)
+
+// Variant codes (AO_VARIANT define and AoParams.counts.w).
+#define RTGI_AO_SSAO_DISK 1
+#define RTGI_AO_SSAO_SPHERE 2
+#define RTGI_AO_SSAO_HEMISPHERE 3
+#define RTGI_AO_VO 4
+#define RTGI_AO_HBAO 5
+#define RTGI_AO_GTAO 6
+
+RTGI_STRUCT(AoParams) {
+    vec4 radius;   // x R (view units), y second radius (dual), z max occlusion distance (VO: 2R), w tan(angle bias)
+    vec4 focal;    // x cot(fovY/2)/aspect, y cot(fovY/2) (eq. 5.3 focal length), z tan(fovY/2), w aspect
+    ivec4 counts;  // x samples, y directions (hbao/gtao), z steps per direction, w variant
+    ivec4 flags;   // x edge-highlight removal, y hbao uses normals, z gtao multi-bounce, w radius mode (0 fixed, 1 dual, 2..7 dynamic1..6)
+    ivec4 size;    // AO resolution (w, h), full resolution (w, h)
+    vec4 misc;     // x dual combine (0 product, 1 min), y near-field strength, z VO pair count, w dynamic probe K
+    vec4 kernel[RTGI_AO_MAX_KERNEL];    // unit-ball offsets, radial density d(x) = 3/2 (1 - x^2) (seed 003 5.5)
+    vec4 voSamples[RTGI_AO_MAX_VO_PAIRS]; // xy disk position, z half-length z_s, w volume weight / sum
+    vec4 probe[RTGI_AO_MAX_PROBE];      // xy Poisson-disk offsets in the unit disk (dynamic radius probe)
+};
+
+#ifndef RTGI_GLSL
+}  // namespace rtgi::gpu
+#endif
+#endif

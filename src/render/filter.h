@@ -1,0 +1,49 @@
+#pragma once
+// Shared screen-space filter chain (SPEC 6.2-6.4): separable edge-preserving
+// blur, the temporal reprojection filter of seed 000 listing 11, depth-aware
+// upsampling. Used by the AO family; SSR reuses it with another value format
+// (compute/filter/*.comp are parameterized by FILTER_FORMAT, not copied).
+#include "gl/program.h"
+#include "gl/resources.h"
+
+#include <string>
+
+namespace rtgi {
+
+struct FilterFormat {
+    GLenum internal = GL_R16F;  // texture format of values
+    std::string glsl = "r16f";  // matching image format qualifier
+};
+
+struct BlurThresholds {
+    float depth = 0.05f;   // relative depth difference above which a tap is dropped
+    float normal = 0.8f;   // minimum cosine between centre and tap normals
+};
+
+// out = vertical(horizontal(in)); tmp and out are (re)allocated at in's size.
+void separableBlur(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
+                   const FilterFormat& fmt, const gl::Texture& in, const gl::Texture& depth,
+                   const gl::Texture& normal, gl::Texture& tmp, gl::Texture& out, BlurThresholds t = {});
+
+// Temporal filter with its own ping-pong history (value + linear depth).
+class TemporalFilter {
+public:
+    // Blends `current` with the reprojected history; returns this frame's
+    // output (valid until the next run). reset: camera cut or no history.
+    const gl::Texture& run(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
+                           const FilterFormat& fmt, const gl::Texture& current, const gl::Texture& depth,
+                           const gl::Texture& velocity, bool reset);
+    const gl::Texture& output() const { return value_[cur_]; }
+
+private:
+    gl::Texture value_[2], depth_[2];
+    int cur_ = 0;
+    bool valid_ = false;
+};
+
+// Half -> full resolution into `out` (allocated at fullDepth's size).
+void upsample(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
+              const FilterFormat& fmt, const gl::Texture& low, const gl::Texture& lowDepth,
+              const gl::Texture& fullDepth, gl::Texture& out, bool depthAware);
+
+}  // namespace rtgi
