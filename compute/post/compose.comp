@@ -2,6 +2,8 @@
 //   hdr = direct + diffuseAlbedo·sky·AO + indirectDiffuse·AO' + specular
 // AO' = AO unless the LPV apply already used directional occlusion
 // (bent normals / S3HO), so occlusion is never applied twice.
+// RTGI_DIFFUSE_ONLY (ssr.diffuse_history): no specular term, no tonemapping,
+// the result goes to an RGBA16F history image.
 #include "lib/common.glsl"
 #include "lib/brdf.glsl"
 #include "lib/tonemap.glsl"
@@ -14,8 +16,12 @@ layout(binding = 2) uniform sampler2D uMaterial;
 layout(binding = 3) uniform sampler2D uIndirect;
 layout(binding = 4) uniform sampler2D uSpecular;
 layout(binding = 5) uniform sampler2D uAo;
+#ifdef RTGI_DIFFUSE_ONLY
+layout(rgba16f, binding = 0) uniform writeonly image2D uHdr;
+#else
 layout(rgba32f, binding = 0) uniform writeonly image2D uHdr;
 layout(rgba8, binding = 1) uniform writeonly image2D uLdr;
+#endif
 
 layout(location = 0) uniform ivec4 uHave;  // indirect, specular, ao, ao already applied to indirect
 
@@ -30,8 +36,12 @@ void main() {
         float ao = uHave.z != 0 ? clamp(texelFetch(uAo, p, 0).r, 0.0, 1.0) : 1.0;
         color += diffuseAlbedo(albedo, metallic) * frame.sky.rgb * ao;
         if (uHave.x != 0) color += texelFetch(uIndirect, p, 0).rgb * (uHave.w != 0 ? 1.0 : ao);
+#ifndef RTGI_DIFFUSE_ONLY
         if (uHave.y != 0) color += texelFetch(uSpecular, p, 0).rgb;
+#endif
     }
     imageStore(uHdr, p, vec4(color, 1.0));
+#ifndef RTGI_DIFFUSE_ONLY
     imageStore(uLdr, p, vec4(tonemap(color, frame.sky.a), 1.0));
+#endif
 }

@@ -1,5 +1,6 @@
 // Direct lighting: sun (shadow-mapped, 3x3 PCF), point/spot lights
 // (unshadowed), emission; sky radiance where no geometry was rasterized.
+// RTGI_DIFFUSE_ONLY drops the specular lobe (ssr.diffuse_history).
 #include "lib/common.glsl"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
@@ -15,6 +16,12 @@ layout(binding = 5) uniform sampler2DShadow uShadowMap;
 layout(rgba16f, binding = 0) uniform writeonly image2D uDirect;
 
 layout(location = 0) uniform int uHasShadowMap;
+
+#ifdef RTGI_DIFFUSE_ONLY
+vec3 lightBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, vec2 rm) { return evalDiffuseCos(n, l, albedo, rm.y); }
+#else
+vec3 lightBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, vec2 rm) { return evalBrdfCos(n, v, l, albedo, rm.x, rm.y); }
+#endif
 
 layout(std430, binding = RTGI_SSBO_LIGHTS) readonly buffer LightBlock { GpuLight lights[]; };
 
@@ -52,7 +59,7 @@ void main() {
     vec3 radiance = texelFetch(uEmissive, p, 0).rgb;
     if (frame.sunDirection.w > 0.0) {
         vec3 l = frame.sunDirection.xyz;
-        radiance += evalBrdfCos(n, v, l, albedo, rm.x, rm.y) * frame.sunIrradiance.rgb * sunVisibility(wp, n);
+        radiance += lightBrdfCos(n, v, l, albedo, rm) * frame.sunIrradiance.rgb * sunVisibility(wp, n);
     }
     for (int i = 0; i < frame.counts.x; ++i) {
         GpuLight L = lights[i];
@@ -68,7 +75,7 @@ void main() {
             float cd = dot(-l, normalize(L.directionType.xyz));
             atten *= smoothstep(L.cone.y, L.cone.x, cd);
         }
-        radiance += evalBrdfCos(n, v, l, albedo, rm.x, rm.y) * L.colorIntensity.rgb * atten;
+        radiance += lightBrdfCos(n, v, l, albedo, rm) * L.colorIntensity.rgb * atten;
     }
     imageStore(uDirect, p, vec4(clampHalf(radiance), 1.0));
 }

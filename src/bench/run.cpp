@@ -63,6 +63,9 @@ void writeTexture(const std::string& dir, const std::string& name, const gl::Tex
                   bool srgb = true) {
     if (!tex) return;
     FloatImage img = readTexture(tex);
+    GLenum f = tex.format();
+    if (f == GL_R32F || f == GL_R16F || f == GL_R8)  // single channel: show as grey, not red
+        for (std::size_t i = 0; i < img.data.size(); i += 4) img.data[i + 1] = img.data[i + 2] = img.data[i];
     writePng(dir + "/" + name + ".png", img, scale, srgb);
 }
 

@@ -19,7 +19,8 @@ public:
     std::string name() const override { return "post.history"; }
     Need needed(const Scene& scene, const Settings& s) const override {
         bool nearfield = s.ao.variant != AoSettings::Variant::Off && s.ao.nearfield > 0.0f;
-        bool ssr = effectiveSsrTracer(scene, s) != SsrSettings::Tracer::Off;
+        // ssr.diffuse_history keeps its own (diffuse-only) history.
+        bool ssr = effectiveSsrTracer(scene, s) != SsrSettings::Tracer::Off && !s.ssr.diffuseHistory;
         if (!nearfield && !ssr) return Need::no("no pass reads the previous frame (near-field and SSR off)");
         return Need::yes();
     }
@@ -46,6 +47,7 @@ std::vector<std::unique_ptr<Pass>> frameScript() {
     f.push_back(makeGBufferPass());  // rasterize depth, normals, albedo, material, emission, velocity
     f.push_back(makeShadowPass());   // sun shadow map (rasterized)
     f.push_back(makeDirectPass());   // direct sun + punctual lights + emission (compute)
+    f.push_back(makeBrdfLutPass());  // split-sum BRDF table, once (SSR / LPV specular)
     appendAoPasses(f);               // ao.<variant> -> blur -> temporal -> upsample (+ bent normals / S3HO)
     appendLpvPasses(f);              // lpv.rsm -> inject -> inject_geometry -> propagate xN -> apply
     appendNearFieldPasses(f);        // ao.nearfield adds reprojected near-field light to the indirect term

@@ -9,6 +9,11 @@ std::unique_ptr<Pass> makeGBufferPass();
 std::unique_ptr<Pass> makeShadowPass();
 std::unique_ptr<Pass> makeDirectPass();
 std::unique_ptr<Pass> makeComposePass();
+// Split-sum BRDF LUT (RG16F, x = n·v, y = roughness at texel centres), made
+// once when SSR or LPV specular runs.
+std::unique_ptr<Pass> makeBrdfLutPass();
+constexpr int kBrdfLutSize = 64;       // texels per side
+constexpr int kBrdfLutSamples = 4096;  // GGX importance samples per texel
 
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).

@@ -1,0 +1,35 @@
+// ssr.resolve: the hit reprojected into the previous frame with the velocity
+// buffer (seed 000 5.4), radiance fetched from the previous frame's history
+// (full HDR or diffuse-only), premultiplied by the confidence:
+// out = (L·c, c), so that blur and temporal filtering stay linear.
+#include "lib/common.glsl"
+#include "lib/ssr_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
+layout(binding = 0) uniform sampler2D uHit;
+layout(binding = 1) uniform sampler2D uConfidence;
+layout(binding = 2) uniform sampler2D uVelocity;
+layout(binding = 3) uniform sampler2D uHistory;  // bilinear
+layout(rgba16f, binding = 0) uniform writeonly image2D uResolved;
+
+layout(location = 0) uniform int uHaveHistory;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, ssr.sizes.xy))) return;
+    vec4 outValue = vec4(0.0);
+    float c = texelFetch(uConfidence, p, 0).r;
+    if (uHaveHistory != 0 && c > 0.0) {
+        ivec2 full = min(p * ssr.params.w, ssr.sizes.zw - 1);
+        vec2 hitUv = (vec2(full) + 0.5) / vec2(ssr.sizes.zw) + texelFetch(uHit, p, 0).xy;
+        ivec2 hitPixel = clamp(ivec2(hitUv * vec2(ssr.sizes.zw)), ivec2(0), ssr.sizes.zw - 1);
+        vec2 prevUv = hitUv + texelFetch(uVelocity, hitPixel, 0).xy;
+        vec3 radiance = textureLod(uHistory, prevUv, 0.0).rgb;
+        bool inside = all(greaterThanEqual(prevUv, vec2(0.0))) && all(lessThanEqual(prevUv, vec2(1.0)));
+        bool finite = !any(isnan(radiance)) && !any(isinf(radiance));
+        if (inside && finite) outValue = vec4(max(radiance, vec3(0.0)) * c, c);
+    }
+    imageStore(uResolved, p, outValue);
+}

@@ -1,0 +1,45 @@
+// ssr.shade (full resolution): specular = splitSum(F0, n·v, roughness) ×
+// reflection × specular occlusion + LPV specular × (1 − specular occlusion)
+// (seed 000 5.2.6, 5.4; SPEC 3.6, 5). The filtered reflection is
+// premultiplied (L·c, c) at trace resolution and upsampled bilinearly.
+#include "lib/common.glsl"
+#include "lib/depth.glsl"
+#include "lib/brdf.glsl"
+#include "lib/ssr_shared.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
+layout(binding = 0) uniform sampler2D uReflection;  // bilinear
+layout(binding = 1) uniform sampler2D uBrdfLut;     // bilinear, (n·v, roughness)
+layout(binding = 2) uniform sampler2D uLinearDepth;
+layout(binding = 3) uniform sampler2D uNormal;
+layout(binding = 4) uniform sampler2D uAlbedo;
+layout(binding = 5) uniform sampler2D uMaterial;
+layout(rgba16f, binding = 0) uniform image2D uSpecular;  // LPV specular in (when uHaveLpv), result out
+layout(r16f, binding = 1) uniform writeonly image2D uOcclusion;
+
+layout(location = 0) uniform int uHaveLpv;
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, ssr.sizes.zw))) return;
+    vec3 lpv = uHaveLpv != 0 ? imageLoad(uSpecular, p).rgb : vec3(0.0);
+    float d = texelFetch(uLinearDepth, p, 0).r;
+    vec2 rm = texelFetch(uMaterial, p, 0).rg;
+    vec4 reflection = vec4(0.0);
+    vec3 splitSum = vec3(0.0);
+    if (!isSky(d) && rm.x <= ssr.trace.y) {
+        vec2 uv = (vec2(p) + 0.5) / vec2(ssr.sizes.zw);
+        vec3 v = -normalize(viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w));
+        vec3 n = texelFetch(uNormal, p, 0).xyz;
+        float nn = dot(n, n);
+        float NdotV = nn > 1e-12 && nn < 1e12 ? clamp(dot(n * inversesqrt(nn), v), 0.0, 1.0) : 0.0;
+        vec2 ab = textureLod(uBrdfLut, vec2(NdotV, rm.x), 0.0).rg;
+        splitSum = specularF0(texelFetch(uAlbedo, p, 0).rgb, rm.y) * ab.x + ab.y;
+        reflection = textureLod(uReflection, uv, 0.0);
+        reflection.a = clamp(reflection.a, 0.0, 1.0);
+    }
+    imageStore(uSpecular, p, vec4(splitSum * reflection.rgb + lpv * (1.0 - reflection.a), 1.0));
+    imageStore(uOcclusion, p, vec4(reflection.a));
+}
