@@ -6,6 +6,12 @@
 
 layout(std140, binding = RTGI_UBO_LPV) uniform LpvBlock { LpvUniforms lpv; };
 
+// Volume image format: set by lpv::formatDefines(); rgba16f when compiled alone.
+#ifndef RTGI_LPV_FORMAT
+#define RTGI_LPV_FORMAT rgba16f
+#define RTGI_LPV_HALF 1
+#endif
+
 float lpvCellSize() { return lpv.origin.w; }
 ivec3 lpvGrid() { return lpv.grid.xyz; }
 
