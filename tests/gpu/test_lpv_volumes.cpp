@@ -276,7 +276,7 @@ void setup(GpuLpv& g, const CpuVolume& light, const CpuGeometry* geo, CpuVolume&
 TEST_CASE("LPV propagation matches a CPU double implementation (grids, iterations, occlusion, bounce, formats)") {
     GpuFixture gpu;
     probeHalfRounding();
-    MESSAGE(std::string("rgba16f image stores ") + (gHalfTruncates ? "truncate" : "round to nearest"));
+    MESSAGE("rgba16f image stores " << std::string(gHalfTruncates ? "truncate" : "round to nearest"));
     std::mt19937 rng(7);
     struct Case {
         glm::ivec3 grid;
