@@ -161,7 +161,7 @@ std::vector<SettingKey> buildKeys() {
             s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
                 ? fmt(s.lpv.grid.x)
                 : fmt(s.lpv.grid.x) + "x" + fmt(s.lpv.grid.y) + "x" + fmt(s.lpv.grid.z)),
-        KEY("lpv.cell", "cell size in scene units (0 = fit the scene)", "0|1e-4..1e4",
+        KEY("lpv.cell", "cell size in scene units (0 = fit the grid to the scene; > 0: camera-following, snapped)", "0|1e-4..1e4",
             s.lpv.cell = parseFloat("lpv.cell", v, 0, 1e4), fmt(s.lpv.cell)),
         KEY("lpv.iterations", "propagation iterations", "1..64",
             s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),

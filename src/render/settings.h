@@ -44,7 +44,7 @@ struct LpvSettings {
     Toggle mode = Toggle::Auto;          // auto: on when the scene has a sun
     enum class Path { Compute, Raster } path = Path::Compute;
     glm::ivec3 grid{32};
-    float cell = 1.0f;                   // 0 = fit to the scene (auto)
+    float cell = 0.0f;                   // 0 = fit the grid to the scene bounds (auto, docs/lpv.md)
     int iterations = 8;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
