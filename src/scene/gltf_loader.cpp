@@ -41,6 +41,7 @@ namespace fs = std::filesystem;
 
 constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(2000) << 20;  // tinygltf takes 32-bit sizes
 constexpr double kMaxTriangles = 1e8;
+constexpr double kMaxVertices = 3e8;  // 3 per triangle at most, and far below 2^32
 constexpr double kMaxNodeInstances = 1e7;
 constexpr int kMaxJsonDepth = 256;
 constexpr int kMaxImageSide = 16384;
@@ -162,12 +163,37 @@ int jsonDepth(std::string_view text) {
     return maxDepth;
 }
 
+// Text from the file may be anything: keep valid UTF-8, replace control
+// characters and invalid bytes by '?', so that messages stay one printable line
+// (and can be written into JSON results).
+std::string printable(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    std::size_t i = 0;
+    while (i < s.size()) {
+        auto c = static_cast<unsigned char>(s[i]);
+        std::size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+        bool ok = len > 0 && i + len <= s.size() && (len > 1 || (c >= 0x20 && c != 0x7F));
+        for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) >> 6) == 0x2;
+        if (ok && len == 2) ok = c >= 0xC2;  // no overlong forms
+        if (ok) {
+            out.append(s, i, len);
+            i += len;
+        } else {
+            out.push_back('?');
+            ++i;
+        }
+    }
+    return out;
+}
+
 // Makes one line out of tinygltf's newline-separated messages.
 std::string oneLine(const std::string& s, std::size_t maxLen = 300) {
     std::string out;
     for (char c : s) {
         if (c == '\n' || c == '\r') {
-            if (!out.empty() && out.back() != ' ') out += "; ";
+            while (!out.empty() && (out.back() == '.' || out.back() == ' ')) out.pop_back();
+            if (!out.empty() && out.back() != ';') out += "; ";
         } else {
             out.push_back(c);
         }
@@ -360,8 +386,8 @@ private:
     };
     std::vector<PendingCamera> pendingCameras_;
 
-    [[noreturn]] void fail(const std::string& sentence) const { throw SceneError(path_ + ": " + sentence); }
-    void warn(const std::string& sentence) { scene_.warnings.push_back(path_ + ": " + sentence); }
+    [[noreturn]] void fail(const std::string& sentence) const { throw SceneError(path_ + ": " + printable(sentence)); }
+    void warn(const std::string& sentence) { scene_.warnings.push_back(path_ + ": " + printable(sentence)); }
 
     Scene loadImpl() {
         scene_.name = path_;
@@ -748,7 +774,7 @@ private:
             const auto& gm = model_.materials[i];
             std::string which = "material " + str(i) + (gm.name.empty() ? "" : " ('" + gm.name + "')");
             Material m;
-            m.name = gm.name.empty() ? "material" + str(i) : gm.name;
+            m.name = gm.name.empty() ? "material" + str(i) : printable(gm.name);
             const auto& pbr = gm.pbrMetallicRoughness;
             if (pbr.baseColorFactor.size() == 4 && allFinite(pbr.baseColorFactor))
                 m.baseColor = glm::clamp(glm::vec4(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]),
@@ -837,7 +863,7 @@ private:
         Image img;
         img.width = w;
         img.height = h;
-        img.name = gi.name.empty() ? gi.uri : gi.name;
+        img.name = printable(gi.name.empty() ? gi.uri : gi.name);
         if (img.name.rfind("data:", 0) == 0) img.name = "image" + str(index);
         img.rgba.assign(pixels, pixels + std::size_t(w) * std::size_t(h) * 4);
         stbi_image_free(pixels);
@@ -951,26 +977,27 @@ private:
         return post;
     }
 
-    // Triangles one instance of a mesh adds (its accessors' ranges checked).
-    double meshTriangles(int mesh) const {
-        if (mesh == -1) return 0.0;
+    // Triangles and vertices one instance of a mesh adds (the accessors that
+    // decide them are range-checked here).
+    std::pair<double, double> meshSize(int mesh) const {
+        if (mesh == -1) return {0.0, 0.0};
         if (mesh < 0 || std::size_t(mesh) >= model_.meshes.size())
             fail("a node refers to mesh " + str(mesh) + ", which does not exist");
-        double tris = 0.0;
+        double tris = 0.0, verts = 0.0;
         const auto& m = model_.meshes[std::size_t(mesh)];
         for (std::size_t pi = 0; pi < m.primitives.size(); ++pi) {
             const auto& p = m.primitives[pi];
             if (p.mode != TINYGLTF_MODE_TRIANGLES) continue;
             std::string what = "mesh " + str(mesh) + " primitive " + str(pi);
-            int a = p.indices;
-            if (a == -1) {
-                auto it = p.attributes.find("POSITION");
-                if (it == p.attributes.end()) fail(what + " has no POSITION attribute");
-                a = it->second;
-            }
-            tris += double(accessor(a, what).count / 3);
+            auto pos = p.attributes.find("POSITION");
+            if (pos == p.attributes.end()) fail(what + " has no POSITION attribute");
+            double positions = double(accessor(pos->second, what + " POSITION").count);
+            double t = p.indices == -1 ? std::floor(positions / 3.0)
+                                       : double(accessor(p.indices, what + " indices").count / 3);
+            tris += t;
+            verts += p.attributes.count("NORMAL") ? positions : 3.0 * t;  // flat normals unshare vertices
         }
-        return tris;
+        return {tris, verts};
     }
 
     void walkNodes() {
@@ -980,11 +1007,15 @@ private:
         // How often every node is instanced, before anything is generated.
         std::vector<double> instances(model_.nodes.size(), 0.0);
         for (int r : roots) instances[std::size_t(r)] += 1.0;
-        double totalInstances = 0.0, totalTriangles = 0.0;
+        double totalInstances = 0.0, totalTriangles = 0.0, totalVertices = 0.0;
         for (int v : order) {
             double k = instances[std::size_t(v)];
             totalInstances += k;
-            totalTriangles += k * meshTriangles(model_.nodes[std::size_t(v)].mesh);
+            if (k > 0.0) {
+                auto [tris, verts] = meshSize(model_.nodes[std::size_t(v)].mesh);
+                totalTriangles += k * tris;
+                totalVertices += k * verts;
+            }
             for (int c : model_.nodes[std::size_t(v)].children) instances[std::size_t(c)] += k;
         }
         if (totalInstances > kMaxNodeInstances)
@@ -993,6 +1024,12 @@ private:
         if (totalTriangles > kMaxTriangles)
             fail("the node hierarchy instances more than " + std::to_string(std::int64_t(kMaxTriangles)) +
                  " triangles");
+        if (totalVertices > kMaxVertices)
+            fail("the node hierarchy instances more than " + std::to_string(std::int64_t(kMaxVertices)) +
+                 " vertices");
+
+        scene_.vertices.reserve(std::size_t(totalVertices));
+        scene_.indices.reserve(std::size_t(totalTriangles) * 3);
 
         std::vector<std::optional<glm::dmat4>> local(model_.nodes.size());
         for (int v : order) local[std::size_t(v)] = localMatrix(std::size_t(v));
@@ -1040,7 +1077,6 @@ private:
             const LocalPrimitive& lp = primitive(meshIndex, pi);
             if (lp.skipped || lp.indices.empty()) continue;
             auto base = std::uint32_t(scene_.vertices.size());
-            scene_.vertices.reserve(scene_.vertices.size() + lp.positions.size());
             for (std::size_t i = 0; i < lp.positions.size(); ++i) {
                 Vertex vx;
                 vx.position = glm::vec3(m * glm::vec4(lp.positions[i], 1.0f));
@@ -1054,7 +1090,6 @@ private:
             d.firstIndex = std::uint32_t(scene_.indices.size());
             d.indexCount = std::uint32_t(lp.indices.size());
             d.material = lp.material >= 0 ? lp.material : defaultMaterial();
-            scene_.indices.reserve(scene_.indices.size() + lp.indices.size());
             for (std::size_t t = 0; t < lp.indices.size(); t += 3) {
                 scene_.indices.push_back(base + lp.indices[t]);
                 scene_.indices.push_back(base + lp.indices[t + (flip ? 2 : 1)]);
@@ -1080,9 +1115,8 @@ private:
             return;
         }
         Camera c;
-        c.name = !gc.name.empty() ? gc.name : !model_.nodes[std::size_t(node)].name.empty()
-                                                  ? model_.nodes[std::size_t(node)].name
-                                                  : which;
+        const std::string& nodeName = model_.nodes[std::size_t(node)].name;
+        c.name = printable(!gc.name.empty() ? gc.name : !nodeName.empty() ? nodeName : which);
         c.position = glm::vec3(world[3]);
         glm::vec3 forward = worldDirection(world, glm::dvec3(0, 0, -1), glm::vec3(0, 0, -1));
         c.up = worldDirection(world, glm::dvec3(0, 1, 0), glm::vec3(0, 1, 0));
@@ -1131,9 +1165,8 @@ private:
             warn(which + " has the unknown type \"" + gl.type + "\" and is skipped");
             return;
         }
-        l.name = !gl.name.empty() ? gl.name : !model_.nodes[std::size_t(node)].name.empty()
-                                                  ? model_.nodes[std::size_t(node)].name
-                                                  : which;
+        const std::string& nodeName = model_.nodes[std::size_t(node)].name;
+        l.name = printable(!gl.name.empty() ? gl.name : !nodeName.empty() ? nodeName : which);
         if (gl.color.size() == 3 && allFinite(gl.color))
             l.color = glm::max(glm::vec3(float(gl.color[0]), float(gl.color[1]), float(gl.color[2])), glm::vec3(0.0f));
         else if (!gl.color.empty())

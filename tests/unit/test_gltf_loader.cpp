@@ -464,8 +464,26 @@ TEST_CASE("gltf: absurd instancing is a SceneError, not a hang") {
     json attrs = {{"POSITION", b.addData(p, kF32, p.size() / 3, "VEC3")}};
     b.doc["meshes"][0]["primitives"] = json::array({{{"attributes", attrs}}});
     expectError(writeEmbedded("triangles.gltf", b), "triangles");
+    // One triangle, but 1000 vertices per instance: 2^19 · 1000 > 3e8 vertices.
+    Asset c = chain(19);
+    std::vector<float> many(3000, 0.0f);
+    many[3] = 1.0f;
+    many[7] = 1.0f;
+    json attrs2 = {{"POSITION", c.addData(many, kF32, 1000, "VEC3")},
+                   {"NORMAL", c.addData(std::vector<float>(3000, 1.0f), kF32, 1000, "VEC3")}};
+    int tri = c.addData(std::vector<std::uint16_t>{0, 1, 2}, kU16, 3, "SCALAR");
+    c.doc["meshes"][0]["primitives"] = json::array({{{"attributes", attrs2}, {"indices", tri}}});
+    expectError(writeEmbedded("vertices.gltf", c), "vertices");
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     CHECK(seconds < 2.0);
+    // Many instances below the limits stay fast (flattening is linear).
+    t0 = std::chrono::steady_clock::now();
+    rtgi::Scene s = loadGltf(writeEmbedded("many.gltf", chain(17)));
+    CHECK(s.triangleCount() == 2u << 17);
+    CHECK(s.draws.size() == 1u << 17);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    MESSAGE("2^17 instances of a quad: " << seconds << " s");
+    CHECK(seconds < 5.0);
 }
 
 TEST_CASE("gltf: unsupported extensionsRequired is a SceneError naming the extension") {
