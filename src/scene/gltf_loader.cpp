@@ -1071,7 +1071,11 @@ private:
         glm::mat4 m(world);
         glm::dmat3 linear(world);
         double det = glm::determinant(linear);
-        glm::mat3 normalMatrix(cofactor(linear) * (det < 0.0 ? -1.0 : 1.0));
+        glm::dmat3 cof = cofactor(linear);
+        double largest = 0.0;  // rescaled so that tiny or huge scales survive the cast to float
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r) largest = std::max(largest, std::abs(cof[c][r]));
+        glm::mat3 normalMatrix(largest > 0.0 ? cof * ((det < 0.0 ? -1.0 : 1.0) / largest) : cof);
         bool flip = det < 0.0;
         for (std::size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
             const LocalPrimitive& lp = primitive(meshIndex, pi);
