@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <stb_image_write.h>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -769,4 +771,113 @@ TEST_CASE("gltf: the real scenes load with their triangle counts") {
     CHECK(light);
     CHECK(cb.lights.empty());
     CHECK(cb.cameras.empty());
+}
+
+// ---------------------------------------------------------------------------
+// End to end: rtgi-bench itself on every broken class (issue 2 acceptance):
+// an exit code 1..125 (not a signal), within 5 s, one line naming the file.
+
+namespace {
+
+struct BenchOutcome {
+    int exitCode = -1;
+    bool signalled = false;
+    double seconds = 0;
+    std::string stderrText;
+};
+
+BenchOutcome runBenchOn(const std::string& scenePath) {
+    fs::path err = tempDir() / "bench-stderr.txt";
+    std::string cmd = std::string("timeout -s KILL 20 ") + RTGI_BENCH_EXE + " --scene '" + scenePath +
+                      "' --res 8x8 --frames 1 --warmup 0 --no-images --out '" + (tempDir() / "bench-out").string() +
+                      "' >/dev/null 2>'" + err.string() + "'";
+    auto t0 = std::chrono::steady_clock::now();
+    int status = std::system(cmd.c_str());
+    BenchOutcome o;
+    o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (WIFEXITED(status)) {
+        o.exitCode = WEXITSTATUS(status);
+        o.signalled = o.exitCode > 125;  // shell reports 128+N for a signal, timeout's KILL as 137
+    } else {
+        o.signalled = true;
+    }
+    std::ifstream f(err);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    o.stderrText = ss.str();
+    return o;
+}
+
+}  // namespace
+
+TEST_CASE("rtgi-bench: every broken glTF class exits 1..125 within 5 s with one line naming the file") {
+    std::vector<std::pair<std::string, std::string>> cases;  // path, what the test broke
+    cases.push_back({(tempDir() / "does-not-exist.gltf").string(), "missing file"});
+    cases.push_back({writeBytes("e2e-random.gltf", Bytes{0x13, 0x37, 0xff, 0x00, 0x42, 0x10}), "not glTF"});
+    cases.push_back({writeText("e2e-notgltf.gltf", R"({"hello": "world"})"), "JSON that is not glTF"});
+    {
+        Asset a = quad();
+        std::string p = writeExternal("e2e-missing-bin.gltf", a);
+        fs::remove(tempDir() / "e2e-missing-bin.bin");
+        cases.push_back({p, "missing buffer"});
+    }
+    {
+        Asset a = quad();
+        std::string p = writeExternal("e2e-truncated.gltf", a);
+        fs::resize_file(tempDir() / "e2e-truncated.bin", 10);
+        cases.push_back({p, "truncated buffer"});
+    }
+    {
+        Asset a = quad();
+        a.doc["accessors"][0]["count"] = 4000;
+        cases.push_back({writeEmbedded("e2e-size.gltf", a), "declared size beyond the data"});
+    }
+    {
+        Asset a = quad(Idx::U32);
+        put(a.bin, a.doc["bufferViews"][3]["byteOffset"].get<std::size_t>() + 8, std::uint32_t(99999));
+        cases.push_back({writeEmbedded("e2e-index.gltf", a), "index out of range"});
+    }
+    {
+        Asset a = quad();
+        put(a.bin, 12, std::numeric_limits<float>::quiet_NaN());
+        cases.push_back({writeEmbedded("e2e-nan.gltf", a), "NaN position"});
+    }
+    {
+        Asset a = quad();
+        a.doc["accessors"][0]["type"] = "VEC2";
+        cases.push_back({writeEmbedded("e2e-type.gltf", a), "wrong accessor type"});
+    }
+    {
+        Asset a = quad();
+        a.doc["nodes"] = json::array({{{"children", {1}}, {"mesh", 0}}, {{"children", {0}}}});
+        cases.push_back({writeEmbedded("e2e-cycle.gltf", a), "cycle"});
+    }
+    {
+        Asset a = quad();
+        a.doc["extensionsUsed"] = {"EXT_unknown_magic"};
+        a.doc["extensionsRequired"] = {"EXT_unknown_magic"};
+        cases.push_back({writeEmbedded("e2e-ext.gltf", a), "unsupported required extension"});
+    }
+    {
+        Asset a = quad();
+        a.doc["nodes"] = json::array({{{"name", "empty"}}});
+        cases.push_back({writeEmbedded("e2e-empty.gltf", a), "empty scene"});
+    }
+    for (auto& [path, what] : cases) {
+        BenchOutcome o = runBenchOn(path);
+        INFO(what << ": exit " << o.exitCode << " in " << o.seconds << " s, stderr: " << o.stderrText);
+        CHECK_FALSE(o.signalled);
+        CHECK(o.exitCode >= 1);
+        CHECK(o.exitCode <= 125);
+        CHECK(o.seconds < 5.0);
+        // One line, naming the file.
+        std::string text = o.stderrText;
+        while (!text.empty() && text.back() == '\n') text.pop_back();
+        CHECK(text.find('\n') == std::string::npos);
+        CHECK(text.find(path) != std::string::npos);
+    }
+    // And a valid file still renders.
+    BenchOutcome ok = runBenchOn(writeEmbedded("e2e-valid.gltf", quad()));
+    INFO(ok.stderrText);
+    CHECK(ok.exitCode == 0);
 }
