@@ -49,24 +49,21 @@ float sceneDepth(vec2 uv) {
     return texelFetch(uDepth, ivec2(uv * vec2(aoSize())), 0).r;
 }
 vec3 viewPosAt(vec2 uv, float d) { return viewPositionFromDepth(uv, d, tanHalfFov(), aspect()); }
-// Centre of the texel that holds uv: depth read there belongs to this uv, so
-// positions reconstructed from a fetched depth must use it (not the raw uv).
+// Centre of the texel that holds uv: depth read there belongs to this uv.
 vec2 snapUv(vec2 uv) { return (floor(uv * vec2(aoSize())) + 0.5) / vec2(aoSize()); }
 
-// Depth of the scene along the ray through uv: the fetched texel's surface
-// (its depth and normal) extended as a plane to the exact uv, so point tests
-// do not self-occlude on the staircase of a coarse depth buffer.
+// Depth of the scene along the exact ray through uv: the fetched texel's
+// surface (its depth and normal) extended as a plane to uv. Every variant
+// reads the scene through this, so samples that fall between texel centres
+// neither self-occlude on the staircase of a coarse depth buffer nor leave
+// the slice/line they belong to (docs/ao.md, "Reconstruction").
 float sceneDepthAlongRay(vec2 uv) {
     float z = sceneDepth(uv);
     if (isSky(z)) return z;
     vec2 c = snapUv(uv);
     vec3 Q = viewPosAt(c, z);
     vec3 nQ = aoSafeNormal(texelFetch(uNormal, ivec2(c * vec2(aoSize())), 0).xyz, Q);
-    vec3 ray = viewPosAt(uv, 1.0);
-    float denom = dot(nQ, ray);
-    if (abs(denom) < 1e-4) return z;
-    float t = dot(nQ, Q) / denom;
-    return (t > 0.0 && abs(t - z) < 0.5 * z) ? t : z;
+    return aoPlaneDepthAlongRay(Q, nQ, uv, tanHalfFov(), aspect(), z);
 }
 
 // Point test of the sample-point variants: how much the sample point S is
@@ -170,7 +167,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         float frac[2];
         bool valid[2];
         for (int k = 0; k < 2; ++k) {
-            float zScene = sceneDepth(uv + (k == 0 ? off : -off));
+            float zScene = sceneDepthAlongRay(uv + (k == 0 ? off : -off));
             // Sky is infinitely far: the line is free. A scene point more than
             // the maximum occlusion distance 2R in front is invalid.
             valid[k] = isSky(zScene) || d - zScene < ao.radius.z * (R / ao.radius.x);
@@ -196,16 +193,16 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         if (ao.flags.y != 0) {
             tanT = -dot(n.xy, dir) / max(n.z, 0.05);
         } else {
-            vec2 uvT = snapUv(uv + dir / vec2(aoSize()));
-            float dT = sceneDepth(uvT);
+            vec2 uvT = uv + dir * rUv / (rUv.x * float(aoSize().x));  // one texel along the slice
+            float dT = sceneDepthAlongRay(uvT);
             vec3 T = isSky(dT) ? vec3(dir, 0.0) : viewPosAt(uvT, dT) - P;
             tanT = T.z / max(length(T.xy), 1e-6);
         }
         float t = min(atan(tanT) + biasAngle, 1.5607);
         float tanHmax = tan(t), sinPrev = sin(t), a = 0.0;
         for (int j = 0; j < steps; ++j) {
-            vec2 uvS = snapUv(uv + dir * rUv * ((float(j) + bn.y) / float(steps)));
-            float zS = sceneDepth(uvS);
+            vec2 uvS = uv + dir * rUv * ((float(j) + bn.y) / float(steps));
+            float zS = sceneDepthAlongRay(uvS);
             if (isSky(zS)) continue;
             vec3 D = viewPosAt(uvS, zS) - P;
             float r2 = dot(D, D), lxy = length(D.xy);
@@ -242,8 +239,8 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
             float s = (float(j) + bn.y) / float(steps);
             vec2 off = dir.xy * rUv * s;
             for (int side = 0; side < 2; ++side) {
-                vec2 uvS = snapUv(side == 0 ? uv + off : uv - off);
-                float zS = sceneDepth(uvS);
+                vec2 uvS = side == 0 ? uv + off : uv - off;
+                float zS = sceneDepthAlongRay(uvS);
                 if (isSky(zS)) continue;
                 vec3 D = viewPosAt(uvS, zS) - P;
                 float dist = length(D);

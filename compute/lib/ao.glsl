@@ -80,6 +80,20 @@ vec3 nearFieldSample(vec3 rho, vec3 senderRadiance, vec3 toSender, vec3 senderNo
     return rho * 0.31830988618379067 * senderRadiance * senderArea * cosS * cosR / d2;
 }
 
+// Depth along the ray through uv of the plane through the view-space point Q
+// with normal nQ: the first-order (tangent-plane) reconstruction of the
+// surface a depth texel holds, evaluated off the texel centre. Returns
+// `fallback` (the texel's own depth) when the ray grazes the plane or the
+// extension moves the depth by more than half of it (a silhouette, not a plane).
+// Needs lib/depth.glsl.
+float aoPlaneDepthAlongRay(vec3 Q, vec3 nQ, vec2 uv, float tanHalfFov, float aspect, float fallback) {
+    vec3 ray = viewPositionFromDepth(uv, 1.0, tanHalfFov, aspect);  // z = -1: t is the linear depth
+    float denom = dot(nQ, ray);
+    if (abs(denom) < 1e-4) return fallback;
+    float t = dot(nQ, Q) / denom;
+    return (t > 0.0 && abs(t - fallback) < 0.5 * fallback) ? t : fallback;
+}
+
 // Surface normal from the G-buffer, made safe: zero/NaN normals (holes,
 // broken meshes) fall back to facing the viewer.
 vec3 aoSafeNormal(vec3 n, vec3 viewPos) {
