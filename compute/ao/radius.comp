@@ -37,7 +37,7 @@ void main() {
         vec2 uv = (vec2(p) + 0.5) / vec2(size);
         float R = ao.radius.x;
         vec3 P = viewPositionFromDepth(uv, d, ao.focal.z, ao.focal.w);
-        vec3 n = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
+        vec3 nP = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
         vec2 rUv = aoTextureRadius(R, d, ao.focal.xy);
         int K = int(ao.misc.w);
         float dMin = 1e30, sum = 0.0, sumSq = 0.0;
@@ -63,7 +63,7 @@ void main() {
             // surfaces that is the height over P's tangent plane: only points
             // above it by more than 2 % of R (blockers) qualify, so a plane
             // keeps the radius (scale 1) at any inclination.
-            if (distance(S, P) < R && dot(S - P, n) > 0.02 * R && length(S) < length(zMax)) zMax = S, found = true;
+            if (distance(S, P) < R && dot(S - P, nP) > 0.02 * R && length(S) < length(zMax)) zMax = S, found = true;
 #endif
         }
         // Seed 003 works with depths where "max z" is the point nearest to the

@@ -37,8 +37,8 @@ Scene cornerScene(glm::vec3 wallEmission = glm::vec3(0.0f)) {
     addQuad(s, {0, 0, h}, {h, 0, h}, {h, 0, -h}, {0, 0, -h}, 0);  // floor, normal +y
     addQuad(s, {0, 0, h}, {0, 0, -h}, {0, h, -h}, {0, h, h}, 1);  // wall, normal +x
     Camera c;
-    c.position = {2.4f, 1.5f, 0.0f};
-    c.target = {0.0f, 0.35f, 0.0f};
+    c.position = {1.5f, 1.0f, 0.0f};
+    c.target = {0.0f, 0.3f, 0.0f};
     c.fovY = glm::radians(60.0f);
     c.near = 0.1f;
     c.far = 50.0f;
@@ -108,7 +108,7 @@ glm::dmat3 basisAround(glm::dvec3 n, glm::dvec3 hint) {
 // depth buffer: what the GPU converges to as noise and texel quantization vanish.
 struct Oracle {
     const CornerGeometry& g;
-    double R = 0.5;
+    double R = 1.0;
     int samples = 16;
     std::vector<glm::vec4> kernel = sphereKernel(16);
 
@@ -211,7 +211,10 @@ struct Oracle {
                 for (int k = 0; k < ds.x; ++k) {
                     double phi = 2 * kPi * (k + u1) / ds.x;
                     glm::dvec2 dir(std::cos(phi), std::sin(phi));
-                    double tanT = -glm::dot(glm::dvec2(n), dir) / std::max(n.z, 0.05);
+                    // Slice tangent: tangent plane cut with the plane through the eye, P and dir.
+                    glm::dvec3 sliceN = glm::cross(P, glm::dvec3(dir, 0.0)), T = glm::cross(sliceN, n);
+                    if (glm::dot(glm::cross(P, T), sliceN) < 0) T = -T;
+                    double tanT = T.z / std::max(glm::length(glm::dvec2(T)), 1e-6);
                     double t = std::min(std::atan(tanT) + bias, 1.5607);
                     double tanHmax = std::tan(t), sinPrev = std::sin(t), ao = 0;
                     for (int j = 0; j < ds.y; ++j) {
@@ -241,7 +244,7 @@ struct Oracle {
         double acc = 0;
         for (int a = 0; a < nu1; ++a)
             for (int b = 0; b < nu2; ++b) {
-                double u1 = (a + 0.5) / nu1, u2 = (b + 0.5) / nu2, vis = 0;
+                double u1 = (a + 0.5) / nu1, u2 = (b + 0.5) / nu2, vis = 0, open = 0;
                 for (int k = 0; k < ds.x; ++k) {
                     double phi = kPi * (k + u1) / ds.x;
                     glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
@@ -268,8 +271,9 @@ struct Oracle {
                     double h1 = nA + std::min(std::acos(std::clamp(hc[0], -1.0, 1.0)) - nA, kPi / 2);
                     auto arc = [&](double hh) { return 0.25 * (std::cos(nA) + 2 * hh * std::sin(nA) - std::cos(2 * hh - nA)); };
                     vis += projLen * (arc(h0) + arc(h1));
+                    open += projLen * (arc(nA - kPi / 2) + arc(nA + kPi / 2));
                 }
-                acc += std::clamp(vis / ds.x, 0.0, 1.0);
+                acc += open > 1e-6 ? std::clamp(vis / open, 0.0, 1.0) : 1.0;
             }
         return acc / (nu1 * nu2);
     }
@@ -305,24 +309,21 @@ TEST_CASE("AO on a corner matches the CPU expectation of each estimator (exact g
     // 4x4-pixel boxes on the floor along the image's centre column, from the
     // crease towards the camera (image rows counted from the bottom).
     struct Box { int x0, y0; };
+    auto floorPixel = [&](int x, int y) {
+        glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(g.pixelPoint(x, y), 1));
+        return std::abs(W.y) < 1e-6 && W.x > 0.02;
+    };
+    int yTop = h - 1;  // first all-floor row under the crease
+    while (yTop > 0 && !(floorPixel(22, yTop) && floorPixel(25, yTop))) --yTop;
     std::vector<Box> boxes;
-    for (int y0 = 0; y0 + 4 <= h; y0 += 4) {
-        bool floorOnly = true;
-        for (int y = y0; y < y0 + 4; ++y)
-            for (int x = 22; x < 26; ++x) {
-                glm::dvec3 P = g.pixelPoint(x, y);
-                glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(P, 1));
-                floorOnly = floorOnly && std::abs(W.y) < 1e-6 && W.x > 0.05;
-            }
-        if (floorOnly) boxes.push_back({22, y0});
-    }
+    for (int y0 = yTop - 3; y0 >= 0 && boxes.size() < 5; y0 -= 2) boxes.push_back({22, y0});
     REQUIRE(boxes.size() >= 3);
     for (V v : {V::SsaoDisk, V::SsaoSphere, V::SsaoHemisphere, V::Vo, V::Hbao, V::Gtao}) {
         Settings st;
         st.lpv.mode = Toggle::Off;
         st.ao.variant = v;
         st.ao.samples = 16;
-        st.ao.radius = 0.5f;
+        st.ao.radius = 1.0f;
         st.ao.halfResolution = false;
         st.ao.blur = false;
         st.ao.temporal = false;
@@ -344,21 +345,20 @@ TEST_CASE("AO on a corner matches the CPU expectation of each estimator (exact g
             double ref = 0;
             for (int y = boxes[b].y0; y < boxes[b].y0 + 4; ++y)
                 for (int x = boxes[b].x0; x < boxes[b].x0 + 4; ++x) ref += oracle(v, g.pixelPoint(x, y), g.floorNormal()) / 16;
-            if (b == boxes.size() - 1) nearest = ref;
+            if (b == 0) nearest = ref;  // the box next to the crease
             INFO(toString(v) << " box at row " << boxes[b].y0 << ": gpu " << gpuMean[b] << " oracle " << ref);
             // Tolerances: 128 noisy estimates per box (16 pixels x 8 variants)
             // leave a residual noise of ~0.01-0.02; the depth buffer holds the
             // surfaces exactly except in the texels straddling the crease.
-            // ssao-disk: its 4x4 noise tile gives 16 fixed reflection vectors,
-            // not a uniform distribution of them (the oracle's): 0.06.
-            // hbao: the first step can land in the crease texels, where the
-            // tangent-plane extension of a wall texel reaches the floor: 0.05.
-            double tol = v == V::SsaoDisk ? 0.06 : v == V::Hbao ? 0.05 : 0.035;
+            // ssao-disk: its 4x4 noise tile gives 16 fixed reflection vectors
+            // (the same every frame), not the oracle's uniform distribution: 0.05.
+            double tol = v == V::SsaoDisk ? 0.05 : 0.03;
             CHECK(std::abs(gpuMean[b] - ref) < tol);
         }
-        // The test must see occlusion: next to the wall the oracle is clearly below 1.
+        // The test must see occlusion: next to the wall the oracle is below 1 by
+        // more than the tolerance (the half-space normalized variants see less).
         INFO(toString(v) << " oracle nearest the wall " << nearest);
-        CHECK(nearest < 0.9);
+        CHECK(nearest < 1.0 - (v == V::SsaoDisk ? 0.05 : 0.03));
     }
 }
 
@@ -456,13 +456,13 @@ TEST_CASE("dynamic radius algorithm 6: scale 1 on a plane, the CPU rule's reduct
             // R16F storage of the scale: 1e-3 relative.
             CHECK(scale.at(x, y, 0) == doctest::Approx(expected).epsilon(2e-3));
             glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(P, 1));
-            if (std::abs(W.y) < 1e-3 && W.x > 0.8) {  // floor farther than R from the wall: a plane
+            if (std::abs(W.y) < 1e-3 && W.x > 0.55) {  // floor farther than R from the wall: a plane
                 CHECK(scale.at(x, y, 0) == doctest::Approx(1.0).epsilon(1e-3));
                 ++flat;
             }
             if (expected < 0.9) ++reduced;
         }
-    CHECK(flat > 20);
+    CHECK(flat > 8);
     CHECK(reduced > 5);  // the wall does shrink the radius near the crease
 }
 
@@ -483,7 +483,6 @@ TEST_CASE("near-field light (seed 000 eq. 16) from an emissive wall matches its 
     const int x0 = 22;
     std::vector<double> gpuRow(std::size_t(h), 0.0);
     View prev;
-    double wallL = 0;
     for (int f = 0; f < 9; ++f) {  // frame 0 has no history; frames 1..8 cover the 8 noise variants
         View view = makeView(cam, {w, h}, f == 0 ? nullptr : &prev, unsigned(f));
         r.render(view);
@@ -493,11 +492,10 @@ TEST_CASE("near-field light (seed 000 eq. 16) from an emissive wall matches its 
         for (int y = 0; y < h; ++y)
             for (int x = x0; x < x0 + 4; ++x) gpuRow[std::size_t(y)] += nf.at(x, y, 0) / 32;
     }
-    // Sender radiance: the wall's value in the history the pass read (an input,
-    // measured at a wall pixel: emission 2 plus its sky light).
+    // Sender radiance: the history the pass read (an input: the wall's emission
+    // 2 plus its sky light), looked up at each sender's pixel.
     FloatImage hist = readTexture(r.resources().history);
-    wallL = hist.at(x0, h - 3, 0);
-    REQUIRE(wallL > 1.0);
+    REQUIRE(hist.at(x0, h - 3, 0) > 1.0);
     // CPU expectation of eq. 16 over the noise rotation about n (the pass's
     // kernel, no radius jitter): strength * rho/pi * L * A_s * sum over the
     // occluded samples of cos_s cos_r / max(d^2, R^2/16), A_s = pi R^2 / N.
@@ -518,10 +516,12 @@ TEST_CASE("near-field light (seed 000 eq. 16) from an emissive wall matches its 
                 if (zs <= 0 || zs >= -S.z - 0.02 * R) continue;
                 glm::dvec3 sender = S * (zs / -S.z), toS = sender - P;
                 glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(sender, 1));
-                if (W.x > 1e-3) continue;  // a floor sender is not emissive and unlit: L = 0 (no sun)
+                glm::dvec3 nS = W.x > 1e-6 ? n : nw;  // which surface the sample's ray hit
+                glm::dvec2 uvS = g.uvOf(sender);
+                double L = hist.at(std::min(int(uvS.x * w), w - 1), std::min(int(uvS.y * h), h - 1), 0);
                 double d2 = std::max(glm::dot(toS, toS), R * R / 16), l = std::sqrt(glm::dot(toS, toS));
-                double cs = std::max(0.0, glm::dot(nw, -toS / l)), cr = std::max(0.0, glm::dot(n, toS / l));
-                acc += rho / kPi * wallL * As * cs * cr / d2;
+                double cs = std::max(0.0, glm::dot(nS, -toS / l)), cr = std::max(0.0, glm::dot(n, toS / l));
+                acc += rho / kPi * L * As * cs * cr / d2;
             }
         }
         return strength * acc / na;
