@@ -10,6 +10,7 @@
 #include "lib/ao_shared.h"
 #include "lib/ao.glsl"
 #include "lib/noise.glsl"
+#include "lib/sh.glsl"
 
 // Defaults (the pass always sets all four).
 #ifndef AO_VARIANT
@@ -102,7 +103,7 @@ vec4 directional(vec3 P, vec3 n, float R, vec4 bn) {
         float r = R * length(ao.kernel[i % RTGI_AO_MAX_KERNEL].xyz);
         float v = 1.0 - pointOcclusion(P, P + l * max(r, 0.1 * R), R);
         bent += v * l;
-        sh += v * aoShBasis01(l);
+        sh += v * shBasis(l);  // the LPV family's basis: lpv.apply consumes it
     }
 #if AO_DIRECTIONAL == 1
     return vec4(dot(bent, bent) > 1e-12 ? normalize(bent) : n, 0.0);

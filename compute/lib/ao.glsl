@@ -77,11 +77,6 @@ vec3 cosineHemisphere(vec2 u) {
     return vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
 }
 
-// Real SH basis, bands 0-1 (order Y00, Y1-1, Y10, Y11 = 0.2821, 0.4886 y, z, x).
-// NOTE: duplicate of the LPV family's compute/lib/sh.glsl basis while that is
-// not merged; the lead dedupes (same order and constants).
-vec4 aoShBasis01(vec3 d) { return vec4(0.28209479177387814, 0.48860251190291992 * vec3(d.y, d.z, d.x)); }
-
 // Seed 000 eq. 16 for one sender sample: rho/pi * L * (1 - V) * A_s cos(s) cos(r) / d^2,
 // with the distance clamped to 0.25 R (the sender disc area A_s = pi R^2 / N
 // makes the point-to-disc form factor invalid closer than that).

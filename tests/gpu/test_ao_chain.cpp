@@ -119,9 +119,10 @@ TEST_CASE("bent normal and S3HO of an unoccluded point: the normal and the SH of
             } else {
                 // Monte Carlo with 32 stratified samples: 5 % of c1.
                 CHECK(img.at(x, y, 0) == doctest::Approx(c0).epsilon(1e-3));  // exact: every sample adds Y00
-                CHECK(std::abs(img.at(x, y, 1) - c1 * n.y) < 0.05 * c1);
+                // lib/sh.glsl order and signs: (Y00, -Y1 y, Y1 z, -Y1 x).
+                CHECK(std::abs(img.at(x, y, 1) + c1 * n.y) < 0.05 * c1);
                 CHECK(std::abs(img.at(x, y, 2) - c1 * n.z) < 0.05 * c1);
-                CHECK(std::abs(img.at(x, y, 3) - c1 * n.x) < 0.05 * c1);
+                CHECK(std::abs(img.at(x, y, 3) + c1 * n.x) < 0.05 * c1);
             }
         }
     }
