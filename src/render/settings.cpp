@@ -99,6 +99,7 @@ const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynami
                                      "dynamic3", "dynamic4", "dynamic5", "dynamic6"};
 const char* const kAoDepthSource[] = {"camera", "light"};
 const char* const kAoDualCombine[] = {"product", "min"};
+const char* const kAoFilterChain[] = {"blur-temporal", "blur-temporal-blur"};
 const char* const kSsrTracer[] = {"auto", "off", "linear", "dda", "hiz"};
 const char* const kReference[] = {"off", "ao", "indirect", "full"};
 const char* const kResolution[] = {"full", "half"};
@@ -224,6 +225,10 @@ std::vector<SettingKey> buildKeys() {
         KEY("ao.dual_combine", "dual radii: combine the two AO values by product or min", "product|min",
             s.ao.dualCombineMin = parseEnum<int>("ao.dual_combine", v, kAoDualCombine) == 1,
             s.ao.dualCombineMin ? "min" : "product"),
+        KEY("ao.filter_chain", "blur then temporal, or blur -> temporal -> blur ([Wes14]; needs ao.blur and ao.temporal on)",
+            "blur-temporal|blur-temporal-blur",
+            s.ao.blurAfterTemporal = parseEnum<int>("ao.filter_chain", v, kAoFilterChain) == 1,
+            kAoFilterChain[s.ao.blurAfterTemporal ? 1 : 0]),
         // ---- SSR -----------------------------------------------------------
         KEY("ssr", "screen-space reflection tracer (auto: linear when a material is glossy)",
             "auto|off|linear|dda|hiz",

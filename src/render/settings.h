@@ -75,6 +75,7 @@ struct AoSettings {
     bool multiBounce = false;         // gtao
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
     bool dualCombineMin = false;      // dual radii: min instead of product (Loos & Sloan)
+    bool blurAfterTemporal = false;   // ao.filter_chain=blur-temporal-blur ([Wes14])
 };
 
 struct SsrSettings {
