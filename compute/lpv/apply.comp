@@ -37,6 +37,14 @@ bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
     return true;
 }
 
+// The AO pass writes bent normals / S3HO at AO resolution (half by default):
+// address them by UV, not by this pass's pixel (nearest texel, no blending
+// across depth edges).
+vec4 directionalAt(vec2 uv) {
+    ivec2 size = textureSize(uDirectional, 0);
+    return texelFetch(uDirectional, clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1), 0);
+}
+
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
@@ -53,14 +61,14 @@ void main() {
         float invArea = lpv.rsm.y;  // 1 / s^2: intensity -> radiance
         vec3 lookupN = n;
 #ifdef RTGI_LPV_BENT_NORMAL
-        vec3 bent = texelFetch(uDirectional, p, 0).xyz;
+        vec3 bent = directionalAt(uv).xyz;
         if (dot(bent, bent) > 0.0) lookupN = normalize(viewToWorldDir(bent));
 #endif
         vec4 r, g, b;
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
         if (lpvSample(wp + 0.5 * lpvCellSize() * n, r, g, b)) {
 #ifdef RTGI_LPV_S3HO
-            vec4 w = shRotate(texelFetch(uDirectional, p, 0), mat3(frame.invView));
+            vec4 w = shRotate(directionalAt(uv), mat3(frame.invView));
             vec3 e = vec3(dot(shMirror(r), w), dot(shMirror(g), w), dot(shMirror(b), w));
 #else
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
