@@ -140,9 +140,9 @@ TEST_CASE("cornell: Lambertian only, closed box open at the front") {
     // The camera looks in through the open front (+z).
     CHECK(s.cameras[0].position.z > b.hi.z);
     // Boxes are closed and outward-wound: the enclosed volume is the sum of
-    // the solids (floor, walls, 4 ceiling slabs, 2 boxes).
+    // the solids (floor, walls, 3 ceiling slabs around the opening, 2 boxes).
     double walls = 5.5 * 0.1 * 5.6 + 5.5 * 5.5 * 0.1 + 2.0 * 0.1 * 5.7 * 5.6;
-    double ceiling = 5.5 * 0.1 * 5.6 - 1.3 * 0.1 * 1.05;
+    double ceiling = 5.5 * 0.1 * 5.6 - 3.15 * 0.1 * 2.0;  // opening x in [-2.75, 0.4], z in [-1.5, 0.5]
     double boxes = 1.65 * 1.65 * 1.65 + 1.65 * 3.3 * 1.65;
     CHECK(signedVolume(s) == doctest::Approx(walls + ceiling + boxes).epsilon(1e-4));
 }
