@@ -56,12 +56,11 @@ bool ssrReflectionRay(vec3 viewPos, vec3 normal, out vec3 dir) {
     return true;
 }
 
-// Per-pixel start offset in (0, 1]: interleaved gradient noise (Jimenez
-// 2014), shifted per frame over 8 variants (SPEC 6.1).
-float ssrJitter(ivec2 pixel, uint frameIndex) {
-    vec2 p = vec2(pixel) + float(frameIndex % 8u) * vec2(5.588238, 5.588238);
-    return 1.0 - fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715))));
-}
+// Start offset in (0, 1) of the first step from one blue-noise value
+// (SPEC 6.1; lib/noise.glsl, an 8-bit UNORM channel k/255): the centre of
+// byte k's 1/256 interval, so a ray never starts at its own origin (0) and
+// never skips a whole first step (1).
+float ssrJitter(float noise) { return (round(clamp(noise, 0.0, 1.0) * 255.0) + 0.5) / 256.0; }
 
 // Confidence of a hit: 1 inside the screen, fading linearly to 0 over
 // `edgeFade` (uv) at the borders and for rays that face the camera (their
