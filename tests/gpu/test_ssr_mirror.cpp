@@ -112,6 +112,13 @@ TraceResult runMirror(SsrSettings::Tracer tracer, glm::ivec2 size, int steps) {
 
 std::string tracerName(SsrSettings::Tracer t) { return toString(t); }
 
+// The reason a pass was skipped ("" when it ran or is unknown).
+std::string skipReason(const Renderer& r, const std::string& pass) {
+    for (auto& k : r.skipped())
+        if (k.name == pass) return k.reason;
+    return "";
+}
+
 }  // namespace
 
 TEST_CASE("SSR on a mirror floor reflects the wall where the mirrored ray hits it, for every tracer") {
@@ -253,6 +260,9 @@ TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates n
     CHECK(skipped >= 5);
     for (auto& [name, bytes] : r->ledger().entries()) CHECK(name.rfind("ssr.", 0) != 0);
     CHECK_FALSE(r->resources().brdfLut);
+    // post.history names why each of its readers is absent (AO is off by default).
+    CHECK(skipReason(*r, "post.history").find("SSR skipped (no glossy material)") != std::string::npos);
+    CHECK(skipReason(*r, "post.history").find("ao=off") != std::string::npos);
 
     // floor.roughness makes the same scene glossy: auto runs the linear tracer.
     Settings glossy;
@@ -261,12 +271,26 @@ TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates n
     CHECK(g->findPass("ssr.trace"));
     CHECK(g->findPass("ssr.shade"));
     CHECK_FALSE(g->findPass("ssr.hiz"));  // only the hiz tracer needs the pyramid
+    CHECK(g->findPass("ssr.upsample"));    // half resolution: the shared depth-aware upsampling
+    CHECK(g->findPass("post.history"));    // ssr.resolve reads the previous frame
     CHECK(g->resources().brdfLut);
+    CHECK(g->resources().blueNoise);       // the linear tracer's start jitter
+
+    // The diffuse-only history replaces post.history; full resolution needs no upsampling.
+    Settings diffuse = glossy;
+    diffuse.ssr.diffuseHistory = true;
+    diffuse.ssr.halfResolution = false;
+    auto d = renderFrames(rough, diffuse, {16, 16}, prof, 1);
+    CHECK(d->findPass("ssr.diffuse_history"));
+    CHECK_FALSE(d->findPass("post.history"));
+    CHECK(skipReason(*d, "post.history").find("diffuse-only history") != std::string::npos);
+    CHECK(skipReason(*d, "ssr.upsample") == "ssr.resolution=full");
 
     glossy.ssr.tracer = SsrSettings::Tracer::Off;
     auto o = renderFrames(rough, glossy, {16, 16}, prof, 1);
     for (auto& [name, bytes] : o->ledger().entries()) CHECK(name.rfind("ssr.", 0) != 0);
     CHECK_FALSE(o->resources().specularOcclusion);
+    CHECK(skipReason(*o, "post.history").find("ssr=off") != std::string::npos);
 }
 
 TEST_CASE("SSR never writes NaN/Inf: grazing view, zero thickness, every tracer, diffuse history") {
