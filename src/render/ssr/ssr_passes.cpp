@@ -66,25 +66,34 @@ Need ssrNeed(const Scene& scene, const Settings& s) {
     return Need::yes();
 }
 
+// Base of every ssr.* pass: its name, the shared state, and ssrNeed; a pass
+// that belongs to the chain only in some configurations says why it does not
+// in notInChain() (nullptr: it does).
 class SsrPass : public Pass {
 public:
-    explicit SsrPass(std::shared_ptr<SsrState> st) : st_(std::move(st)) {}
-    Need needed(const Scene& scene, const Settings& s) const override { return ssrNeed(scene, s); }
+    SsrPass(std::shared_ptr<SsrState> st, std::string name) : st_(std::move(st)), name_(std::move(name)) {}
+    std::string name() const override { return name_; }
+    Need needed(const Scene& scene, const Settings& s) const override {
+        Need n = ssrNeed(scene, s);
+        const char* why = n.needed ? notInChain(scene, s) : nullptr;
+        return why ? Need::no(why) : n;
+    }
 
 protected:
+    virtual const char* notInChain(const Scene&, const Settings&) const { return nullptr; }
     std::shared_ptr<SsrState> st_;
+
+private:
+    std::string name_;
 };
 
 // ---- ssr.hiz ---------------------------------------------------------------
 class HizPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.hiz"; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        Need n = ssrNeed(scene, s);
-        if (n.needed && effectiveSsrTracer(scene, s) != SsrSettings::Tracer::Hiz)
-            return Need::no("only the hiz tracer reads the depth pyramid");
-        return n;
+    const char* notInChain(const Scene& scene, const Settings& s) const override {
+        bool hiz = effectiveSsrTracer(scene, s) == SsrSettings::Tracer::Hiz;
+        return hiz ? nullptr : "only the hiz tracer reads the depth pyramid";
     }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth"}; }
     void execute(FrameContext& ctx) override {
@@ -115,7 +124,6 @@ public:
 class TracePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.trace"; }
     std::vector<std::string> reads() const override {
         return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.material"};
     }
@@ -170,7 +178,6 @@ public:
 class ResolvePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.resolve"; }
     // With ssr.diffuse_history the previous frame's res.diffuseHistory is read
     // instead (written by ssr.diffuse_history at the end of the chain).
     std::vector<std::string> reads() const override { return {"gbuffer.velocity", "history"}; }
@@ -206,7 +213,6 @@ public:
 class BlurPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.blur"; }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
     void execute(FrameContext& ctx) override {
         using F = SsrFilterConstants;
@@ -222,7 +228,6 @@ public:
 class TemporalPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.temporal"; }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.velocity"}; }
     void execute(FrameContext& ctx) override {
         // A frame resolved without history is all misses: never blend it in later.
@@ -244,11 +249,8 @@ public:
 class UpsamplePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.upsample"; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        Need n = ssrNeed(scene, s);
-        if (n.needed && !s.ssr.halfResolution) return Need::no("ssr.resolution=full");
-        return n;
+    const char* notInChain(const Scene&, const Settings& s) const override {
+        return s.ssr.halfResolution ? nullptr : "ssr.resolution=full";
     }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth"}; }
     void execute(FrameContext& ctx) override {
@@ -269,7 +271,6 @@ public:
 class ShadePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.shade"; }
     std::vector<std::string> reads() const override {
         return {"brdfLut", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
     }
@@ -306,11 +307,8 @@ public:
 class DiffuseHistoryPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.diffuse_history"; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        Need n = ssrNeed(scene, s);
-        if (n.needed && !s.ssr.diffuseHistory) return Need::no("ssr.diffuse_history=off (full HDR history)");
-        return n;
+    const char* notInChain(const Scene&, const Settings& s) const override {
+        return s.ssr.diffuseHistory ? nullptr : "ssr.diffuse_history=off (full HDR history)";
     }
     std::vector<std::string> reads() const override {
         return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
@@ -361,14 +359,16 @@ public:
 
 void appendSsrPasses(std::vector<std::unique_ptr<Pass>>& f) {
     auto st = std::make_shared<SsrState>();
-    f.push_back(std::make_unique<HizPass>(st));             // min-depth pyramid (hiz tracer only)
-    f.push_back(std::make_unique<TracePass>(st));           // ray march: hit offset + confidence
-    f.push_back(std::make_unique<ResolvePass>(st));         // reproject the hit, fetch last frame's radiance
-    f.push_back(std::make_unique<BlurPass>(st));            // shared separable edge-preserving Gaussian
-    f.push_back(std::make_unique<TemporalPass>(st));        // shared seed 000 listing 11 reprojection
-    f.push_back(std::make_unique<UpsamplePass>(st));        // shared depth-aware upsampling (half resolution)
-    f.push_back(std::make_unique<ShadePass>(st));           // split-sum × reflection × occlusion + LPV fill
-    f.push_back(std::make_unique<DiffuseHistoryPass>(st));  // next frame's diffuse-only history
+    // min-depth pyramid (hiz only) -> ray march -> reproject the hit into last frame's radiance
+    // -> shared blur / temporal / depth-aware upsampling -> split-sum shading (+ diffuse-only history)
+    f.push_back(std::make_unique<HizPass>(st, "ssr.hiz"));
+    f.push_back(std::make_unique<TracePass>(st, "ssr.trace"));
+    f.push_back(std::make_unique<ResolvePass>(st, "ssr.resolve"));
+    f.push_back(std::make_unique<BlurPass>(st, "ssr.blur"));
+    f.push_back(std::make_unique<TemporalPass>(st, "ssr.temporal"));
+    f.push_back(std::make_unique<UpsamplePass>(st, "ssr.upsample"));
+    f.push_back(std::make_unique<ShadePass>(st, "ssr.shade"));
+    f.push_back(std::make_unique<DiffuseHistoryPass>(st, "ssr.diffuse_history"));
 }
 
 SsrSettings::Tracer effectiveSsrTracer(const Scene& scene, const Settings& s) {
