@@ -10,6 +10,7 @@
 #include "lib/ao_shared.h"
 #include "lib/ao.glsl"
 #include "lib/noise.glsl"
+#include "lib/sh.glsl"
 
 // Defaults (the pass always sets all four).
 #ifndef AO_VARIANT
@@ -49,24 +50,21 @@ float sceneDepth(vec2 uv) {
     return texelFetch(uDepth, ivec2(uv * vec2(aoSize())), 0).r;
 }
 vec3 viewPosAt(vec2 uv, float d) { return viewPositionFromDepth(uv, d, tanHalfFov(), aspect()); }
-// Centre of the texel that holds uv: depth read there belongs to this uv, so
-// positions reconstructed from a fetched depth must use it (not the raw uv).
+// Centre of the texel that holds uv: depth read there belongs to this uv.
 vec2 snapUv(vec2 uv) { return (floor(uv * vec2(aoSize())) + 0.5) / vec2(aoSize()); }
 
-// Depth of the scene along the ray through uv: the fetched texel's surface
-// (its depth and normal) extended as a plane to the exact uv, so point tests
-// do not self-occlude on the staircase of a coarse depth buffer.
+// Depth of the scene along the exact ray through uv: the fetched texel's
+// surface (its depth and normal) extended as a plane to uv. Every variant
+// reads the scene through this, so samples that fall between texel centres
+// neither self-occlude on the staircase of a coarse depth buffer nor leave
+// the slice/line they belong to (docs/ao.md, "Reconstruction").
 float sceneDepthAlongRay(vec2 uv) {
     float z = sceneDepth(uv);
     if (isSky(z)) return z;
     vec2 c = snapUv(uv);
     vec3 Q = viewPosAt(c, z);
     vec3 nQ = aoSafeNormal(texelFetch(uNormal, ivec2(c * vec2(aoSize())), 0).xyz, Q);
-    vec3 ray = viewPosAt(uv, 1.0);
-    float denom = dot(nQ, ray);
-    if (abs(denom) < 1e-4) return z;
-    float t = dot(nQ, Q) / denom;
-    return (t > 0.0 && abs(t - z) < 0.5 * z) ? t : z;
+    return aoPlaneDepthAlongRay(Q, nQ, uv, tanHalfFov(), aspect(), z);
 }
 
 // Point test of the sample-point variants: how much the sample point S is
@@ -105,7 +103,7 @@ vec4 directional(vec3 P, vec3 n, float R, vec4 bn) {
         float r = R * length(ao.kernel[i % RTGI_AO_MAX_KERNEL].xyz);
         float v = 1.0 - pointOcclusion(P, P + l * max(r, 0.1 * R), R);
         bent += v * l;
-        sh += v * aoShBasis01(l);
+        sh += v * shBasis(l);  // the LPV family's basis: lpv.apply consumes it
     }
 #if AO_DIRECTIONAL == 1
     return vec4(dot(bent, bent) > 1e-12 ? normalize(bent) : n, 0.0);
@@ -170,7 +168,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         float frac[2];
         bool valid[2];
         for (int k = 0; k < 2; ++k) {
-            float zScene = sceneDepth(uv + (k == 0 ? off : -off));
+            float zScene = sceneDepthAlongRay(uv + (k == 0 ? off : -off));
             // Sky is infinitely far: the line is free. A scene point more than
             // the maximum occlusion distance 2R in front is invalid.
             valid[k] = isSky(zScene) || d - zScene < ao.radius.z * (R / ao.radius.x);
@@ -194,18 +192,24 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         vec2 dir = vec2(cos(phi), sin(phi));
         float tanT;
         if (ao.flags.y != 0) {
-            tanT = -dot(n.xy, dir) / max(n.z, 0.05);
+            // Tangent of the slice: the line where the tangent plane meets the
+            // plane through the eye that holds this screen direction. Every
+            // in-plane sample of the march lies on it, so a plane gives
+            // tanH == tanT exactly (the view-aligned -n.xy.dir/n.z differs
+            // off-axis under perspective and needs the angle bias to hide it).
+            vec3 T = hbaoSliceTangent(P, n, dir);
+            tanT = T.z / max(length(T.xy), 1e-6);
         } else {
-            vec2 uvT = snapUv(uv + dir / vec2(aoSize()));
-            float dT = sceneDepth(uvT);
+            vec2 uvT = uv + dir * rUv / (rUv.x * float(aoSize().x));  // one texel along the slice
+            float dT = sceneDepthAlongRay(uvT);
             vec3 T = isSky(dT) ? vec3(dir, 0.0) : viewPosAt(uvT, dT) - P;
             tanT = T.z / max(length(T.xy), 1e-6);
         }
         float t = min(atan(tanT) + biasAngle, 1.5607);
         float tanHmax = tan(t), sinPrev = sin(t), a = 0.0;
         for (int j = 0; j < steps; ++j) {
-            vec2 uvS = snapUv(uv + dir * rUv * ((float(j) + bn.y) / float(steps)));
-            float zS = sceneDepth(uvS);
+            vec2 uvS = uv + dir * rUv * ((float(j) + bn.y) / float(steps));
+            float zS = sceneDepthAlongRay(uvS);
             if (isSky(zS)) continue;
             vec3 D = viewPosAt(uvS, zS) - P;
             float r2 = dot(D, D), lxy = length(D.xy);
@@ -225,7 +229,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     vec2 rUv = aoTextureRadius(R, d, ao.focal.xy);
     vec3 V = normalize(-P);
     int slices = ao.counts.y, steps = ao.counts.z;
-    float vis = 0.0;
+    float vis = 0.0, open = 0.0;
     for (int k = 0; k < slices; ++k) {
         float phi = 3.14159265 * (float(k) + bn.x) / float(slices);
         vec3 dir = vec3(cos(phi), sin(phi), 0.0);
@@ -242,8 +246,8 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
             float s = (float(j) + bn.y) / float(steps);
             vec2 off = dir.xy * rUv * s;
             for (int side = 0; side < 2; ++side) {
-                vec2 uvS = snapUv(side == 0 ? uv + off : uv - off);
-                float zS = sceneDepth(uvS);
+                vec2 uvS = side == 0 ? uv + off : uv - off;
+                float zS = sceneDepthAlongRay(uvS);
                 if (isSky(zS)) continue;
                 vec3 D = viewPosAt(uvS, zS) - P;
                 float dist = length(D);
@@ -257,8 +261,14 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         float h0 = nAngle + max(-acos(clamp(hc1, -1.0, 1.0)) - nAngle, -1.5707963);
         float h1 = nAngle + min(acos(clamp(hc0, -1.0, 1.0)) - nAngle, 1.5707963);
         vis += gtaoSliceVisibility(h0, h1, nAngle, projLen);
+        open += gtaoSliceVisibility(nAngle - 1.5707963, nAngle + 1.5707963, nAngle, projLen);
     }
-    vis = clamp(vis / float(slices), 0.0, 1.0);
+    // Self-normalized slice quadrature: a few slices integrate the unoccluded
+    // hemisphere only approximately (to 1 +- 0.05 for tilted normals); dividing
+    // by the same quadrature of the open hemisphere makes a plane exactly 1
+    // instead of clipping the excess at 1 pixel by pixel (a bias under the
+    // filter chain). The ratio converges to the same integral (docs/ao.md).
+    vis = open > 1e-6 ? clamp(vis / open, 0.0, 1.0) : 1.0;
     if (ao.flags.z != 0) {
         vec2 fullUv = uv;
         vis = gtaoMultiBounce(vis, luminance(texture(uAlbedo, fullUv).rgb));

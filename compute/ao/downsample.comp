@@ -1,7 +1,13 @@
 // ao.downsample: half-resolution depth and normals for the AO chain (seed 000
 // 5.3). Of each 2x2 block the nearest non-sky texel is kept with its normal,
-// so thin foreground geometry survives and depth/normal stay consistent.
+// so thin foreground geometry survives and depth/normal stay consistent. Its
+// depth is moved along its tangent plane to the half-resolution texel centre:
+// the estimators reconstruct view positions at that centre, and a depth that
+// belongs to a point a quarter texel away would put every position off the
+// surface (self-occlusion on planes, docs/ao.md "Reconstruction").
+#include "lib/common.glsl"
 #include "lib/depth.glsl"
+#include "lib/ao.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform sampler2D uDepth;
@@ -11,7 +17,8 @@ layout(rgba16f, binding = 1) uniform writeonly image2D uHalfNormal;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(p, imageSize(uHalfDepth)))) return;
+    ivec2 halfSize = imageSize(uHalfDepth);
+    if (any(greaterThanEqual(p, halfSize))) return;
     ivec2 full = textureSize(uDepth, 0);
     float best = 0.0;
     ivec2 bestAt = min(2 * p, full - 1);
@@ -20,6 +27,13 @@ void main() {
         float d = texelFetch(uDepth, q, 0).r;
         if (!isSky(d) && (isSky(best) || d < best)) best = d, bestAt = q;
     }
+    vec4 n = texelFetch(uNormal, bestAt, 0);
+    if (!isSky(best)) {
+        float tanHalf = frame.projParams.z, aspect = frame.projParams.w;
+        vec3 Q = viewPositionFromDepth((vec2(bestAt) + 0.5) / vec2(full), best, tanHalf, aspect);
+        vec3 nQ = aoSafeNormal(n.xyz, Q);
+        best = aoPlaneDepthAlongRay(Q, nQ, (vec2(p) + 0.5) / vec2(halfSize), tanHalf, aspect, best);
+    }
     imageStore(uHalfDepth, p, vec4(best));
-    imageStore(uHalfNormal, p, texelFetch(uNormal, bestAt, 0));
+    imageStore(uHalfNormal, p, n);
 }

@@ -48,11 +48,16 @@ void main() {
             vec3 uvS = uvFromViewPosition(S, tanHalf, aspect);
             if (any(lessThan(uvS.xy, vec2(0.0))) || any(greaterThanEqual(uvS.xy, vec2(1.0)))) continue;
             ivec2 q = ivec2(uvS.xy * vec2(size));
-            float zScene = texelFetch(uDepth, q, 0).r;
+            float zTexel = texelFetch(uDepth, q, 0).r;
+            if (isSky(zTexel)) continue;
+            // The texel's surface extended as a plane to the sample's exact ray
+            // (as in ao.comp): the sender lies on the surface, not half a texel off.
+            vec3 Q = viewPositionFromDepth((vec2(q) + 0.5) / vec2(size), zTexel, tanHalf, aspect);
+            vec3 nS = aoSafeNormal(texelFetch(uNormal, q, 0).xyz, Q);
+            float zScene = aoPlaneDepthAlongRay(Q, nS, uvS.xy, tanHalf, aspect, zTexel);
             // V(w_i) = 0 (occluded): the blocker visible there is the sender.
-            if (isSky(zScene) || zScene >= uvS.z - 0.02 * R) continue;
+            if (zScene >= uvS.z - 0.02 * R) continue;
             vec3 sender = viewPositionFromDepth(uvS.xy, zScene, tanHalf, aspect);
-            vec3 nS = aoSafeNormal(texelFetch(uNormal, q, 0).xyz, sender);
             vec2 uvPrev = uvS.xy + texelFetch(uVelocity, q, 0).xy;
             if (any(lessThan(uvPrev, vec2(0.0))) || any(greaterThanEqual(uvPrev, vec2(1.0)))) continue;
             vec3 radiance = texture(uHistory, uvPrev).rgb;

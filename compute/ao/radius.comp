@@ -14,6 +14,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
 layout(binding = 0) uniform sampler2D uDepth;
+layout(binding = 1) uniform sampler2D uNormal;
 layout(r16f, binding = 0) uniform writeonly image2D uScale;
 layout(rgba8, binding = 1) uniform writeonly image2D uScaleColor;
 
@@ -36,6 +37,7 @@ void main() {
         vec2 uv = (vec2(p) + 0.5) / vec2(size);
         float R = ao.radius.x;
         vec3 P = viewPositionFromDepth(uv, d, ao.focal.z, ao.focal.w);
+        vec3 nP = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
         vec2 rUv = aoTextureRadius(R, d, ao.focal.xy);
         int K = int(ao.misc.w);
         float dMin = 1e30, sum = 0.0, sumSq = 0.0;
@@ -45,9 +47,11 @@ void main() {
         for (int i = 0; i < K; ++i) {
             vec2 uvS = uv + ao.probe[i].xy * rUv;
             if (any(lessThan(uvS, vec2(0.0))) || any(greaterThanEqual(uvS, vec2(1.0)))) continue;
-            float dS = texelFetch(uDepth, ivec2(uvS * vec2(size)), 0).r;
+            ivec2 q = ivec2(uvS * vec2(size));
+            float dS = texelFetch(uDepth, q, 0).r;
             if (isSky(dS)) continue;
-            vec3 S = viewPositionFromDepth(uvS, dS, ao.focal.z, ao.focal.w);
+            // The depth belongs to the texel centre: reconstruct S there.
+            vec3 S = viewPositionFromDepth((vec2(q) + 0.5) / vec2(size), dS, ao.focal.z, ao.focal.w);
             ++n;
             dMin = min(dMin, dS);
             sumSq += (dS - d) * (dS - d);
@@ -55,7 +59,11 @@ void main() {
 #if AO_RADIUS_ALG == 5
             if (dS <= -zMax.z && abs(dS - d) < R) zMax = S, found = true;
 #elif AO_RADIUS_ALG == 6
-            if (distance(S, P) < R && length(S) < length(zMax)) zMax = S, found = true;
+            // Seed 003's "z" is height over a camera-facing base; on tilted
+            // surfaces that is the height over P's tangent plane: only points
+            // above it by more than 2 % of R (blockers) qualify, so a plane
+            // keeps the radius (scale 1) at any inclination.
+            if (distance(S, P) < R && dot(S - P, nP) > 0.02 * R && length(S) < length(zMax)) zMax = S, found = true;
 #endif
         }
         // Seed 003 works with depths where "max z" is the point nearest to the

@@ -2,6 +2,7 @@
 // bindings), shared by compute/ao/*.comp and the GPU tests. View space:
 // camera at the origin looking down -z; "depth" = positive distance along -z.
 #pragma once
+#include "lib/depth.glsl"
 
 // Seed 003 eq. 5.3: a view-space radius R at depth z covers
 // 0.5 * R * focal / z in texture space, focal = (cot(fovY/2)/aspect, cot(fovY/2)).
@@ -25,6 +26,18 @@ float halfSpaceNormalize(float visibleFraction) { return min(visibleFraction, 0.
 // (unit sphere) when the scene lies dr sphere radii behind the centre, clamped
 // to the line (0 .. 2 zs).
 float voLineFree(float zs, float dr) { return clamp(min(zs, dr) + zs, 0.0, 2.0 * zs); }
+
+// HBAO tangent vector of the slice through the view point P along the view-
+// space direction (dir, 0): the tangent plane (normal n) cut with the plane
+// through the eye spanned by P and dir, oriented towards dir. Falls back to
+// the view-aligned tangent when the two planes coincide.
+vec3 hbaoSliceTangent(vec3 P, vec3 n, vec2 dir) {
+    vec3 sliceNormal = cross(P, vec3(dir, 0.0));
+    vec3 T = cross(sliceNormal, n);
+    if (dot(T, T) < 1e-12) return vec3(dir, -dot(n.xy, dir) / max(n.z, 0.05));
+    // T = a P + b (dir, 0); marching towards +dir on screen means b > 0.
+    return dot(cross(P, T), sliceNormal) < 0.0 ? -T : T;
+}
 
 // HBAO attenuation W(r) = 1 - r^2/R^2 (Bavoil & Sainz 2008).
 float hbaoFalloff(float r2, float R2) { return clamp(1.0 - r2 / R2, 0.0, 1.0); }
@@ -64,11 +77,6 @@ vec3 cosineHemisphere(vec2 u) {
     return vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
 }
 
-// Real SH basis, bands 0-1 (order Y00, Y1-1, Y10, Y11 = 0.2821, 0.4886 y, z, x).
-// NOTE: duplicate of the LPV family's compute/lib/sh.glsl basis while that is
-// not merged; the lead dedupes (same order and constants).
-vec4 aoShBasis01(vec3 d) { return vec4(0.28209479177387814, 0.48860251190291992 * vec3(d.y, d.z, d.x)); }
-
 // Seed 000 eq. 16 for one sender sample: rho/pi * L * (1 - V) * A_s cos(s) cos(r) / d^2,
 // with the distance clamped to 0.25 R (the sender disc area A_s = pi R^2 / N
 // makes the point-to-disc form factor invalid closer than that).
@@ -78,6 +86,19 @@ vec3 nearFieldSample(vec3 rho, vec3 senderRadiance, vec3 toSender, vec3 senderNo
     vec3 l = toSender * inversesqrt(max(dot(toSender, toSender), 1e-12));
     float cosS = max(0.0, dot(senderNormal, -l)), cosR = max(0.0, dot(receiverNormal, l));
     return rho * 0.31830988618379067 * senderRadiance * senderArea * cosS * cosR / d2;
+}
+
+// Depth along the ray through uv of the plane through the view-space point Q
+// with normal nQ: the first-order (tangent-plane) reconstruction of the
+// surface a depth texel holds, evaluated off the texel centre. Returns
+// `fallback` (the texel's own depth) when the ray grazes the plane or the
+// extension moves the depth by more than half of it (a silhouette, not a plane).
+float aoPlaneDepthAlongRay(vec3 Q, vec3 nQ, vec2 uv, float tanHalfFov, float aspect, float fallback) {
+    vec3 ray = viewPositionFromDepth(uv, 1.0, tanHalfFov, aspect);  // z = -1: t is the linear depth
+    float denom = dot(nQ, ray);
+    if (abs(denom) < 1e-4) return fallback;
+    float t = dot(nQ, Q) / denom;
+    return (t > 0.0 && abs(t - fallback) < 0.5 * fallback) ? t : fallback;
 }
 
 // Surface normal from the G-buffer, made safe: zero/NaN normals (holes,

@@ -52,6 +52,7 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
         } else if (a == "--check") c.run.check = true;
         else if (a == "--debug") c.debug = true;
         else if (a == "--no-images") c.run.writeImages = false;
+        else if (a == "--reference") c.run.reference = true;
         else if (a == "--list-devices") c.listDevices = true;
         else {
             bool handled = false;
@@ -91,6 +92,9 @@ std::string commonHelp() {
   --shard i/n              run only the i-th of n parts of a sweep
   --check                  count NaN/Inf/negative/fp16-saturated values in every pass output
   --no-images              do not write images
+  --reference              compare the output with the matching ray-traced reference (ao -> AO rays,
+                           indirect light -> path-traced indirect, else the full image; cached on disk)
+  --compare IMAGE REF      error metrics and heat map of an image file against a reference (PNG/PFM)
   --debug                  KHR_debug output
   --list-devices           list EGL devices and exit
   --help                   this text

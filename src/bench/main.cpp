@@ -4,6 +4,7 @@
 #include "bench/sweep.h"
 #include "gl/context.h"
 #include "gl/program.h"
+#include "render/reference/reference_runner.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +13,35 @@
 
 using namespace rtgi;
 
+namespace {
+
+// rtgi-bench --compare IMAGE REFERENCE [--out DIR]: no GL context needed.
+int compareCommand(int argc, char** argv) {
+    std::string outDir = "out";
+    std::vector<std::string> files;
+    for (int i = 2; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--out" && i + 1 < argc) outDir = argv[++i];
+        else files.push_back(a);
+    }
+    if (files.size() != 2) {
+        std::fprintf(stderr, "rtgi-bench: --compare IMAGE REFERENCE [--out DIR]: expected two image files\n");
+        return 2;
+    }
+    try {
+        nlohmann::json j = compareImageFiles(files[0], files[1], outDir);
+        std::cout << j.dump(2) << "\n  wrote " << outDir << "/compare.json, error.heatmap.png\n";
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        return 3;
+    }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+    if (argc > 1 && std::string(argv[1]) == "--compare") return compareCommand(argc, argv);
     CommandLine cl;
     try {
         cl = parseCommandLine(argc, argv);
@@ -42,6 +71,12 @@ int main(int argc, char** argv) {
         csv << resultsCsvHeader() << "\n";
         for (auto& row : resultsCsvRows(r)) csv << row << "\n";
         std::cout << formatTimingTable(r);
+        if (r.contains("error")) {
+            const auto& e = r["error"];
+            std::cout << "  error vs reference (" << e["compared"].get<std::string>() << ", "
+                      << (e["reference"]["from_cache"].get<bool>() ? "from cache" : "rendered") << "): rmse "
+                      << e["rmse"] << ", mae " << e["mae"] << ", psnr " << e["psnr"] << ", ssim " << e["ssim"] << "\n";
+        }
         std::cout << "  wrote " << cl.run.outDir << "/results.json, results.csv"
                   << (cl.run.writeImages ? ", final.png, final.pfm and debug images" : "") << "\n";
         if (cl.run.check && r["check"]["non_finite"].get<std::uint64_t>() > 0) {

@@ -1,6 +1,7 @@
 #include "bench/run.h"
 
 #include "gl/image_io.h"
+#include "render/reference/reference_runner.h"
 #include "render/renderer.h"
 
 #include <algorithm>
@@ -75,6 +76,14 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, con
                             const RunOptions& opts) {
     gl::Profiler profiler(info.timerQuery);
     Renderer renderer(scene, settings, profiler);
+    return runBenchmark(info, renderer, opts);
+}
+
+nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, const RunOptions& opts) {
+    gl::Profiler& profiler = renderer.profiler();
+    profiler.reset();
+    const Scene& scene = renderer.scene();
+    const Settings& settings = renderer.settings();
     renderer.setCheck(opts.check);
     Camera cam = resolveCamera(scene, settings);
     View prev;
@@ -167,6 +176,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, con
                 if (d.tex && *d.tex) writeTexture(opts.outDir, d.name, *d.tex, d.scale, false);
         r["images"] = opts.outDir;
     }
+    if (opts.reference) r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages);
     return r;
 }
 
@@ -174,14 +184,16 @@ std::string resultsCsvHeader() {
     return "scene,resolution,timer,device,config,pass,median_ms,min_ms,max_ms,mean_ms,dispatches,total_ms,memory_bytes";
 }
 
+std::string csvQuote(const std::string& s) {
+    std::string o = "\"";
+    for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return o + "\"";
+}
+
 std::vector<std::string> resultsCsvRows(const nlohmann::json& r) {
     std::string cfg;
     for (auto& [k, v] : r["config"].items()) cfg += (cfg.empty() ? "" : ";") + k + "=" + v.get<std::string>();
-    auto q = [](std::string s) {
-        std::string o = "\"";
-        for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
-        return o + "\"";
-    };
+    auto q = [](const std::string& s) { return csvQuote(s); };
     std::vector<std::string> rows;
     for (auto& p : r["passes"]) {
         std::ostringstream o;

@@ -22,6 +22,7 @@ struct RunOptions {
     bool writeImages = true;
     bool check = false;
     bool quiet = false;
+    bool reference = false;  // --reference: compare the output with the matching ray-traced reference
 };
 
 // Loads and merges the --scene list. A glTF model merged with a built-in
@@ -34,9 +35,16 @@ Scene loadScenes(const std::vector<std::string>& specs);
 nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, const Settings& settings,
                             const RunOptions& opts);
 
+// The same with an existing renderer (its profiler is reset first): a sweep
+// keeps one renderer per scene and only reconfigures it between runs.
+class Renderer;
+nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, const RunOptions& opts);
+
 // Flattens a results object into CSV header + row (one row per pass).
 std::string resultsCsvHeader();
 std::vector<std::string> resultsCsvRows(const nlohmann::json& results);
+// RFC 4180 quoting of one CSV field.
+std::string csvQuote(const std::string& s);
 
 // The per-pass table printed on stdout.
 std::string formatTimingTable(const nlohmann::json& results);

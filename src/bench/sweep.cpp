@@ -1,7 +1,185 @@
 #include "bench/sweep.h"
 
+#include "bench/sweep_spec.h"
+#include "gl/program.h"
+#include "render/renderer.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
 namespace rtgi {
-int runSweepCommand(const CommandLine& cl) {
-    throw ConfigError("--sweep " + cl.sweep + ": sweeps are not available in this build yet");
+
+namespace {
+
+// "$SCENES/x.gltf" -> the SCENES environment variable (the directory of the
+// shared scenes); the id keeps the unexpanded form, so shards on machines
+// with different paths agree.
+std::string expandScenePath(const std::string& spec) {
+    const std::string var = "$SCENES";
+    if (spec.rfind(var, 0) != 0) return spec;
+    const char* dir = std::getenv("SCENES");
+    if (!dir || !*dir)
+        throw SceneError("scene '" + spec + "' needs the SCENES environment variable (the directory of the shared scenes)");
+    return std::string(dir) + spec.substr(var.size());
 }
+
+std::string formatDuration(double s) {
+    char buf[32];
+    if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
+    else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
+    else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, (int(s) % 3600) / 60);
+    return buf;
+}
+
+// Rewrites results.csv from results.jsonl (the record that resume trusts), so
+// the CSV never holds rows of a configuration interrupted between the writes.
+void rewriteCsv(const std::string& jsonlPath, const std::string& csvPath) {
+    std::ofstream csv(csvPath, std::ios::trunc);
+    csv << sweepCsvHeader() << "\n";
+    std::ifstream in(jsonlPath);
+    std::string line;
+    while (std::getline(in, line)) {
+        auto j = nlohmann::json::parse(line, nullptr, false);
+        if (j.is_discarded() || !j.is_object() || !j.contains("sweep")) continue;
+        for (auto& row : sweepCsvRows(j)) csv << row << "\n";
+    }
+}
+
+// Whether this build's frame script has the ray-traced reference passes.
+bool buildHasReference() {
+    for (auto& p : frameScript())
+        if (p->name().rfind("ref.", 0) == 0) return true;
+    return false;
+}
+
+}  // namespace
+
+int runSweepCommand(const CommandLine& cl) {
+    // A sweep file is self-contained: its id scheme only sees what the file
+    // says, so command-line settings would silently change resumed results.
+    if (describe(cl.settings) != describe(Settings{}))
+        throw ConfigError("--sweep: --set/--config do not apply to sweeps; put the keys in the sweep file's \"base\"");
+    std::ifstream f(cl.sweep);
+    if (!f) throw ConfigError("--sweep " + cl.sweep + ": cannot open the file");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    SweepSpec spec = parseSweep(ss.str(), cl.sweep);
+    std::vector<SweepConfig> mine = shardOf(spec.configs, cl.shardIndex, cl.shardCount);
+
+    const std::string dir = cl.run.outDir;
+    std::filesystem::create_directories(dir);
+    const std::string jsonlPath = dir + "/results.jsonl", csvPath = dir + "/results.csv";
+    std::set<std::string> done;
+    {
+        std::ifstream in(jsonlPath);
+        int unreadable = 0;
+        if (in) done = completedIds(in, &unreadable);
+        if (unreadable > 0)
+            std::fprintf(stderr, "rtgi-bench: %s: ignored %d unreadable line(s) (an interrupted write?)\n",
+                         jsonlPath.c_str(), unreadable);
+    }
+    std::vector<SweepConfig> todo = pending(mine, done);
+    std::fprintf(stderr, "rtgi-bench: sweep '%s': %zu configurations%s, shard %d/%d holds %zu, %zu done, %zu to run\n",
+                 spec.name.c_str(), spec.configs.size(),
+                 spec.duplicates ? (" (" + std::to_string(spec.duplicates) + " duplicates dropped)").c_str() : "",
+                 cl.shardIndex, cl.shardCount, mine.size(), mine.size() - todo.size(), todo.size());
+    rewriteCsv(jsonlPath, csvPath);
+    if (todo.empty()) return 0;
+
+    auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
+    std::ofstream jsonl(jsonlPath, std::ios::app);
+    std::ofstream csv(csvPath, std::ios::app);
+
+    // One renderer per scene: consecutive configurations of the same scene
+    // (the expansion keeps scenes outermost) only reconfigure it, so the GPU
+    // scene and the compiled programs are reused.
+    std::unique_ptr<gl::Profiler> profiler;
+    std::unique_ptr<Renderer> renderer;
+    std::string loadedScene;
+    std::unique_ptr<Scene> scene;
+
+    const bool haveReference = buildHasReference();
+    using Clock = std::chrono::steady_clock;
+    auto start = Clock::now();
+    int failures = 0;
+    for (std::size_t k = 0; k < todo.size(); ++k) {
+        const SweepConfig& c = todo[k];
+        auto t0 = Clock::now();
+        nlohmann::json line;
+        std::string retry;
+        try {
+            Settings settings = c.settings();
+            if (settings.reference.kind != ReferenceSettings::Kind::Off && !haveReference) {
+                // Time the techniques now; the errors come when the reference
+                // lands (resume re-runs lines marked "retry").
+                settings.reference.kind = ReferenceSettings::Kind::Off;
+                retry = "this build has no reference passes: no error values";
+            }
+            std::string sceneKey;
+            for (auto& s : c.scenes) sceneKey += s + "\n";
+            if (sceneKey != loadedScene || !renderer) {
+                renderer.reset();
+                loadedScene.clear();
+                std::vector<std::string> paths;
+                for (auto& s : c.scenes) paths.push_back(expandScenePath(s));
+                scene = std::make_unique<Scene>(loadScenes(paths));
+                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+                if (!profiler) profiler = std::make_unique<gl::Profiler>(ctx->info().timerQuery);
+                renderer = std::make_unique<Renderer>(*scene, settings, *profiler);
+                loadedScene = sceneKey;
+            } else {
+                renderer->configure(settings);
+            }
+            RunOptions opts = cl.run;
+            opts.resolution = c.resolution;
+            opts.frames = c.frames;
+            opts.warmup = c.warmup;
+            opts.writeImages = spec.images && cl.run.writeImages;  // the file asks for images, --no-images wins
+            opts.outDir = dir + "/images/" + c.id;
+            opts.check = spec.check || cl.run.check;
+            opts.quiet = true;
+            line = runBenchmark(ctx->info(), *renderer, opts);
+        } catch (const std::exception& e) {
+            // A configuration the build cannot run (a technique not landed, a
+            // scene missing on this machine) is recorded and the sweep goes on;
+            // resume retries it.
+            line = nlohmann::json::object();
+            line["failed"] = e.what();
+            renderer.reset();  // its state after a throw inside configure() is not trusted
+            loadedScene.clear();
+            ++failures;
+            std::fprintf(stderr, "rtgi-bench: %s: %s\n", c.label().c_str(), e.what());
+        }
+        double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+        line["sweep"] = c.describe();
+        line["sweep"]["name"] = spec.name;
+        line["sweep"]["shard"] = std::to_string(cl.shardIndex) + "/" + std::to_string(cl.shardCount);
+        line["wall_s"] = wall;
+        if (!retry.empty()) line["retry"] = retry;
+        jsonl << line.dump() << "\n";
+        jsonl.flush();
+        for (auto& row : sweepCsvRows(line)) csv << row << "\n";
+        csv.flush();
+
+        double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+        double eta = elapsed / double(k + 1) * double(todo.size() - k - 1);
+        std::fprintf(stderr, "[%zu/%zu] %s  %s  %.3f ms/frame  (%.1fs, elapsed %s, ETA %s)\n", k + 1, todo.size(),
+                     c.id.c_str(), c.label().c_str(), line.contains("total_ms") ? line["total_ms"].get<double>() : 0.0,
+                     wall, formatDuration(elapsed).c_str(), formatDuration(eta).c_str());
+    }
+    std::fprintf(stderr, "rtgi-bench: sweep '%s': wrote %s and %s\n", spec.name.c_str(), jsonlPath.c_str(),
+                 csvPath.c_str());
+    if (failures > 0) {
+        std::fprintf(stderr, "rtgi-bench: %d of %zu configurations failed (lines with \"failed\" in %s)\n", failures,
+                     todo.size(), jsonlPath.c_str());
+        return 1;
+    }
+    return 0;
+}
+
 }  // namespace rtgi

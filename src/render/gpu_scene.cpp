@@ -28,23 +28,44 @@ glm::vec3 resolveSky(const Scene& scene, const Settings& s) {
     return s.light.sky ? glm::vec3(*s.light.sky) : scene.sky;
 }
 
+namespace {
+
+// The view files of benchmarks/views/ (embedded) that apply to a scene:
+// {"scene": "atrium", "views": {"name": {"position": [..], "target": [..], "fov": deg}}};
+// "scene" is matched as a substring of the scene name ("builtin:" removed, "/+:" -> "_").
+std::vector<nlohmann::json> viewFilesFor(const Scene& scene) {
+    std::string sceneKey = scene.name;
+    if (sceneKey.rfind("builtin:", 0) == 0) sceneKey = sceneKey.substr(8);
+    for (char& ch : sceneKey)
+        if (ch == '/' || ch == '+' || ch == ':') ch = '_';
+    std::vector<nlohmann::json> out;
+    for (int i = 0; i < kEmbeddedFileCount; ++i) {
+        std::string path = kEmbeddedFiles[i].path;
+        if (path.rfind("benchmarks/views/", 0) != 0) continue;
+        auto j = nlohmann::json::parse(kEmbeddedFiles[i].text, nullptr, false);
+        if (j.is_discarded() || !j.contains("views")) continue;
+        std::string fileScene = j.value("scene", "");
+        if (!fileScene.empty() && sceneKey.find(fileScene) == std::string::npos) continue;
+        out.push_back(std::move(j));
+    }
+    return out;
+}
+
+}  // namespace
+
+std::vector<std::string> namedViews(const Scene& scene) {
+    std::vector<std::string> names;
+    for (auto& j : viewFilesFor(scene))
+        for (auto& [name, v] : j["views"].items()) names.push_back(name);
+    return names;
+}
+
 Camera resolveCamera(const Scene& scene, const Settings& s) {
     Camera c = scene.cameras.empty() ? defaultCamera(scene) : scene.cameras.front();
     if (!s.camera.view.empty()) {
-        // benchmarks/views/<scene>.json: {"views": {"name": {"position": [..], "target": [..], "fov": deg}}}
-        std::string sceneKey = scene.name;
-        if (sceneKey.rfind("builtin:", 0) == 0) sceneKey = sceneKey.substr(8);
-        for (char& ch : sceneKey)
-            if (ch == '/' || ch == '+' || ch == ':') ch = '_';
         bool found = false;
-        for (int i = 0; i < kEmbeddedFileCount && !found; ++i) {
-            std::string path = kEmbeddedFiles[i].path;
-            if (path.rfind("benchmarks/views/", 0) != 0) continue;
-            auto j = nlohmann::json::parse(kEmbeddedFiles[i].text, nullptr, false);
-            if (j.is_discarded() || !j.contains("views")) continue;
-            std::string fileScene = j.value("scene", "");
-            if (!fileScene.empty() && sceneKey.find(fileScene) == std::string::npos) continue;
-            if (!j["views"].contains(s.camera.view)) continue;
+        for (auto& j : viewFilesFor(scene)) {
+            if (found || !j["views"].contains(s.camera.view)) continue;
             auto v = j["views"][s.camera.view];
             auto vec = [](const nlohmann::json& a) { return glm::vec3(a[0].get<float>(), a[1].get<float>(), a[2].get<float>()); };
             c.position = vec(v["position"]);

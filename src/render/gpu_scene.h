@@ -29,6 +29,8 @@ std::optional<Sun> resolveSun(const Scene& scene, const Settings& settings);
 glm::vec3 resolveSky(const Scene& scene, const Settings& settings);
 // Camera after the scene's own, a named view and --set camera.* overrides.
 Camera resolveCamera(const Scene& scene, const Settings& settings);
+// Names of the views of benchmarks/views/ that apply to the scene (setting `view`).
+std::vector<std::string> namedViews(const Scene& scene);
 // Materials after settings overrides (floor.roughness, emissive.scale).
 std::vector<Material> resolveMaterials(const Scene& scene, const Settings& settings);
 

@@ -10,9 +10,9 @@
 
 namespace rtgi {
 
-const gl::Texture* findResource(const FrameResources& r, const std::string& n) {
+std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const FrameResources& r) {
     const GBuffer& g = r.gbuffer;
-    const std::pair<const char*, const gl::Texture*> table[] = {
+    return {
         {"gbuffer.depth", &g.depth},       {"gbuffer.linearDepth", &g.linearDepth},
         {"gbuffer.normal", &g.normal},     {"gbuffer.albedo", &g.albedo},
         {"gbuffer.material", &g.material}, {"gbuffer.emissive", &g.emissive},
@@ -24,7 +24,10 @@ const gl::Texture* findResource(const FrameResources& r, const std::string& n) {
         {"hdr", &r.hdr},                   {"ldr", &r.ldr},
         {"history", &r.history},           {"diffuseHistory", &r.diffuseHistory},
     };
-    for (auto& [name, tex] : table)
+}
+
+const gl::Texture* findResource(const FrameResources& r, const std::string& n) {
+    for (auto& [name, tex] : namedResources(r))
         if (n == name) return tex;
     return nullptr;
 }
@@ -61,6 +64,7 @@ void Renderer::configure(const Settings& settings) {
     settings_ = settings;
     passes_.clear();
     skipped_.clear();
+    finite_.clear();  // --check counts belong to one configuration
     res_ = FrameResources{};  // release everything; passes re-create what they need
     if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_);
 

@@ -78,5 +78,7 @@ FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger,
 // Texture of FrameResources by the name used in Pass::reads()/writes()
 // (used only to validate the frame and by --check; nullptr when unknown).
 const gl::Texture* findResource(const FrameResources& res, const std::string& name);
+// Every shared texture of FrameResources with that name (the viewer's image list).
+std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const FrameResources& res);
 
 }  // namespace rtgi

@@ -99,6 +99,7 @@ const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynami
                                      "dynamic3", "dynamic4", "dynamic5", "dynamic6"};
 const char* const kAoDepthSource[] = {"camera", "light"};
 const char* const kAoDualCombine[] = {"product", "min"};
+const char* const kAoFilterChain[] = {"blur-temporal", "blur-temporal-blur"};
 const char* const kSsrTracer[] = {"auto", "off", "linear", "dda", "hiz"};
 const char* const kReference[] = {"off", "ao", "indirect", "full"};
 const char* const kResolution[] = {"full", "half"};
@@ -161,7 +162,7 @@ std::vector<SettingKey> buildKeys() {
             s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
                 ? fmt(s.lpv.grid.x)
                 : fmt(s.lpv.grid.x) + "x" + fmt(s.lpv.grid.y) + "x" + fmt(s.lpv.grid.z)),
-        KEY("lpv.cell", "cell size in scene units (0 = fit the scene)", "0|1e-4..1e4",
+        KEY("lpv.cell", "cell size in scene units (0 = fit the grid to the scene; > 0: camera-following, snapped)", "0|1e-4..1e4",
             s.lpv.cell = parseFloat("lpv.cell", v, 0, 1e4), fmt(s.lpv.cell)),
         KEY("lpv.iterations", "propagation iterations", "1..64",
             s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),
@@ -224,6 +225,10 @@ std::vector<SettingKey> buildKeys() {
         KEY("ao.dual_combine", "dual radii: combine the two AO values by product or min", "product|min",
             s.ao.dualCombineMin = parseEnum<int>("ao.dual_combine", v, kAoDualCombine) == 1,
             s.ao.dualCombineMin ? "min" : "product"),
+        KEY("ao.filter_chain", "blur then temporal, or blur -> temporal -> blur ([Wes14]; needs ao.blur and ao.temporal on)",
+            "blur-temporal|blur-temporal-blur",
+            s.ao.blurAfterTemporal = parseEnum<int>("ao.filter_chain", v, kAoFilterChain) == 1,
+            kAoFilterChain[s.ao.blurAfterTemporal ? 1 : 0]),
         // ---- SSR -----------------------------------------------------------
         KEY("ssr", "screen-space reflection tracer (auto: linear when a material is glossy)",
             "auto|off|linear|dda|hiz",
@@ -247,8 +252,12 @@ std::vector<SettingKey> buildKeys() {
             s.reference.spp = parseInt("reference.spp", v, 1, 65536), fmt(s.reference.spp)),
         KEY("reference.bounces", "maximum path length of the path tracer", "1..64",
             s.reference.bounces = parseInt("reference.bounces", v, 1, 64), fmt(s.reference.bounces)),
-        KEY("reference.cache", "directory of cached references", "path", s.reference.cacheDir = v,
-            s.reference.cacheDir),
+        KEY("reference.cache", "directory of cached references (off = always render)", "path|off",
+            s.reference.cacheDir = v, s.reference.cacheDir),
+        KEY("reference.seed", "seed of the reference's sample sequence (same seed, same image)", "0..2147483647",
+            s.reference.seed = parseInt("reference.seed", v, 0, 2147483647), fmt(s.reference.seed)),
+        KEY("reference.specular", "GGX lobe in the path tracer (off: Lambert only)", "on|off",
+            s.reference.specular = parseBool("reference.specular", v), s.reference.specular ? "on" : "off"),
     };
 }
 

@@ -44,7 +44,7 @@ struct LpvSettings {
     Toggle mode = Toggle::Auto;          // auto: on when the scene has a sun
     enum class Path { Compute, Raster } path = Path::Compute;
     glm::ivec3 grid{32};
-    float cell = 1.0f;                   // 0 = fit to the scene (auto)
+    float cell = 0.0f;                   // 0 = fit the grid to the scene bounds (auto, docs/lpv.md)
     int iterations = 8;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
@@ -75,6 +75,7 @@ struct AoSettings {
     bool multiBounce = false;         // gtao
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
     bool dualCombineMin = false;      // dual radii: min instead of product (Loos & Sloan)
+    bool blurAfterTemporal = false;   // ao.filter_chain=blur-temporal-blur ([Wes14])
 };
 
 struct SsrSettings {
@@ -90,7 +91,9 @@ struct ReferenceSettings {
     enum class Kind { Off, Ao, Indirect, Full } kind = Kind::Off;
     int spp = 256;
     int bounces = 4;
-    std::string cacheDir = "rtgi-cache";
+    std::string cacheDir = "rtgi-cache";  // "off" = no cache
+    int seed = 1;                         // fixed seed of the sample sequence
+    bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
 };
 
 struct Settings {

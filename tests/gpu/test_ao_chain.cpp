@@ -38,39 +38,39 @@ gl::Texture floatTexture(gl::MemoryLedger& ledger, const char* label, GLenum fmt
 
 }  // namespace
 
-TEST_CASE("AO of every variant on a plane is 1 within 0.08 (16 samples, blur + temporal + upsample); sky is 1") {
+TEST_CASE("AO of every variant on a plane is 1 within 0.02 (16 samples, blur + temporal + upsample); sky is 1") {
     GpuFixture gpu;
     gl::Profiler prof(false);
     Scene s = floorScene(30, glm::vec3(0.5f), false);
-    for (auto v : kVariants) {
-        Settings st = aoSettings(v);
-        auto r = renderFrames(s, st, {48, 32}, prof, 3);
-        FloatImage ao = readTexture(r->resources().ao);
-        FloatImage depth = readTexture(r->resources().gbuffer.linearDepth);
-        REQUIRE(ao.width == 48);
-        int floor = 0, sky = 0;
-        for (int y = 1; y < 31; ++y)
-            for (int x = 2; x < 46; ++x) {
-                INFO(std::string(toString(v)) << " pixel " << x << "," << y);
-                float a = ao.at(x, y, 0);
-                if (depth.at(x, y, 0) <= 0) {
-                    CHECK(a == doctest::Approx(1.0f).epsilon(1e-3));  // fp16 of 1 is exact
-                    ++sky;
-                } else if (y < 12) {
-                    // Rows below 12 see the floor at >= ~20 degrees. Towards the
-                    // horizon a 24x16 AO buffer covers up to R per texel, and the
-                    // horizon/line estimators deviate by up to 0.04 from the
-                    // discretization alone (documented in docs/ao.md).
-                    // KNOWN SHORTFALL: the issue asks 0.02; on a 24x16 AO buffer
-                    // the residual self-occlusion of the coarse depth (sphere,
-                    // disk, hbao, gtao) reaches 0.07 (docs/ao.md, "Limits").
-                    CHECK(std::abs(a - 1.0f) <= 0.08f);
-                    ++floor;
+    for (glm::ivec2 res : {glm::ivec2(48, 32), glm::ivec2(96, 64)})
+        for (auto v : kVariants) {
+            Settings st = aoSettings(v);  // half resolution, blur, temporal, upsample: the full chain
+            auto r = renderFrames(s, st, res, prof, 3);
+            FloatImage ao = readTexture(r->resources().ao);
+            FloatImage depth = readTexture(r->resources().gbuffer.linearDepth);
+            REQUIRE(ao.width == res.x);
+            int floor = 0, sky = 0;
+            for (int y = 1; y < res.y - 1; ++y)
+                for (int x = 2; x < res.x - 2; ++x) {
+                    INFO(std::string(toString(v)) << " " << res.x << "x" << res.y << " pixel " << x << "," << y);
+                    float a = ao.at(x, y, 0);
+                    float d = depth.at(x, y, 0), dUp = depth.at(x, y + 1, 0);
+                    if (d <= 0) {
+                        CHECK(a == doctest::Approx(1.0f).epsilon(1e-3));  // fp16 of 1 is exact
+                        ++sky;
+                    } else if (dUp > 0) {
+                        // Every floor pixel but the last row under the horizon (whose
+                        // 2x2 block mixes floor and sky). Issue 4: within 0.02 of 1.
+                        // Exact by construction after the documented normalizations
+                        // (docs/ao.md "Plane exactness"); the residue is fp16 normals
+                        // and R16F storage (~1e-3).
+                        CHECK(std::abs(a - 1.0f) <= 0.02f);
+                        ++floor;
+                    }
                 }
-            }
-        CHECK(floor > 300);
-        CHECK(sky > 50);
-    }
+            CHECK(floor > res.x * res.y / 4);
+            CHECK(sky > res.x * res.y / 8);
+        }
 }
 
 TEST_CASE("zero or NaN G-buffer normals never produce NaN AO") {
@@ -119,9 +119,10 @@ TEST_CASE("bent normal and S3HO of an unoccluded point: the normal and the SH of
             } else {
                 // Monte Carlo with 32 stratified samples: 5 % of c1.
                 CHECK(img.at(x, y, 0) == doctest::Approx(c0).epsilon(1e-3));  // exact: every sample adds Y00
-                CHECK(std::abs(img.at(x, y, 1) - c1 * n.y) < 0.05 * c1);
+                // lib/sh.glsl order and signs: (Y00, -Y1 y, Y1 z, -Y1 x).
+                CHECK(std::abs(img.at(x, y, 1) + c1 * n.y) < 0.05 * c1);
                 CHECK(std::abs(img.at(x, y, 2) - c1 * n.z) < 0.05 * c1);
-                CHECK(std::abs(img.at(x, y, 3) - c1 * n.x) < 0.05 * c1);
+                CHECK(std::abs(img.at(x, y, 3) + c1 * n.x) < 0.05 * c1);
             }
         }
     }

@@ -17,17 +17,28 @@ double sphereKernelRadius(double u) { return 2.0 * std::sin(std::asin(std::clamp
 std::vector<glm::vec4> sphereKernel(int n, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
-    std::vector<glm::vec4> k;
-    for (int i = 0; i < n; ++i) {
-        // Stratify the radius over the n samples so small kernels still follow d(x).
-        double u = (i + uni(rng)) / n;
+    // Antithetic pairs (o, -o) at consecutive indices: every linear map the
+    // estimators apply (reflection by the noise vector, rotation) keeps them
+    // antipodal, so on a plane exactly one of each pair lies below it and the
+    // half-space normalization min(v, 0.5)*2 is not biased by the kernel's
+    // random imbalance (docs/ao.md, "Normalization").
+    const int m = (n + 1) / 2;
+    std::vector<glm::vec4> base;
+    for (int i = 0; i < m; ++i) {
+        // Stratify the radius over the pairs so small kernels still follow d(x).
+        double u = (i + uni(rng)) / m;
         double theta = 2.0 * M_PI * uni(rng), cosPhi = 2.0 * uni(rng) - 1.0;
         double sinPhi = std::sqrt(std::max(0.0, 1.0 - cosPhi * cosPhi)), r = sphereKernelRadius(u);
-        k.emplace_back(float(r * std::cos(theta) * sinPhi), float(r * std::sin(theta) * sinPhi), float(r * cosPhi),
-                       0.0f);
+        base.emplace_back(float(r * std::cos(theta) * sinPhi), float(r * std::sin(theta) * sinPhi),
+                          float(r * cosPhi), 0.0f);
     }
-    // Shuffle so a prefix of the kernel is not radially sorted.
-    std::shuffle(k.begin(), k.end(), rng);
+    // Shuffle the pairs so a prefix of the kernel is not radially sorted.
+    std::shuffle(base.begin(), base.end(), rng);
+    std::vector<glm::vec4> k;
+    for (const glm::vec4& o : base) {
+        k.push_back(o);
+        if (int(k.size()) < n) k.push_back(-o);
+    }
     return k;
 }
 

@@ -24,7 +24,8 @@ glm::ivec2 horizonSampling(int samples);
 // solved in closed form x = 2 sin(asin(u)/3).
 double sphereKernelRadius(double u);
 // n unit-ball offsets: directions uniform on the sphere (Algorithm 2), radius
-// drawn from d(x); fixed seed. w = 0.
+// drawn from d(x); antithetic pairs k[2i+1] = -k[2i] (odd n: the last one
+// unpaired); fixed seed. w = 0.
 std::vector<glm::vec4> sphereKernel(int n, unsigned seed = 7);
 
 // VO: `pairs` line-sample positions p_i on the unit disk (Vogel spiral over a

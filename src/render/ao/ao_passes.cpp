@@ -24,10 +24,13 @@ bool aoOn(const Settings& s) { return s.ao.variant != Variant::Off; }
 bool dynamicRadius(const AoSettings& a) { return int(a.radiusMode) >= int(AoSettings::RadiusMode::Dynamic1); }
 const FilterFormat kAoFormat{GL_R16F, "r16f"};
 
-enum class Stage { Estimate, Blur, Temporal, Upsample };
+enum class Stage { Estimate, Blur, Temporal, Blur2, Upsample };
+// ao.filter_chain=blur-temporal-blur: a second blur after the temporal filter ([Wes14]).
+bool secondBlur(const AoSettings& a) { return a.blurAfterTemporal && a.blur && a.temporal; }
 // The stage that writes res.ao: the last one of the configured chain.
 Stage lastStage(const AoSettings& a) {
     if (a.halfResolution) return Stage::Upsample;
+    if (secondBlur(a)) return Stage::Blur2;
     if (a.temporal) return Stage::Temporal;
     if (a.blur) return Stage::Blur;
     return Stage::Estimate;
@@ -38,6 +41,7 @@ struct AoChain {
     gl::Texture radiusScale, radiusColor;    // ao.radius
     gl::Texture raw;                         // ao.<variant> (unless it is the last stage)
     gl::Texture blurTmp, blurred;            // ao.blur
+    gl::Texture blurred2;                    // ao.blur2 (blur-temporal-blur)
     TemporalFilter temporal;                 // ao.temporal
     gl::Texture nearField;                   // ao.nearfield
     gl::Buffer params;
@@ -139,6 +143,7 @@ public:
         // Producer: ao.downsample or gbuffer.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glBindTextureUnit(0, c.depth(ctx).id());
+        glBindTextureUnit(1, c.normal(ctx).id());
         glBindImageTexture(0, c.radiusScale.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
         glBindImageTexture(1, c.radiusColor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
         gl::dispatch(prog, a.x, a.y);
@@ -235,30 +240,41 @@ private:
     const gl::Texture* lastDirectional_ = nullptr;
 };
 
-// ---- ao.blur ------------------------------------------------------------------
+// ---- ao.blur / ao.blur2 -------------------------------------------------------
+// ao.blur runs before the temporal filter; ao.blur2 (second = true) after it,
+// for ao.filter_chain=blur-temporal-blur. The temporal history stays the
+// once-blurred value, so the second blur does not accumulate over frames.
 class BlurPass final : public AoPassBase {
 public:
-    using AoPassBase::AoPassBase;
-    std::string name() const override { return "ao.blur"; }
+    BlurPass(std::shared_ptr<AoChain> c, bool second) : AoPassBase(std::move(c)), second_(second) {}
+    std::string name() const override { return second_ ? "ao.blur2" : "ao.blur"; }
     Need needed(const Scene&, const Settings& s) const override {
         if (!aoOn(s)) return Need::no("ao=off");
         if (!s.ao.blur) return Need::no("ao.blur=off");
+        if (second_ && !secondBlur(s.ao))
+            return Need::no(s.ao.temporal ? "ao.filter_chain=blur-temporal" : "ao.temporal=off");
         return Need::yes();
     }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
-        gl::Texture& out = c.target(ctx, Stage::Blur, c.blurred);
-        separableBlur(ctx.programs, ctx.ledger, &out == &ctx.res.ao ? "ao" : "ao.blur", kAoFormat, *c.current,
+        gl::Texture& own = second_ ? c.blurred2 : c.blurred;
+        gl::Texture& out = c.target(ctx, second_ ? Stage::Blur2 : Stage::Blur, own);
+        separableBlur(ctx.programs, ctx.ledger, &out == &ctx.res.ao ? "ao" : name(), kAoFormat, *c.current,
                       c.depth(ctx), c.normal(ctx), c.blurTmp, out);
         c.current = &out;
     }
     std::vector<DebugImage> debugImages() const override {
-        const gl::Texture* t = chain_->blurred ? &chain_->blurred : nullptr;
-        return t ? std::vector<DebugImage>{{"ao.blurred", t, 1.0f}} : std::vector<DebugImage>{};
+        const gl::Texture& t = second_ ? chain_->blurred2 : chain_->blurred;
+        return t ? std::vector<DebugImage>{{second_ ? "ao.blurred2" : "ao.blurred", &t, 1.0f}}
+                 : std::vector<DebugImage>{};
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return chain_->blurred ? std::vector<Output>{{"ao.blur", &chain_->blurred}} : std::vector<Output>{};
+        const gl::Texture& t = second_ ? chain_->blurred2 : chain_->blurred;
+        return t ? std::vector<Output>{{name(), &t}} : std::vector<Output>{};
     }
+
+private:
+    bool second_;
 };
 
 // ---- ao.temporal --------------------------------------------------------------
@@ -372,8 +388,9 @@ void appendAoPasses(std::vector<std::unique_ptr<Pass>>& f) {
     for (Variant v : {Variant::SsaoDisk, Variant::SsaoSphere, Variant::SsaoHemisphere, Variant::Vo, Variant::Hbao,
                       Variant::Gtao})
         f.push_back(std::make_unique<EstimatePass>(chain, v));  // ao.<variant> (+ bent normals / S3HO)
-    f.push_back(std::make_unique<BlurPass>(chain));      // separable edge-preserving blur
-    f.push_back(std::make_unique<TemporalPass>(chain));  // seed 000 listing 11
+    f.push_back(std::make_unique<BlurPass>(chain, false));  // separable edge-preserving blur
+    f.push_back(std::make_unique<TemporalPass>(chain));     // seed 000 listing 11
+    f.push_back(std::make_unique<BlurPass>(chain, true));   // ao.blur2: blur-temporal-blur ([Wes14])
     f.push_back(std::make_unique<UpsamplePass>(chain));  // depth-aware half -> full
 }
 

@@ -1,15 +1,346 @@
+// The LPV passes (seed 000 sections 3, 5.2; SPEC 3): lpv.rsm -> lpv.inject
+// -> lpv.pack -> lpv.inject_geometry -> lpv.propagate -> lpv.temporal ->
+// lpv.apply. They share one LpvState (volumes, uniform block, RSM); the
+// kernels live in lpv_volumes.cpp, the pure math in lpv_math.cpp.
 #include "render/lpv/lpv_passes.h"
 
+#include "gl/profiler.h"
 #include "render/gpu_scene.h"
+#include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_volumes.h"
+#include "gl/image_io.h"
+#include "render/passes/core_passes.h"
+
+#include <algorithm>
+
 namespace rtgi {
-void appendLpvPasses(std::vector<std::unique_ptr<Pass>>&) {}
+namespace {
+
+struct LpvState {
+    lpv::Volumes volumes;
+    lpv::Rsm rsm;
+    gl::FramebufferHandle rsmFbo;
+    gl::Buffer ubo, stats;
+    lpv::Placement placement, previous;
+    bool havePrevious = false;
+    int historyTarget = 0;
+    const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
+    gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
+    // Debug slices (made in debugImages(), outside the measured frame).
+    mutable gl::Texture lightSlice, geometrySlice;
+    gl::MemoryLedger* ledger = nullptr;
+};
+
+bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
+
+class LpvPass : public Pass {
+public:
+    explicit LpvPass(std::shared_ptr<LpvState> st) : st_(std::move(st)) {}
+    Need needed(const Scene& scene, const Settings& s) const override {
+        if (s.lpv.mode == Toggle::Off) return Need::no("lpv=off");
+        if (!lpvActive(scene, s)) return Need::no("the scene has no directional light (no RSM, no LPV)");
+        return neededToo(scene, s);
+    }
+    virtual Need neededToo(const Scene&, const Settings&) const { return Need::yes(); }
+
+protected:
+    std::shared_ptr<LpvState> st_;
+};
+
+// lpv.rsm: places the volume, fills the uniform block, rasterizes the RSM.
+class RsmPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.rsm"; }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        st.programs = &ctx.programs;
+        st.ledger = &ctx.ledger;
+        const LpvSettings& ls = ctx.settings.lpv;
+        st.placement = lpv::placeVolume(ls, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        auto sun = resolveSun(ctx.scene, ctx.settings);
+        lpv::UniformInputs in;
+        in.placement = st.placement;
+        in.rsmViewProj = orthoLightViewProj(st.placement.box(), sun->towardSun);
+        in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
+        bool compatible = st.havePrevious && lpv::historyCompatible(st.placement, st.previous);
+        in.historyValid = compatible && !ctx.view.cut;
+        in.shift = compatible ? lpv::temporalShift(st.placement, st.previous) : glm::ivec3(0);
+        gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
+        if (!st.ubo) st.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms", sizeof(u));
+        st.ubo.upload(&u, sizeof(u));
+        st.previous = st.placement;
+        st.havePrevious = true;
+
+        int n = ls.rsm;
+        bool changed = st.rsm.flux.ensure(ctx.ledger, "lpv.rsm.flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
+        changed |= st.rsm.normal.ensure(ctx.ledger, "lpv.rsm.normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
+        changed |= st.rsm.depth.ensure(ctx.ledger, "lpv.rsm.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
+        if (changed || !st.rsmFbo) {
+            GLuint f = 0;
+            glCreateFramebuffers(1, &f);
+            st.rsmFbo = gl::FramebufferHandle(f);
+            st.rsmFbo.label("lpv.rsm.fbo");
+            glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, st.rsm.flux.id(), 0);
+            glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, st.rsm.normal.id(), 0);
+            glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, st.rsm.depth.id(), 0);
+            const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+            glNamedFramebufferDrawBuffers(f, 2, bufs);
+            if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+                throw std::runtime_error("lpv.rsm: framebuffer incomplete");
+        }
+        const gl::Program& prog =
+            ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
+        prog.set(0, in.rsmViewProj);
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        glBindFramebuffer(GL_FRAMEBUFFER, st.rsmFbo.id());
+        glViewport(0, 0, n, n);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_CULL_FACE);
+        glDisable(GL_BLEND);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        const float zero[4] = {0, 0, 0, 0};
+        glClearNamedFramebufferfv(f(), GL_COLOR, 0, zero);
+        glClearNamedFramebufferfv(f(), GL_COLOR, 1, zero);
+        glClearNamedFramebufferfi(f(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        glUseProgram(prog.id());
+        ctx.gpuScene.bindTables();
+        ctx.gpuScene.draw();
+        gl::Profiler::noteDispatch();
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+    std::vector<DebugImage> debugImages() const override {
+        return {{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)},
+                {"lpv.rsm.normal", &st_->rsm.normal, 1.0f}};
+    }
+
+private:
+    GLuint f() const { return st_->rsmFbo.id(); }
+    float maxFlux() const {
+        FloatImage img = readTexture(st_->rsm.flux);
+        float m = 0;
+        for (std::size_t i = 0; i < img.data.size(); i += 4)
+            m = std::max({m, img.data[i], img.data[i + 1], img.data[i + 2]});
+        return m;
+    }
+};
+
+// lpv.inject: compute injection (fp32 atomics) or the seed's raster method.
+class InjectPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.inject"; }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        const LpvSettings& ls = ctx.settings.lpv;
+        st.volumes.ensureLight(ctx.ledger, st.placement.grid,
+                               ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
+        if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
+        if (ls.path == LpvSettings::Path::Raster) {
+            lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes);
+        } else {
+            st.stats.clearZero();
+            lpv::injectCompute(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, st.stats);
+        }
+    }
+    std::vector<std::pair<std::string, double>> stats() override {
+        if (!st_->stats) return {};
+        std::uint32_t dropped = 0;
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: lpv.inject atomics
+        st_->stats.download(&dropped, sizeof(dropped));
+        return {{"dropped_texels", double(dropped)}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        std::vector<Output> o;
+        for (int c = 0; c < 3; ++c)
+            if (st_->volumes.step[0][std::size_t(c)])
+                o.push_back({name() + ":" + st_->volumes.step[0][std::size_t(c)].label(), &st_->volumes.step[0][std::size_t(c)], true});
+        return o;
+    }
+};
+
+// lpv.pack: fp32 accumulation -> propagation format (compute path only).
+class PackPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.pack"; }
+    Need neededToo(const Scene&, const Settings& s) const override {
+        if (s.lpv.path == LpvSettings::Path::Raster)
+            return Need::no("lpv.path=raster injects straight into the propagation format");
+        return Need::yes();
+    }
+    void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
+};
+
+// lpv.inject_geometry: blocking potential from the RSM and the G-buffer.
+class GeometryPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.inject_geometry"; }
+    Need neededToo(const Scene&, const Settings& s) const override {
+        if (!geometryNeeded(s)) return Need::no("lpv.occlusion and lpv.bounce are off");
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override {
+        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
+    }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        st.volumes.ensureGeometry(ctx.ledger);
+        const GBuffer& g = ctx.res.gbuffer;
+        lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
+        lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, ctx.settings.lpv.rsm, gb, st.volumes);
+    }
+    std::vector<DebugImage> debugImages() const override {
+        const lpv::Volumes& v = st_->volumes;
+        if (!v.geometry || !st_->programs) return {};
+        glm::ivec3 d = v.grid + 1;
+        st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
+        const gl::Program& prog = st_->programs->compute("lpv/slice.comp", {{"RTGI_LPV_SLICE_GEOMETRY", ""}});
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.pack (geometry)
+        glBindTextureUnit(0, v.geometry.id());
+        glBindTextureUnit(1, v.geometryAlbedo.id());
+        glBindImageTexture(0, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(0, d.z / 2);
+        gl::dispatch(prog, d.x, d.y);
+        return {{"lpv.geometry.slice", &st_->geometrySlice, 1.0f}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        if (!st_->volumes.geometry) return {};
+        return {{name() + ":lpv.geometry", &st_->volumes.geometry, true}};
+    }
+};
+
+// lpv.propagate: all iterations inside one pass scope.
+class PropagatePass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.propagate"; }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        const LpvSettings& ls = ctx.settings.lpv;
+        if (ls.path == LpvSettings::Path::Raster)
+            lpv::propagateRaster(ctx.programs, st.ubo, st.volumes, ls.iterations);
+        else
+            lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
+        st.result = &st.volumes.accum;
+    }
+    std::vector<DebugImage> debugImages() const override {
+        const lpv::Volumes& v = st_->volumes;
+        if (!st_->result || !st_->programs) return {};
+        st_->lightSlice.ensure(*st_->ledger, "lpv.debug.light_slice", {GL_TEXTURE_2D, GL_RGBA32F, v.grid.x, v.grid.y});
+        const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
+        const lpv::Rgb& r = *st_->result;
+        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(c, r[c].id());
+        glBindImageTexture(0, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(0, v.grid.z / 2);
+        gl::dispatch(prog, v.grid.x, v.grid.y);
+        FloatImage img = readTexture(st_->lightSlice);
+        float m = 0;
+        for (std::size_t i = 0; i < img.data.size(); i += 4)
+            m = std::max({m, img.data[i], img.data[i + 1], img.data[i + 2]});
+        return {{"lpv.volume.slice", &st_->lightSlice, m > 0 ? 1.0f / m : 1.0f}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        std::vector<Output> o;
+        for (int c = 0; c < 3; ++c) {
+            const gl::Texture& t = st_->volumes.accum[std::size_t(c)];
+            if (t) o.push_back({name() + ":" + t.label(), &t, true});
+        }
+        return o;
+    }
+};
+
+// lpv.temporal: blend with the previous volume, re-indexed by the cell shift.
+class TemporalPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.temporal"; }
+    Need neededToo(const Scene&, const Settings& s) const override {
+        if (s.lpv.temporal <= 0.0f) return Need::no("lpv.temporal = 0");
+        return Need::yes();
+    }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        st.volumes.ensureHistory(ctx.ledger);
+        st.historyTarget = 1 - st.historyTarget;
+        lpv::temporalBlend(ctx.programs, st.ubo, st.volumes, st.historyTarget);
+        st.result = &st.volumes.history[std::size_t(st.historyTarget)];
+    }
+};
+
+// lpv.apply: indirect diffuse (+ specular) radiance from the volume.
+class ApplyPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.apply"; }
+    std::vector<std::string> reads() const override {
+        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
+    }
+    std::vector<std::string> writes() const override { return {"indirectDiffuse", "specular"}; }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        FrameResources& r = ctx.res;
+        const glm::ivec2 s = ctx.view.size;
+        bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
+        r.indirectDiffuse.ensure(ctx.ledger, "indirectDiffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+        if (specular) r.specular.ensure(ctx.ledger, "specular", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+        gl::Defines d;
+        if (specular) d.push_back({"RTGI_LPV_SPECULAR", ""});
+        if (specular && r.brdfLut) d.push_back({"RTGI_LPV_BRDF_LUT", ""});
+        // Directional occlusion hooks (AO family): S3HO wins over bent normals.
+        const gl::Texture* directional = nullptr;
+        if (r.s3ho) {
+            d.push_back({"RTGI_LPV_S3HO", ""});
+            directional = &r.s3ho;
+        } else if (r.bentNormal) {
+            d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
+            directional = &r.bentNormal;
+        }
+        const gl::Program& prog = ctx.programs.compute("lpv/apply.comp", d);
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        const GBuffer& g = r.gbuffer;
+        glBindTextureUnit(0, g.linearDepth.id());
+        glBindTextureUnit(1, g.normal.id());
+        glBindTextureUnit(2, g.albedo.id());
+        glBindTextureUnit(3, g.material.id());
+        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(4 + c, (*st.result)[c].id());
+        glBindTextureUnit(7, r.brdfLut ? r.brdfLut.id() : 0);
+        glBindTextureUnit(8, directional ? directional->id() : 0);
+        glBindImageTexture(0, r.indirectDiffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        if (specular) glBindImageTexture(1, r.specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        gl::dispatch(prog, s.x, s.y);
+        for (GLuint u = 4; u <= 8; ++u) glBindTextureUnit(u, 0);
+    }
+};
+
+}  // namespace
+
+void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
+    auto st = std::make_shared<LpvState>();
+    f.push_back(std::make_unique<RsmPass>(st));        // reflective shadow map fitted to the volume
+    f.push_back(std::make_unique<InjectPass>(st));     // RSM texels -> SH (fp32 atomics | raster points)
+    f.push_back(std::make_unique<PackPass>(st));       // fp32 -> lpv.format (compute path)
+    f.push_back(std::make_unique<GeometryPass>(st));   // blocking potential (occlusion, bounce)
+    f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
+    f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
+    f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
+}
+
 bool lpvActive(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return false;
     return resolveSun(scene, s).has_value();
 }
+
 bool lpvSpecularActive(const Scene& scene, const Settings& s) {
     if (!lpvActive(scene, s) || s.lpv.specular == Toggle::Off) return false;
     if (s.lpv.specular == Toggle::On) return true;
     return resolveMaterials(scene, s).size() && scene.minRoughness() <= s.ssr.roughnessCutoff;
 }
+
 }  // namespace rtgi

@@ -1,4 +1,265 @@
+// ref.bvh_upload -> ref.ao | ref.path: the ray-traced reference (SPEC 7.1).
 #include "render/reference/reference_passes.h"
+
+#include "render/gpu_scene.h"
+#include "render/gpu_types.h"
+#include "render/reference/reference_cache.h"
+#include "scene/bvh.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
 namespace rtgi {
-void appendReferencePasses(std::vector<std::unique_ptr<Pass>>&) {}
+
+gl::Defines ReferenceConstants::defines() const {
+    gl::Defines d;
+    if (kind == ReferenceSettings::Kind::Full) d.push_back({"RTGI_REF_FULL", ""});
+    if (diffuseOnly) d.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
+    return d;
+}
+
+ReferenceConstants referenceConstants(const Settings& s, const Aabb& bounds) {
+    ReferenceConstants c;
+    c.kind = s.reference.kind;
+    c.spp = s.reference.spp;
+    // AO rays are cheap (one any-hit traversal); a path costs several.
+    c.samplesPerDispatch = std::min(c.spp, c.kind == ReferenceSettings::Kind::Ao ? 16 : 4);
+    c.seed = unsigned(s.reference.seed);
+    c.bounces = s.reference.bounces;
+    c.rayLength = s.ao.radius;
+    c.diffuseOnly = !s.reference.specular;
+    // Self-intersection guard relative to the scene size: float positions
+    // carry ~1e-7 relative error, the offset stays far above it and far
+    // below any feature an AO radius resolves.
+    float diag = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    c.originOffset = std::max(1e-4f * diag, 1e-6f);
+    return c;
+}
+
+namespace {
+
+// Built once per renderer configuration, shared by the tracing passes.
+struct ReferenceState {
+    gl::Buffer nodes, triangles;
+    std::size_t nodeCount = 0, triangleCount = 0;
+    int depth = 0;
+    double buildMs = 0;
+};
+
+class BvhUploadPass final : public Pass {
+public:
+    explicit BvhUploadPass(std::shared_ptr<ReferenceState> st) : st_(std::move(st)) {}
+    std::string name() const override { return "ref.bvh_upload"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (s.reference.kind == ReferenceSettings::Kind::Off) return Need::no("reference=off");
+        return Need::yes();
+    }
+    void execute(FrameContext& ctx) override {
+        if (st_->nodes) return;
+        auto t0 = std::chrono::steady_clock::now();
+        Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
+        st_->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (bvh.triangles.empty()) {  // an empty scene: one leaf with an empty box, never hit
+            bvh.nodes.assign(1, gpu::BvhNode{glm::vec3(1e30f), 0, glm::vec3(-1e30f), 0});
+            bvh.triangles.assign(1, gpu::BvhTriangle{});
+        }
+        st_->nodeCount = bvh.nodes.size();
+        st_->triangleCount = ctx.scene.triangleCount();
+        st_->depth = bvh.depth;
+        st_->nodes = gl::Buffer(ctx.ledger, "ref.bvh.nodes", std::int64_t(bvh.nodes.size() * sizeof(gpu::BvhNode)),
+                                bvh.nodes.data(), 0);
+        st_->triangles = gl::Buffer(ctx.ledger, "ref.bvh.triangles",
+                                    std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
+    }
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"nodes", double(st_->nodeCount)}, {"triangles", double(st_->triangleCount)},
+                {"depth", double(st_->depth)}, {"build_ms", st_->buildMs}};
+    }
+
+private:
+    std::shared_ptr<ReferenceState> st_;
+};
+
+class TracePass final : public Pass, public ReferenceOutput {
+public:
+    TracePass(std::shared_ptr<ReferenceState> st, bool ao) : st_(std::move(st)), ao_(ao) {}
+    std::string name() const override { return ao_ ? "ref.ao" : "ref.path"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        using K = ReferenceSettings::Kind;
+        if (s.reference.kind == K::Off) return Need::no("reference=off");
+        if ((s.reference.kind == K::Ao) != ao_)
+            return Need::no(ao_ ? "reference is a path-traced image" : "reference=ao traces AO rays only");
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override {
+        if (ao_) return {"gbuffer.linearDepth", "gbuffer.normal"};
+        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
+    }
+
+    void execute(FrameContext& ctx) override {
+        const View& v = ctx.view;
+        if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_) return;  // still valid
+        ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
+        key_ = referenceCacheKey(ctx.scene, ctx.settings, c, v);
+        const glm::ivec2 s = v.size;
+        mean_.ensure(ctx.ledger, name() + ".mean", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        se_.ensure(ctx.ledger, name() + ".stderr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        if (!ao_) ldr_.ensure(ctx.ledger, name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
+        doneSize_ = v.size;
+        doneView_ = v.view;
+        doneProj_ = v.proj;
+        if (auto cached = loadCachedReference(ctx.settings.reference.cacheDir, key_);
+            cached && cached->mean.width == s.x && cached->mean.height == s.y) {
+            upload(mean_, cached->mean);
+            upload(se_, cached->standardError);
+            fromCache_ = true;
+            seconds_ = cached->info.value("seconds", 0.0);
+            rays_ = cached->info.value("rays", 0.0);
+            spp_ = c.spp;
+            if (!ao_) resolve(ctx, /*tonemapOnly=*/true);
+            summarize();
+            return;
+        }
+        fromCache_ = false;
+        trace(ctx, c);
+        CachedReference out{readTexture(mean_), readTexture(se_),
+                            {{"settings", referenceSettingsJson(c)}, {"scene", ctx.scene.name},
+                             {"resolution", std::to_string(s.x) + "x" + std::to_string(s.y)},
+                             {"seconds", seconds_}, {"rays", rays_}}};
+        storeCachedReference(ctx.settings.reference.cacheDir, key_, out);
+        summarize();
+    }
+
+    std::vector<DebugImage> debugImages() const override {
+        if (ao_) return {{"ref.ao", &mean_, 1.0f}, {"ref.ao.stderr", &se_, 10.0f}};
+        return {{"ref.path", &ldr_, 1.0f}, {"ref.path.stderr", &se_, 10.0f}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return {{name() + ":mean", &mean_}, {name() + ":stderr", &se_}};
+    }
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"spp", double(spp_)},         {"seconds", seconds_},
+                {"rays", rays_},               {"rays_per_s", seconds_ > 0 ? rays_ / seconds_ : 0.0},
+                {"from_cache", fromCache_ ? 1.0 : 0.0}, {"mean_stderr", meanStdErr_}};
+    }
+
+    const gl::Texture& mean() const override { return mean_; }
+    const gl::Texture& standardError() const override { return se_; }
+    bool fromCache() const override { return fromCache_; }
+    std::string cacheKey() const override { return key_; }
+
+private:
+    static void upload(const gl::Texture& t, const FloatImage& img) {
+        glTextureSubImage2D(t.id(), 0, 0, 0, img.width, img.height, img.channels == 4 ? GL_RGBA : GL_RGB, GL_FLOAT,
+                            img.data.data());
+    }
+
+    void trace(FrameContext& ctx, const ReferenceConstants& c) {
+        const glm::ivec2 s = ctx.view.size;
+        accum_.ensure(ctx.ledger, name() + ".accum", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        accumSq_.ensure(ctx.ledger, name() + ".accum_sq", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        accum_.clear();
+        accumSq_.clear();
+        if (!rayCounter_) rayCounter_ = gl::Buffer(ctx.ledger, "ref.ray_counter", 4);
+        const gl::Program& prog =
+            ao_ ? ctx.programs.compute("ref/ao.comp") : ctx.programs.compute("ref/path.comp", c.defines());
+        const GBuffer& g = ctx.res.gbuffer;
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, st_->nodes.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, st_->triangles.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_VERTICES, ctx.gpuScene.vertices().id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_INDICES, ctx.gpuScene.indices().id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_COUNTER, rayCounter_.id());
+        ctx.gpuScene.bindTables();
+        if (ao_) {
+            glBindTextureUnit(0, g.linearDepth.id());
+            glBindTextureUnit(1, g.normal.id());
+        } else {
+            glBindTextureUnit(1, g.linearDepth.id());
+            glBindTextureUnit(2, g.normal.id());
+            glBindTextureUnit(3, g.albedo.id());
+            glBindTextureUnit(4, g.material.id());
+            glBindTextureUnit(5, g.emissive.id());
+        }
+        glBindImageTexture(0, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(1, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        prog.set(1, glm::vec2(c.rayLength, c.originOffset));
+        // Producer: gbuffer raster pass (framebuffer writes read through samplers).
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glFinish();  // the clock below times the tracing alone
+        auto t0 = std::chrono::steady_clock::now();
+        rays_ = 0;
+        for (int first = 0; first < c.spp; first += c.samplesPerDispatch) {
+            int n = std::min(c.samplesPerDispatch, c.spp - first);
+            rayCounter_.clearZero();
+            // uvec4 uSamples (Program has no uvec4 setter).
+            glProgramUniform4ui(prog.id(), 0, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
+            // Producer: the previous dispatch of this loop (accumulation images).
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+            gl::dispatch(prog, s.x, s.y);
+            // Producer: the dispatch above (ray counter atomics). The 32-bit
+            // counter is read per dispatch so it cannot overflow at 1080p.
+            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            std::uint32_t count = 0;
+            rayCounter_.download(&count, 4);
+            rays_ += double(count);
+        }
+        glFinish();
+        seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        spp_ = c.spp;
+        resolve(ctx, false);
+    }
+
+    // Accumulation -> mean + standard error (+ tonemapped radiance); with
+    // tonemapOnly the mean came from the cache and only the LDR is made.
+    void resolve(FrameContext& ctx, bool tonemapOnly) {
+        const glm::ivec2 s = ctx.view.size;
+        gl::Defines d;
+        if (!ao_) d.push_back({"RTGI_REF_RADIANCE", ""});
+        if (tonemapOnly) d.push_back({"RTGI_REF_TONEMAP_ONLY", ""});
+        const gl::Program& prog = ctx.programs.compute("ref/resolve.comp", d);
+        // Producer: the last tracing dispatch (accumulation images) or the cache upload.
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        if (tonemapOnly) {
+            glBindImageTexture(2, mean_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        } else {
+            glBindImageTexture(0, accum_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(1, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(2, mean_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(3, se_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        }
+        if (!ao_) glBindImageTexture(4, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        gl::dispatch(prog, s.x, s.y);
+    }
+
+    void summarize() {
+        // Producer: resolve dispatch / cache upload (read back below).
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+        FloatImage e = readTexture(se_);
+        double sum = 0;
+        for (std::size_t i = 0; i < e.data.size(); i += 4) sum += (e.data[i] + e.data[i + 1] + e.data[i + 2]) / 3.0;
+        meanStdErr_ = e.data.empty() ? 0.0 : sum / double(e.data.size() / 4);
+    }
+
+    std::shared_ptr<ReferenceState> st_;
+    bool ao_;
+    gl::Texture accum_, accumSq_, mean_, se_, ldr_;
+    gl::Buffer rayCounter_;
+    glm::ivec2 doneSize_{0};
+    glm::mat4 doneView_{0.0f}, doneProj_{0.0f};
+    std::string key_;
+    bool fromCache_ = false;
+    int spp_ = 0;
+    double seconds_ = 0, rays_ = 0, meanStdErr_ = 0;
+};
+
+}  // namespace
+
+void appendReferencePasses(std::vector<std::unique_ptr<Pass>>& frame) {
+    auto st = std::make_shared<ReferenceState>();
+    frame.push_back(std::make_unique<BvhUploadPass>(st));     // CPU binned-SAH BVH -> SSBOs (once)
+    frame.push_back(std::make_unique<TracePass>(st, true));   // ref.ao: AO rays from the G-buffer surface
+    frame.push_back(std::make_unique<TracePass>(st, false));  // ref.path: indirect or full path tracing
+}
+
 }  // namespace rtgi

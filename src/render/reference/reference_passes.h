@@ -1,10 +1,42 @@
 #pragma once
-// In-framework ray-traced reference (SPEC 7).
+// In-framework ray-traced reference (SPEC 7): ref.bvh_upload builds the BVH
+// over the scene, ref.ao traces AO rays and ref.path traces paths from the
+// G-buffer surface, progressively, until reference.spp samples per pixel.
+// A finished reference is cached on disk (reference_cache.h) and traced
+// again only when the view changes.
+#include "gl/program.h"
 #include "render/pass.h"
+#include "scene/scene.h"
 
 #include <memory>
 #include <vector>
 
 namespace rtgi {
+
 void appendReferencePasses(std::vector<std::unique_ptr<Pass>>& frame);
+
+// GPU constants of the reference (the one pure function of this family).
+struct ReferenceConstants {
+    ReferenceSettings::Kind kind = ReferenceSettings::Kind::Off;
+    int spp = 256;
+    int samplesPerDispatch = 16;  // progressive chunks keep every dispatch short (no GPU watchdog)
+    unsigned seed = 1;
+    int bounces = 4;              // bounces after the G-buffer surface
+    float rayLength = 0.5f;       // AO: maximum ray length = ao.radius of the compared configuration
+    float originOffset = 1e-4f;   // ray origins leave the surface along the normal by this much (world units)
+    bool diffuseOnly = false;     // reference.specular=off
+    gl::Defines defines() const;  // RTGI_REF_FULL / RTGI_REF_DIFFUSE_ONLY for ref/path.comp
+};
+ReferenceConstants referenceConstants(const Settings& settings, const Aabb& sceneBounds);
+
+// What a tracing pass exposes to the benchmark driver and the tests.
+class ReferenceOutput {
+public:
+    virtual ~ReferenceOutput() = default;
+    virtual const gl::Texture& mean() const = 0;           // RGBA32F: AO in rgb, or radiance
+    virtual const gl::Texture& standardError() const = 0;  // RGBA32F: per-channel standard error of the mean
+    virtual bool fromCache() const = 0;
+    virtual std::string cacheKey() const = 0;
+};
+
 }  // namespace rtgi

@@ -1,0 +1,398 @@
+#!/usr/bin/python3
+"""Turns sweep results (DIR/results.jsonl written by `rtgi-bench --sweep`) into
+PNG plots and a markdown report: error-vs-time Pareto fronts per scene and
+technique family, time-vs-work log-log scaling per pass, and the seed
+comparison tables (seed 003 table 6.3 layout, seed 000 section 6.4 per-pass
+timings side by side with ours). Format and reading: docs/benchmarks-howto.md.
+
+usage: report.py DIR [DIR ...] [--out OUTDIR] [--title TEXT]
+Needs only Python 3, numpy and matplotlib (Debian python3-matplotlib).
+"""
+import argparse
+import datetime
+import json
+import math
+import os
+import re
+import sys
+from collections import OrderedDict, defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")  # no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+# Seed 000, section 6.4 (GTX 1050, 1920x1080, Sponza), as SPEC 8.4 quotes it:
+# (label, ms, regexes of our pass names that do the same work).
+SEED000 = [
+    ("LPV", "RSM", 0.30, [r"^lpv\.rsm$"]),
+    ("LPV", "light injection", 0.05, [r"^lpv\.inject$", r"^lpv\.inject[._-]?(light|rsm|flux)"]),
+    ("LPV", "GV injection (G-buffer)", 0.50, [r"^lpv\.(gv|geometry)[._-]?.*(gbuffer|camera)"]),
+    ("LPV", "GV injection (RSM)", 0.05, [r"^lpv\.(gv|geometry)[._-]?.*rsm"]),
+    ("LPV", "propagation, 1 iteration", 0.23, [r"^lpv\.propagat"]),  # ours divided by lpv.iterations
+    ("LPV", "combine", 0.07, [r"^lpv\.(combine|accumulate)"]),
+    ("LPV", "temporal", 0.03, [r"^lpv\.temporal"]),
+    ("LPV", "apply (with specular)", 1.78, [r"^lpv\.apply"]),
+    ("LPV", "total (8 it., specular, occlusion+bounce)", 4.83, [r"^lpv\."]),
+    ("AO", "SSAO 8 samples", 0.86, [r"^ao\.(ssao|vo|hbao|gtao)[^.]*$", r"^ao\.(trace|compute|main)"]),
+    ("AO", "blur (total)", 1.24, [r"^ao\.blur"]),
+    ("AO", "temporal", 0.23, [r"^ao\.temporal"]),
+    ("AO", "near-field blend", 0.16, [r"^ao\.near"]),
+    ("AO", "total", 2.66, [r"^ao\."]),
+    ("SSR", "march", 0.34, [r"^ssr\.(march|trace|linear|dda|hiz)"]),
+    ("SSR", "resolve", 0.19, [r"^ssr\.resolve"]),
+    ("SSR", "blur (total)", 0.36, [r"^ssr\.blur"]),
+    ("SSR", "temporal", 0.15, [r"^ssr\.temporal"]),
+    ("SSR", "shading", 0.47, [r"^ssr\.(shade|shading|apply|compose)"]),
+    ("SSR", "total", 1.51, [r"^ssr\."]),
+]
+
+# Work measures of the scaling plots: axis key -> (label, value from the string).
+def _grid_cells(v):
+    parts = [int(p) for p in v.split("x")]
+    return float(parts[0] ** 3 if len(parts) == 1 else parts[0] * parts[1] * parts[2])
+
+
+def _pixels(v):
+    w, h = v.split("x")
+    return float(int(w) * int(h))
+
+
+WORK = OrderedDict([
+    ("lpv.grid", ("grid cells", _grid_cells)),
+    ("lpv.iterations", ("propagation iterations", float)),
+    ("lpv.rsm", ("RSM texels", lambda v: float(int(v) ** 2))),
+    ("ao.samples", ("AO samples per pixel", float)),
+    ("ssr.steps", ("SSR steps", float)),
+    ("resolution", ("pixels", _pixels)),
+])
+
+FAMILIES = ("lpv", "ao", "ssr")
+
+
+def load(dirs):
+    """Last successful line per configuration id, in first-seen order; failed lines listed apart."""
+    results, failed, unreadable = OrderedDict(), OrderedDict(), 0
+    for d in dirs:
+        path = os.path.join(d, "results.jsonl")
+        if not os.path.exists(path):
+            sys.exit("report.py: %s does not exist (run rtgi-bench --sweep FILE --out %s first)" % (path, d))
+        with open(path) as f:
+            for line in f:
+                if not line.strip():
+                    continue
+                try:
+                    r = json.loads(line)
+                    cid = r["sweep"]["id"]
+                except (ValueError, KeyError, TypeError):
+                    unreadable += 1
+                    continue
+                if "failed" in r:
+                    failed[cid] = r
+                else:
+                    results[cid] = r
+                    failed.pop(cid, None)
+    return list(results.values()), list(failed.values()), unreadable
+
+
+def pass_ms(r):
+    return {p["name"]: p["gpu_ms"]["median"] for p in r.get("passes", [])}
+
+
+def family_ms(r, fam):
+    return sum(ms for n, ms in pass_ms(r).items() if n.startswith(fam + "."))
+
+
+def frame_ms(r):
+    """Frame time without the reference passes (they are the ground truth, not the technique)."""
+    refs = sum(ms for n, ms in pass_ms(r).items() if n.startswith("ref."))
+    return r.get("total_ms", 0.0) - refs
+
+
+def flatten_numbers(obj, prefix=""):
+    out = OrderedDict()
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            out.update(flatten_numbers(v, prefix + k + "."))
+    elif isinstance(obj, (int, float)) and not isinstance(obj, bool) and math.isfinite(obj):
+        out[prefix[:-1]] = float(obj)
+    return out
+
+
+def error_value(r):
+    """(metric name, value): RMSE when present (SPEC 7.2), else the first numeric metric."""
+    nums = flatten_numbers(r.get("error", {}))
+    if not nums:
+        return None, None
+    for pick in (lambda k: k == "rmse", lambda k: k.endswith("rmse") and "rel" not in k, lambda k: "rmse" in k):
+        for k, v in nums.items():
+            if pick(k):
+                return k, v
+    k = next(iter(nums))
+    return k, nums[k]
+
+
+def technique(r):
+    """(family, variant label) of a configuration; family None for a frame without LPV/AO/SSR passes."""
+    names = pass_ms(r).keys()
+    active = [f for f in FAMILIES if any(n.startswith(f + ".") for n in names)]
+    cfg = r.get("config", {})
+    if len(active) != 1:
+        return ("frame" if active else None), "+".join(active) or "base"
+    fam = active[0]
+    if fam == "ao":
+        return fam, cfg.get("ao", "ao") + ("/half" if cfg.get("ao.resolution") == "half" else "")
+    if fam == "ssr":
+        return fam, cfg.get("ssr", "ssr")
+    return fam, "lpv " + cfg.get("lpv.path", "compute") + " " + cfg.get("lpv.format", "")
+
+
+def pareto_front(points):
+    """Points not dominated in (time, error), sorted by time."""
+    front, best = [], float("inf")
+    for t, e in sorted(points):
+        if e < best:
+            front.append((t, e))
+            best = e
+    return front
+
+
+def slug(s):
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", s).strip("_")
+
+
+def plot_pareto(results, outdir):
+    """One figure per scene: a panel per technique family, points coloured by variant, the front as a line."""
+    made = []
+    by_scene = defaultdict(list)
+    for r in results:
+        metric, err = error_value(r)
+        fam, variant = technique(r)
+        if err is None or fam is None:
+            continue
+        t = frame_ms(r) if fam == "frame" else family_ms(r, fam)
+        by_scene[r["sweep"]["scene_label"]].append((fam, variant, t, err, metric))
+    for scene, pts in sorted(by_scene.items()):
+        fams = sorted({p[0] for p in pts})
+        fig, axes = plt.subplots(1, len(fams), figsize=(5.2 * len(fams), 4.2), squeeze=False)
+        for ax, fam in zip(axes[0], fams):
+            sel = [p for p in pts if p[0] == fam]
+            for i, v in enumerate(sorted({p[1] for p in sel})):
+                xs = [p[2] for p in sel if p[1] == v]
+                ys = [p[3] for p in sel if p[1] == v]
+                ax.scatter(xs, ys, s=18, label=v, color=plt.cm.tab10(i % 10))
+            front = pareto_front([(p[2], p[3]) for p in sel])
+            ax.plot([f[0] for f in front], [f[1] for f in front], "k-", lw=1, label="Pareto front")
+            ax.set_xlabel("GPU time of the %s passes [ms]" % fam if fam != "frame" else "frame time [ms]")
+            ax.set_ylabel(sel[0][4])
+            ax.set_title("%s: %s" % (scene, fam))
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7)
+        fig.tight_layout()
+        name = "pareto_%s.png" % slug(scene)
+        fig.savefig(os.path.join(outdir, name), dpi=90)
+        plt.close(fig)
+        made.append((scene, name))
+    return made
+
+
+def plot_scaling(results, outdir):
+    """Per sweep and work axis: median pass time vs work, log-log, geometric mean over scenes/views/other axes."""
+    made = []
+    by_sweep = defaultdict(list)
+    for r in results:
+        by_sweep[r["sweep"].get("name", "sweep")].append(r)
+    for sweep, rs in sorted(by_sweep.items()):
+        varying = defaultdict(set)
+        for r in rs:
+            for k, v in r["sweep"].get("axes", {}).items():
+                varying[k].add(v)
+            varying["resolution"].add(r["resolution"])
+        for key, (label, measure) in WORK.items():
+            if len(varying.get(key, ())) < 2:
+                continue
+            series = defaultdict(lambda: defaultdict(list))  # pass -> work -> [ms]
+            for r in rs:
+                raw = r["resolution"] if key == "resolution" else r["sweep"].get("axes", {}).get(key)
+                if raw is None:
+                    continue
+                try:
+                    w = measure(raw)
+                except ValueError:
+                    continue
+                for n, ms in pass_ms(r).items():
+                    if ms > 0 and not n.startswith("ref."):
+                        series[n][w].append(ms)
+            if not series:
+                continue
+            fig, ax = plt.subplots(figsize=(6.4, 4.6))
+            slopes = {}
+            for i, (n, pts) in enumerate(sorted(series.items())):
+                ws = sorted(pts)
+                if len(ws) < 2:
+                    continue
+                ms = [math.exp(np.mean(np.log(pts[w]))) for w in ws]
+                slope = np.polyfit(np.log(ws), np.log(ms), 1)[0]
+                slopes[n] = slope
+                ax.loglog(ws, ms, "o-", ms=3, lw=1, color=plt.cm.tab20(i % 20), label="%s (slope %.2f)" % (n, slope))
+            if not slopes:
+                plt.close(fig)
+                continue
+            ax.set_xlabel(label)
+            ax.set_ylabel("median GPU time [ms]")
+            ax.set_title("%s: time vs %s" % (sweep, label))
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=6, ncol=2)
+            fig.tight_layout()
+            name = "scaling_%s_%s.png" % (slug(sweep), slug(key))
+            fig.savefig(os.path.join(outdir, name), dpi=90)
+            plt.close(fig)
+            made.append((sweep, key, name, slopes))
+    return made
+
+
+def seed003_tables(results):
+    """Seed 003 table 6.3 layout per scene: AO variant x 8/16/24 samples, RMSE and ms (mean over views)."""
+    cells = defaultdict(lambda: defaultdict(list))  # (scene, res) -> (variant, samples) -> [(err, ms)]
+    for r in results:
+        fam, variant = technique(r)
+        if fam != "ao":
+            continue
+        s = r["config"].get("ao.samples")
+        if s not in ("8", "16", "24"):
+            continue
+        _, err = error_value(r)
+        cells[(r["sweep"]["scene_label"], r["resolution"])][(variant, s)].append((err, family_ms(r, "ao")))
+    out = []
+    for (scene, res), c in sorted(cells.items()):
+        variants = sorted({v for v, _ in c})
+        lines = ["**%s, %s** (RMSE against ray-traced AO with the same radius; ms = all ao.* passes, median)" % (scene, res), "",
+                 "| variant | 8: RMSE | 8: ms | 16: RMSE | 16: ms | 24: RMSE | 24: ms |",
+                 "|---|---:|---:|---:|---:|---:|---:|"]
+        for v in variants:
+            row = [v]
+            for s in ("8", "16", "24"):
+                vals = c.get((v, s), [])
+                errs = [e for e, _ in vals if e is not None]
+                row.append("%.2f %%" % (100 * np.mean(errs)) if errs else "—")
+                row.append("%.3f" % np.mean([m for _, m in vals]) if vals else "—")
+            lines.append("| " + " | ".join(row) + " |")
+        out.append("\n".join(lines))
+    return out
+
+
+def seed000_table(results):
+    """Seed 000 6.4 per-pass timings beside ours (1920x1080; prefer the atrium and a full frame)."""
+    cands = [r for r in results if r["resolution"] == "1920x1080"] or list(results)
+    if not cands:
+        return None
+
+    def rank(r):
+        names = pass_ms(r)
+        fams = sum(any(n.startswith(f + ".") for n in names) for f in FAMILIES)
+        return (fams, r["sweep"]["scene_label"] == "atrium", r["config"].get("lpv.iterations") == "8")
+
+    best = {}
+    for fam in FAMILIES:  # for each family the run that has it, with the most families on
+        withfam = [r for r in cands if family_ms(r, fam) > 0]
+        if withfam:
+            best[fam] = max(withfam, key=rank)
+    lines = ["| family | seed 000 step | seed ms (GTX 1050) | our passes | ours ms | our run |",
+             "|---|---|---:|---|---:|---|"]
+    for fam, label, seed_ms, patterns in SEED000:
+        r = best.get(fam.lower())
+        if r is None:
+            lines.append("| %s | %s | %.2f | — | — | not measured |" % (fam, label, seed_ms))
+            continue
+        names = pass_ms(r)
+        hit = []
+        for pat in patterns:
+            hit = [n for n in names if re.search(pat, n)]
+            if hit:
+                break
+        ms = sum(names[n] for n in hit)
+        if hit and label.startswith("propagation"):
+            ms /= max(1, int(r["config"].get("lpv.iterations", "1")))
+        ours = "%.3f" % ms if hit else "—"
+        run = "%s %s %s" % (r["sweep"]["scene_label"], r["resolution"], r["sweep"].get("name", ""))
+        lines.append("| %s | %s | %.2f | %s | %s | %s |" % (fam, label, seed_ms, ", ".join(hit) or "(no such pass)", ours, run))
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("dirs", nargs="+", help="sweep output directories (each with results.jsonl)")
+    ap.add_argument("--out", help="where report.md and the PNGs go (default: FIRST_DIR/report)")
+    ap.add_argument("--title", default="rtgi benchmark report")
+    a = ap.parse_args()
+    outdir = a.out or os.path.join(a.dirs[0], "report")
+    os.makedirs(outdir, exist_ok=True)
+    results, failed, unreadable = load(a.dirs)
+
+    md = ["# %s" % a.title, ""]
+    if results:
+        r0 = results[0]
+        md += ["- device: %s (%s)" % (r0.get("device", "?"), r0.get("driver", "?")),
+               "- timer: %s%s" % (r0.get("timer", "?"), " (glFinish + CPU clock: no GPU timer queries)" if r0.get("timer") == "cpu" else ""),
+               ]
+    md += ["- sweeps: %s" % ", ".join(sorted({r["sweep"].get("name", "?") for r in results})) or "none",
+           "- configurations: %d measured, %d failed%s" % (len(results), len(failed),
+                                                            ", %d unreadable lines" % unreadable if unreadable else ""),
+           "- generated: %s by benchmarks/report.py from %s" % (datetime.datetime.now().strftime("%Y-%m-%d %H:%M"), ", ".join(a.dirs)),
+           ""]
+    with_error = [r for r in results if error_value(r)[1] is not None]
+
+    md += ["## Error vs time (Pareto fronts)", ""]
+    pareto = plot_pareto(results, outdir)
+    if pareto:
+        md.append("Each point is one configuration: x = median GPU time of the technique's passes, y = its error "
+                  "against the matching reference; the black line joins the configurations no other one beats in both.")
+        md.append("")
+        for scene, name in pareto:
+            md += ["### %s" % scene, "", "![%s](%s)" % (scene, name), ""]
+    else:
+        md += ["No configuration has error values: run the sweep in a build with the reference passes "
+               "(sweep field `\"reference\"`, lines marked `retry` are re-run on resume).", ""]
+
+    md += ["## Time vs work (log-log)", ""]
+    scaling = plot_scaling(results, outdir)
+    if scaling:
+        md.append("Median GPU time per pass against the work an axis sets (geometric mean over scenes, views and the "
+                  "other axes); the slope of a log-log fit is 1 for linear scaling.")
+        md.append("")
+        for sweep, key, name, slopes in scaling:
+            md += ["### %s: %s" % (sweep, key), "", "![%s %s](%s)" % (sweep, key, name), ""]
+    else:
+        md += ["No sweep varies a work axis (%s) over two or more values." % ", ".join(WORK), ""]
+
+    md += ["## Seed 003, table 6.3 layout", ""]
+    t003 = seed003_tables(results)
+    md += (t003 and ["\n\n".join(t003), "",
+                     "Seed 003 measured RMSE of 2.3–5.7 % (VO), 2.4–5.7 % (HBAO) and 4.8–9.8 % (SSAO disk) at "
+                     "8/16/24 samples (GTX 680 / HD 6970, 1920x1080); its ms are not comparable across GPUs.", ""]
+           or ["No AO configuration with 8, 16 or 24 samples.", ""])
+
+    md += ["## Seed 000, section 6.4: per-pass timings", ""]
+    t000 = seed000_table(results)
+    md += [t000 or "No results.", ""]
+
+    md += ["## Configurations", "",
+           "| id | sweep | configuration | frame ms | %s |" % ("error" if with_error else "—"), "|---|---|---|---:|---:|"]
+    for r in results:
+        metric, err = error_value(r)
+        md.append("| %s | %s | %s | %.3f | %s |" % (r["sweep"]["id"], r["sweep"].get("name", ""), r["sweep"].get("label", ""),
+                                                  frame_ms(r), "%s %.4g" % (metric, err) if err is not None else ""))
+    if failed:
+        md += ["", "### Failed", ""]
+        for r in failed:
+            md.append("- `%s` %s: %s" % (r["sweep"]["id"], r["sweep"].get("label", ""), r["failed"]))
+    md.append("")
+    with open(os.path.join(outdir, "report.md"), "w") as f:
+        f.write("\n".join(md))
+    print("report.py: wrote %s (%d plots)" % (os.path.join(outdir, "report.md"), len(pareto) + len(scaling)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

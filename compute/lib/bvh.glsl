@@ -1,0 +1,111 @@
+// BVH traversal over the flattened tree of src/scene/bvh.cpp: closest hit
+// and any hit (shadow / AO rays). Stack-based, nearer child first; the
+// triangle test is Möller–Trumbore, the same arithmetic as the CPU side.
+#pragma once
+#include "lib/bvh_shared.h"
+
+layout(std430, binding = RTGI_SSBO_BVH_NODES) readonly buffer BvhNodeBlock { BvhNode bvhNodes[]; };
+layout(std430, binding = RTGI_SSBO_BVH_TRIS) readonly buffer BvhTriBlock { BvhTriangle bvhTris[]; };
+
+struct Hit {
+    float t;
+    uint triangle;  // original triangle id (GpuScene index buffer order)
+    vec2 bary;      // weights of v1, v2
+};
+
+const float BVH_MISS = 1e30;
+
+// Rays traced by this invocation (the kernels add it to a counter once).
+uint bvhRayCount = 0u;
+
+float bvhBox(uint node, vec3 o, vec3 invD, float tMin, float tMax) {
+    vec3 t0 = (bvhNodes[node].lo - o) * invD, t1 = (bvhNodes[node].hi - o) * invD;
+    vec3 tn = min(t0, t1), tf = max(t0, t1);
+    float enter = max(max(tn.x, tn.y), max(tn.z, tMin));
+    float exit = min(min(tf.x, tf.y), min(tf.z, tMax));
+    return enter <= exit ? enter : BVH_MISS;
+}
+
+bool bvhTriangle(uint i, vec3 o, vec3 d, float tMin, inout Hit hit) {
+    vec3 e1 = bvhTris[i].e1.xyz, e2 = bvhTris[i].e2.xyz;
+    vec3 p = cross(d, e2);
+    float det = dot(e1, p);
+    if (abs(det) < 1e-12) return false;
+    float inv = 1.0 / det;
+    vec3 s = o - bvhTris[i].v0.xyz;
+    float u = dot(s, p) * inv;
+    if (u < 0.0 || u > 1.0) return false;
+    vec3 q = cross(s, e1);
+    float w = dot(d, q) * inv;
+    if (w < 0.0 || u + w > 1.0) return false;
+    float t = dot(e2, q) * inv;
+    if (!(t > tMin && t < hit.t)) return false;
+    hit.t = t;
+    hit.triangle = floatBitsToUint(bvhTris[i].v0.w);
+    hit.bary = vec2(u, w);
+    return true;
+}
+
+// 1/d with near-zero components replaced by ±1e-20 (no 0·inf in the slab test).
+vec3 bvhSafeInverse(vec3 d) {
+    vec3 s = vec3(greaterThanEqual(d, vec3(0.0))) * 2.0 - 1.0;
+    return 1.0 / mix(d, s * 1e-20, lessThan(abs(d), vec3(1e-20)));
+}
+
+// anyHit: stop at the first hit (visibility); otherwise the closest one.
+// hit.t carries tMax in and the hit distance out.
+bool bvhTrace(vec3 o, vec3 d, float tMin, inout Hit hit, bool anyHit) {
+    ++bvhRayCount;
+    vec3 invD = bvhSafeInverse(d);
+    uint stack[RTGI_BVH_STACK];
+    int sp = 0;
+    uint node = 0u;
+    bool found = false;
+    if (bvhBox(0u, o, invD, tMin, hit.t) >= BVH_MISS) return false;
+    for (;;) {
+        uint count = bvhNodes[node].count;
+        if (count > 0u) {
+            uint first = bvhNodes[node].index;
+            for (uint i = first; i < first + count; ++i)
+                if (bvhTriangle(i, o, d, tMin, hit)) {
+                    found = true;
+                    if (anyHit) return true;
+                }
+        } else {
+            uint a = bvhNodes[node].index, b = a + 1u;
+            float ta = bvhBox(a, o, invD, tMin, hit.t);
+            float tb = bvhBox(b, o, invD, tMin, hit.t);
+            if (tb < ta) {
+                uint x = a; a = b; b = x;
+                float y = ta; ta = tb; tb = y;
+            }
+            if (ta < BVH_MISS) {
+                if (tb < BVH_MISS) stack[sp++] = b;
+                node = a;
+                continue;
+            }
+        }
+        bool next = false;
+        while (sp > 0) {
+            node = stack[--sp];
+            if (bvhBox(node, o, invD, tMin, hit.t) < BVH_MISS) {
+                next = true;
+                break;
+            }
+        }
+        if (!next) return found;
+    }
+}
+
+bool traceClosest(vec3 o, vec3 d, float tMin, float tMax, out Hit hit) {
+    hit.t = tMax;
+    hit.triangle = 0u;
+    hit.bary = vec2(0.0);
+    return bvhTrace(o, d, tMin, hit, false);
+}
+
+bool traceAny(vec3 o, vec3 d, float tMin, float tMax) {
+    Hit hit;
+    hit.t = tMax;
+    return bvhTrace(o, d, tMin, hit, true);
+}

@@ -1,0 +1,47 @@
+// BVH and reference-renderer structs and bindings shared by C++ and GLSL
+// (std430). C++ includes this through src/scene/bvh.h (size-checked there).
+#ifndef RTGI_BVH_SHARED_H
+#define RTGI_BVH_SHARED_H
+
+#ifdef RTGI_GLSL
+#define RTGI_BVH_STRUCT(name) struct name
+#else
+#define RTGI_BVH_STRUCT(name) struct alignas(16) name
+namespace rtgi::gpu {
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using uint = std::uint32_t;
+#endif
+
+// SSBO bindings of the reference passes (after the shared 1 = materials, 2 = lights).
+#define RTGI_SSBO_BVH_NODES 3      // BvhNode[]
+#define RTGI_SSBO_BVH_TRIS 4       // BvhTriangle[] in BVH leaf order
+#define RTGI_SSBO_REF_VERTICES 5   // GpuScene vertex buffer (GpuVertex, 9 words each)
+#define RTGI_SSBO_REF_INDICES 6    // GpuScene index buffer (3 per original triangle)
+#define RTGI_SSBO_REF_RAYS 7       // test rays (trace_test.comp)
+#define RTGI_SSBO_REF_COUNTER 8    // uint: rays traced by a dispatch (rays/s statistics)
+#define RTGI_BVH_STACK 48          // traversal stack depth (the builder caps the tree depth below it)
+#define RTGI_REF_LOCAL 8           // workgroup edge of the per-pixel reference kernels
+
+// A node of the flattened tree: interior nodes (count == 0) keep their left
+// child at `index`, the right child directly after it; leaves keep `count`
+// triangles starting at `index` in the BvhTriangle array.
+RTGI_BVH_STRUCT(BvhNode) {
+    vec3 lo;
+    uint index;
+    vec3 hi;
+    uint count;
+};
+
+// Triangle in leaf order, Möller–Trumbore form; v0.w holds the original
+// triangle id (as uint bits), which indexes the GpuScene index buffer.
+RTGI_BVH_STRUCT(BvhTriangle) {
+    vec4 v0;
+    vec4 e1;  // v1 - v0
+    vec4 e2;  // v2 - v0
+};
+
+#ifndef RTGI_GLSL
+}  // namespace rtgi::gpu
+#endif
+#endif

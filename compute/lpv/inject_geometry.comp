@@ -1,0 +1,69 @@
+// lpv.inject_geometry: blocking potential B(w) = A_s s^-2 max(0, n.w) (seed
+// eq. 11, [KD10]) projected with the cosine lobe, plus A_s * albedo (rgb) and
+// A_s for the mean albedo the bounce reflects with (colour bleeding), accumulated with fp32 atomics on
+// the corner lattice (offset by half a cell: corner g sits at origin + g*s).
+// Default source: the RSM; RTGI_LPV_GV_GBUFFER: the camera G-buffer sampled
+// at quarter resolution (every second pixel in x and y, seed 5.2.3).
+#extension GL_NV_shader_atomic_float : require
+#include "lpv/lpv_common.glsl"
+#include "lib/depth.glsl"
+#include "lib/brdf.glsl"
+
+layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
+
+layout(r32f, binding = 0) uniform image3D uGeometryAccum;
+
+#ifdef RTGI_LPV_GV_GBUFFER
+layout(binding = 0) uniform sampler2D uLinearDepth;
+layout(binding = 1) uniform sampler2D uViewNormal;
+layout(binding = 2) uniform sampler2D uAlbedo;
+layout(binding = 3) uniform sampler2D uMaterial;
+const int kStride = 2;
+#else
+layout(binding = 0) uniform sampler2D uFlux;
+layout(binding = 1) uniform sampler2D uNormal;
+layout(binding = 2) uniform sampler2D uDepth;
+#endif
+
+void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
+    ivec3 g = ivec3(floor(lpvCellCoord(p) + 0.5));
+    if (!lpvInside(g, lpv.grid.xyz + 1) || !(area > 0.0)) return;
+    vec4 b = shCosineLobe(n) * (area * lpv.rsm.y);
+    int x = RTGI_LPV_GV_CHANNELS * g.x;
+    for (int k = 0; k < 4; ++k) imageAtomicAdd(uGeometryAccum, ivec3(x + k, g.y, g.z), b[k]);
+    for (int k = 0; k < 3; ++k) imageAtomicAdd(uGeometryAccum, ivec3(x + 4 + k, g.y, g.z), area * albedo[k]);
+    imageAtomicAdd(uGeometryAccum, ivec3(x + 7, g.y, g.z), area);
+}
+
+void main() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+#ifdef RTGI_LPV_GV_GBUFFER
+    ivec2 full = t * kStride;
+    if (any(greaterThanEqual(full, frameSize()))) return;
+    float d = texelFetch(uLinearDepth, full, 0).r;
+    if (isSky(d)) return;
+    vec2 uv = (vec2(full) + 0.5) / vec2(frameSize());
+    vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
+    vec3 vn = texelFetch(uViewNormal, full, 0).xyz;
+    if (!(dot(vn, vn) > 0.0)) return;
+    vn = normalize(vn);
+    // World area of the kStride^2 pixels this sample stands for, on the surface.
+    float pixel = 2.0 * d * frame.projParams.z / float(frameSize().y);
+    float cosView = max(dot(vn, normalize(-vp)), lpv.rsm.w);
+    float area = float(kStride * kStride) * pixel * pixel / cosView;
+    vec3 albedo = diffuseAlbedo(texelFetch(uAlbedo, full, 0).rgb, texelFetch(uMaterial, full, 0).g);
+    addBlocker(viewToWorldPoint(vp), viewToWorldDir(vn), area, albedo);
+#else
+    if (any(greaterThanEqual(t, ivec2(lpv.grid.w)))) return;
+    vec4 nrm = texelFetch(uNormal, t, 0);
+    if (nrm.w == 0.0) return;
+    vec3 n = normalize(nrm.xyz);
+    // A_texel is the area perpendicular to the light; on the surface it is A_texel / cos.
+    float area = lpv.rsm.x / max(dot(n, frame.sunDirection.xyz), lpv.rsm.w);
+    // The RSM stores albedo * E_perp * A_texel; divide back for the albedo.
+    vec3 e = frame.sunIrradiance.rgb * lpv.rsm.x;
+    vec3 flux = texelFetch(uFlux, t, 0).rgb;
+    vec3 albedo = vec3(e.r > 0.0 ? flux.r / e.r : 0.0, e.g > 0.0 ? flux.g / e.g : 0.0, e.b > 0.0 ? flux.b / e.b : 0.0);
+    addBlocker(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, area, clamp(albedo, 0.0, 1.0));
+#endif
+}

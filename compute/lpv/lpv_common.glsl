@@ -1,0 +1,46 @@
+// Grid addressing and the LPV uniform block, shared by every LPV shader
+// (compute and the raster baseline).
+#pragma once
+#include "lib/common.glsl"
+#include "lib/sh.glsl"
+
+layout(std140, binding = RTGI_UBO_LPV) uniform LpvBlock { LpvUniforms lpv; };
+
+// Volume image format: set by lpv::formatDefines(); rgba16f when compiled alone.
+#ifndef RTGI_LPV_FORMAT
+#define RTGI_LPV_FORMAT rgba16f
+#define RTGI_LPV_HALF 1
+#endif
+
+float lpvCellSize() { return lpv.origin.w; }
+ivec3 lpvGrid() { return lpv.grid.xyz; }
+
+// Continuous cell coordinates: cell i spans [i, i + 1), its centre is i + 0.5.
+vec3 lpvCellCoord(vec3 world) { return (world - lpv.origin.xyz) / lpv.origin.w; }
+
+bool lpvInside(ivec3 c, ivec3 dims) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, dims)); }
+
+// World position of an RSM texel from its window-space depth (orthographic).
+vec3 rsmWorldPosition(ivec2 texel, float depth) {
+    vec2 uv = (vec2(texel) + 0.5) / float(lpv.grid.w);
+    vec4 w = lpv.rsmInvViewProj * vec4(uv * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+    return w.xyz / w.w;
+}
+
+// Cell receiving a surface point's light: moved half a cell along its normal
+// so a surface lights the cell in front of it, not itself (seed 3.3, SPEC 3.3).
+bool lpvInjectionCell(vec3 p, vec3 n, out ivec3 cell) {
+    vec3 q = lpvCellCoord(p + 0.5 * lpvCellSize() * n);
+    cell = ivec3(floor(q));
+    // floor() of huge/NaN coordinates is undefined as int: test in float first.
+    return all(greaterThanEqual(q, vec3(0.0))) && all(lessThan(q, vec3(lpv.grid.xyz))) && lpvInside(cell, lpv.grid.xyz);
+}
+
+// rgba16f volumes saturate at the largest finite half instead of becoming Inf (docs/lpv.md).
+vec4 lpvStorable(vec4 v) {
+#ifdef RTGI_LPV_HALF
+    return clamp(v, vec4(-65504.0), vec4(65504.0));
+#else
+    return v;
+#endif
+}

@@ -1,0 +1,35 @@
+// lpv.propagate (compute): one dispatch per iteration; writes volume k and
+// adds it into the accumulated volume in the same dispatch (fused, SPEC 3.5).
+#include "lpv/propagate.glsl"
+
+layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
+
+layout(binding = 0) uniform sampler3D uSrcR;
+layout(binding = 1) uniform sampler3D uSrcG;
+layout(binding = 2) uniform sampler3D uSrcB;
+layout(binding = 3) uniform sampler3D uGeometry;
+layout(binding = 4) uniform sampler3D uGeometryAlbedo;
+layout(RTGI_LPV_FORMAT, binding = 0) uniform writeonly image3D uDstR;
+layout(RTGI_LPV_FORMAT, binding = 1) uniform writeonly image3D uDstG;
+layout(RTGI_LPV_FORMAT, binding = 2) uniform writeonly image3D uDstB;
+layout(RTGI_LPV_FORMAT, binding = 3) uniform image3D uAccumR;
+layout(RTGI_LPV_FORMAT, binding = 4) uniform image3D uAccumG;
+layout(RTGI_LPV_FORMAT, binding = 5) uniform image3D uAccumB;
+
+layout(location = 0) uniform int uIteration;
+
+void main() {
+    ivec3 c = ivec3(gl_GlobalInvocationID);
+    if (!lpvInside(c, lpv.grid.xyz)) return;
+    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo);
+    v.r = lpvStorable(v.r);
+    v.g = lpvStorable(v.g);
+    v.b = lpvStorable(v.b);
+    imageStore(uDstR, c, v.r);
+    imageStore(uDstG, c, v.g);
+    imageStore(uDstB, c, v.b);
+    // Each invocation owns its cell: the read-modify-write needs no atomics.
+    imageStore(uAccumR, c, lpvStorable(imageLoad(uAccumR, c) + v.r));
+    imageStore(uAccumG, c, lpvStorable(imageLoad(uAccumG, c) + v.g));
+    imageStore(uAccumB, c, lpvStorable(imageLoad(uAccumB, c) + v.b));
+}

@@ -1,0 +1,111 @@
+// One propagation step of a destination cell gathering from its 6
+// neighbours (SPEC 3.5, [KD10] with the corrections of [Kir10b]): for a
+// neighbour N one cell behind along the flow direction d, each of the 5
+// faces f of the destination that do not face back receives
+// Phi_f = dOmega_f * max(0, I_N(w_f)) and re-emits it as (Phi_f / pi) *
+// cosLobe(n_f). Constants are derived in docs/lpv.md (not the seed's 0.82,
+// SPEC 11.4). Shared by the compute path and the raster baseline.
+#pragma once
+#include "lpv/lpv_common.glsl"
+
+const ivec3 LPV_AXES[6] = ivec3[6](ivec3(1, 0, 0), ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, -1, 0),
+                                   ivec3(0, 0, 1), ivec3(0, 0, -1));
+
+struct LpvRgb {
+    vec4 r, g, b;
+};
+
+// Sum of the quadrature over all 30 faces a source feeds (6 destinations x 5 faces).
+float lpvQuadratureFlux(vec4 I) {
+    float q = 0.0;
+    for (int a = 0; a < 6; ++a) {
+        vec3 d = vec3(LPV_AXES[a]);
+        q += RTGI_LPV_FRONT_SOLID_ANGLE * max(0.0, shEvaluate(I, d));
+        for (int t = 0; t < 6; ++t) {
+            if (dot(vec3(LPV_AXES[t]), d) != 0.0) continue;
+            vec3 w = RTGI_LPV_SIDE_DIR_T * vec3(LPV_AXES[t]) + RTGI_LPV_SIDE_DIR_D * d;
+            q += RTGI_LPV_SIDE_SOLID_ANGLE * max(0.0, shEvaluate(I, w));
+        }
+    }
+    return q;
+}
+
+// lpv.energy_conserving: scale so a source emits exactly its flux 2 sqrt(pi) I_00
+// (the integral of its intensity) instead of what the quadrature gives.
+float lpvConservingScale(vec4 I) {
+    float q = lpvQuadratureFlux(I);
+    float target = max(I.x, 0.0) / RTGI_SH_Y00;
+    return q > 0.0 ? target / q : 0.0;
+}
+
+// Blocking SH and mean albedo at the face between cell c and its neighbour
+// c + o: the mean of the 4 corner-lattice texels spanning that face.
+vec4 lpvFaceBlocking(sampler3D gv, sampler3D gvAlbedo, ivec3 c, ivec3 o, out vec3 albedo) {
+    ivec3 base = c + max(o, ivec3(0));
+    ivec3 u = o.x != 0 ? ivec3(0, 1, 0) : ivec3(1, 0, 0);
+    ivec3 v = o.z != 0 ? ivec3(0, 1, 0) : ivec3(0, 0, 1);
+    vec4 sum = vec4(0.0);
+    albedo = vec3(0.0);
+    for (int i = 0; i < 4; ++i) {
+        ivec3 g = base + ((i & 1) != 0 ? u : ivec3(0)) + ((i & 2) != 0 ? v : ivec3(0));
+        sum += texelFetch(gv, g, 0);
+        albedo += texelFetch(gvAlbedo, g, 0).rgb;
+    }
+    albedo *= 0.25;
+    return 0.25 * sum;
+}
+
+// Adds what flows from source intensity I (flow direction d) through the 5
+// exit faces of the destination, scaled by `transmit`, to `dst`; returns the
+// flux reaching the faces before transmission.
+float lpvPropagateFaces(vec4 I, vec3 d, float transmit, inout vec4 dst) {
+    float front = RTGI_LPV_FRONT_SOLID_ANGLE * max(0.0, shEvaluate(I, d));
+    float total = front;
+    dst += (front * transmit * INV_PI) * shCosineLobe(d);
+    for (int t = 0; t < 6; ++t) {
+        vec3 nf = vec3(LPV_AXES[t]);
+        if (dot(nf, d) != 0.0) continue;
+        vec3 w = RTGI_LPV_SIDE_DIR_T * nf + RTGI_LPV_SIDE_DIR_D * d;
+        float side = RTGI_LPV_SIDE_SOLID_ANGLE * max(0.0, shEvaluate(I, w));
+        total += side;
+        dst += (side * transmit * INV_PI) * shCosineLobe(nf);
+    }
+    return total;
+}
+
+// Iteration `iteration` (1-based) for destination cell c; src is volume k-1.
+// Occlusion (and the bounce, which needs the blocked part) from iteration 2
+// on (seed 3.5.1): the first step would let geometry occlude its own light.
+LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler3D srcB, sampler3D gv,
+                 sampler3D gvAlbedo) {
+    LpvRgb o = LpvRgb(vec4(0.0), vec4(0.0), vec4(0.0));
+    ivec3 dims = lpv.grid.xyz;
+    bool geometry = iteration >= 2 && (lpv.flags.x != 0 || lpv.flags.y != 0);
+    for (int a = 0; a < 6; ++a) {
+        ivec3 n = c + LPV_AXES[a];
+        if (!lpvInside(n, dims)) continue;
+        vec3 d = -vec3(LPV_AXES[a]);  // flow from the neighbour into c
+        vec4 I[3] = vec4[3](texelFetch(srcR, n, 0), texelFetch(srcG, n, 0), texelFetch(srcB, n, 0));
+        float transmit = 1.0;
+        vec3 reflected = vec3(0.0);
+        if (geometry) {
+            vec3 albedo;
+            vec4 B = lpvFaceBlocking(gv, gvAlbedo, c, LPV_AXES[a], albedo);
+            // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)).
+            float blocked = clamp(shEvaluate(B, -d), 0.0, 1.0);
+            transmit = 1.0 - blocked;
+            if (lpv.flags.y != 0) reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
+        }
+        vec4 acc[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+        for (int ch = 0; ch < 3; ++ch) {
+            float scale = lpv.flags.z != 0 ? lpvConservingScale(I[ch]) : 1.0;
+            float total = lpvPropagateFaces(I[ch] * scale, d, transmit, acc[ch]);
+            // The reflected part leaves the blocking surface back towards the source.
+            acc[ch] += (reflected[ch] * total * INV_PI) * shCosineLobe(-d);
+        }
+        o.r += acc[0];
+        o.g += acc[1];
+        o.b += acc[2];
+    }
+    return o;
+}

@@ -1,0 +1,26 @@
+// One propagation iteration per fragment (= cell): the gather of
+// lpv/propagate.glsl; outputs 0-2 write volume k, 3-5 add into the
+// accumulated volume through additive blending.
+#include "lpv/propagate.glsl"
+
+layout(binding = 0) uniform sampler3D uSrcR;
+layout(binding = 1) uniform sampler3D uSrcG;
+layout(binding = 2) uniform sampler3D uSrcB;
+layout(binding = 3) uniform sampler3D uGeometry;
+layout(binding = 4) uniform sampler3D uGeometryAlbedo;
+layout(location = 0) uniform int uIteration;
+
+layout(location = 0) out vec4 outR;
+layout(location = 1) out vec4 outG;
+layout(location = 2) out vec4 outB;
+layout(location = 3) out vec4 outAccumR;
+layout(location = 4) out vec4 outAccumG;
+layout(location = 5) out vec4 outAccumB;
+
+void main() {
+    ivec3 c = ivec3(ivec2(gl_FragCoord.xy), gl_Layer);
+    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo);
+    outR = outAccumR = lpvStorable(v.r);
+    outG = outAccumG = lpvStorable(v.g);
+    outB = outAccumB = lpvStorable(v.b);
+}

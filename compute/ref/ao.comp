@@ -1,0 +1,47 @@
+// ref.ao: ray-traced ambient occlusion from the G-buffer surface (SPEC 7.1a):
+// cosine-weighted hemisphere rays of maximum length uRay.x; visibility 1
+// when nothing is hit. Adds this dispatch's samples to the accumulation
+// images (one invocation owns its pixel: plain load/store, no atomics).
+#include "lib/common.glsl"
+#include "lib/depth.glsl"
+#include "lib/random.glsl"
+#include "lib/bvh.glsl"
+
+layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
+
+layout(binding = 0) uniform sampler2D uLinearDepth;
+layout(binding = 1) uniform sampler2D uNormal;
+layout(rgba32f, binding = 0) uniform image2D uAccum;    // Σx (rgb), sample count (a)
+layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // Σx² (rgb)
+
+layout(std430, binding = RTGI_SSBO_REF_COUNTER) buffer RayCounterBlock { uint rayCounter; };
+
+layout(location = 0) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed
+layout(location = 1) uniform vec2 uRay;       // maximum ray length, origin offset along the normal
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, frameSize()))) return;
+    float n = float(uSamples.y);
+    float visible = n;  // sky pixels: unoccluded
+    float d = texelFetch(uLinearDepth, p, 0).r;
+    if (!isSky(d)) {
+        vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
+        vec3 wp = viewToWorldPoint(viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w));
+        vec3 nrm = viewToWorldDir(texelFetch(uNormal, p, 0).xyz);
+        float len = length(nrm);
+        nrm = len > 0.0 ? nrm / len : vec3(0.0, 1.0, 0.0);
+        if (dot(nrm, frame.cameraPos.xyz - wp) < 0.0) nrm = -nrm;
+        vec3 origin = wp + nrm * uRay.y;
+        visible = 0.0;
+        for (uint s = 0u; s < uSamples.y; ++s) {
+            Rng rng = rngInit(uvec2(p), uSamples.x + s, uSamples.z);
+            vec3 dir = cosineHemisphere(rngNext2(rng), nrm);
+            if (!traceAny(origin, dir, 0.0, uRay.x)) visible += 1.0;
+        }
+    }
+    // Visibility is 0 or 1, so Σx² = Σx.
+    imageStore(uAccum, p, imageLoad(uAccum, p) + vec4(vec3(visible), n));
+    imageStore(uAccumSq, p, imageLoad(uAccumSq, p) + vec4(vec3(visible), 0.0));
+    atomicAdd(rayCounter, bvhRayCount);
+}

@@ -1,0 +1,114 @@
+// ref.path: path-traced radiance at the G-buffer surface (SPEC 7.1b).
+//   RTGI_REF_FULL: everything (emission + direct light with shadow rays +
+//     indirect, sky for escaping rays), compared with the composed hdr;
+//   otherwise indirect diffuse only: light that reached the G-buffer surface
+//     x1 after at least one other surface, reflected by x1's Lambert lobe
+//     (diffuseAlbedo/π·E, the convention of res.indirectDiffuse). x1's own
+//     emission, its direct sun/punctual light and sky seen directly from x1
+//     (the compose pass's ambient term) are excluded.
+// Next-event estimation for the sun and punctual lights; emission and sky
+// are picked up by BRDF-sampled rays (no double counting). uSamples.w caps
+// the number of bounces after x1; Russian roulette from the third on.
+#include "lib/common.glsl"
+#include "lib/depth.glsl"
+#include "lib/brdf.glsl"
+#include "lib/random.glsl"
+#include "lib/bvh.glsl"
+#include "lib/ref_scene.glsl"
+
+layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
+
+layout(binding = 1) uniform sampler2D uLinearDepth;
+layout(binding = 2) uniform sampler2D uNormal;
+layout(binding = 3) uniform sampler2D uAlbedo;
+layout(binding = 4) uniform sampler2D uMaterial;
+layout(binding = 5) uniform sampler2D uEmissive;
+layout(rgba32f, binding = 0) uniform image2D uAccum;    // Σx (rgb), sample count (a)
+layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // Σx² (rgb)
+
+layout(std430, binding = RTGI_SSBO_REF_COUNTER) buffer RayCounterBlock { uint rayCounter; };
+
+layout(location = 0) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
+layout(location = 1) uniform vec2 uRay;       // unused, origin offset along the normal
+
+// Radiance arriving along (ro, rd) at a surface; `fromFirst` marks the ray
+// leaving x1 (escaping it sees the sky directly).
+vec3 traceRadiance(vec3 ro, vec3 rd, vec3 throughput, inout Rng rng) {
+    vec3 L = vec3(0.0);
+    float eps = uRay.y;
+    for (uint bounce = 1u; bounce <= uSamples.w; ++bounce) {
+        Hit h;
+        if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
+#ifndef RTGI_REF_FULL
+            if (bounce == 1u) break;  // direct skylight at x1: the compose pass's ambient term
+#endif
+            L += throughput * frame.sky.rgb;
+            break;
+        }
+        Surface x = surfaceAt(h, ro, rd);
+        vec3 v = -rd;
+        vec3 origin = x.position + x.geometric * eps;
+        L += throughput * (x.emission + directLight(x, v, origin));
+        if (bounce == uSamples.w) break;
+        vec3 l, w;
+        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w)) break;
+        if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
+        throughput *= w;
+        if (bounce >= 3u) {
+            float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
+            if (rngNext(rng) >= q) break;
+            throughput /= q;
+        }
+        ro = origin;
+        rd = l;
+    }
+    return L;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(p, frameSize()))) return;
+    vec3 sum = vec3(0.0), sumSq = vec3(0.0);
+    float d = texelFetch(uLinearDepth, p, 0).r;
+    if (isSky(d)) {
+#ifdef RTGI_REF_FULL
+        sum = frame.sky.rgb * float(uSamples.y);
+        sumSq = frame.sky.rgb * frame.sky.rgb * float(uSamples.y);
+#endif
+    } else {
+        vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
+        Surface s;
+        s.position = viewToWorldPoint(viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w));
+        vec3 n = viewToWorldDir(texelFetch(uNormal, p, 0).xyz);
+        float len = length(n);
+        n = len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
+        vec3 v = normalize(frame.cameraPos.xyz - s.position);
+        if (dot(n, v) < 0.0) n = -n;
+        s.normal = n;
+        s.geometric = n;
+        s.albedo = texelFetch(uAlbedo, p, 0).rgb;
+        vec2 rm = texelFetch(uMaterial, p, 0).rg;
+        s.roughness = rm.x;
+        s.metallic = rm.y;
+        s.emission = texelFetch(uEmissive, p, 0).rgb;
+        vec3 origin = s.position + n * uRay.y;
+        for (uint k = 0u; k < uSamples.y; ++k) {
+            Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
+#ifdef RTGI_REF_FULL
+            vec3 L = s.emission + directLight(s, v, origin);
+            vec3 l, w;
+            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w)) L += traceRadiance(origin, l, w, rng);
+#else
+            vec3 l = cosineHemisphere(rngNext2(rng), n);
+            vec3 L = traceRadiance(origin, l, diffuseAlbedo(s.albedo, s.metallic), rng);
+#endif
+            // A non-finite sample (degenerate geometry) is dropped, never accumulated.
+            if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
+            sum += L;
+            sumSq += L * L;
+        }
+    }
+    imageStore(uAccum, p, imageLoad(uAccum, p) + vec4(sum, float(uSamples.y)));
+    imageStore(uAccumSq, p, imageLoad(uAccumSq, p) + vec4(sumSq, 0.0));
+    atomicAdd(rayCounter, bvhRayCount);
+}

@@ -1,0 +1,259 @@
+#include "render/lpv/lpv_volumes.h"
+
+#include "gl/profiler.h"
+#include "render/lpv/lpv_math.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace rtgi::lpv {
+namespace {
+
+const char* kChannel[3] = {"r", "g", "b"};
+
+void ensureRgb(gl::MemoryLedger& ledger, Rgb& t, const std::string& label, const gl::TextureDesc& d, bool linear) {
+    for (int c = 0; c < 3; ++c) {
+        t[std::size_t(c)].ensure(ledger, label + "." + kChannel[c], d);
+        t[std::size_t(c)].setSampling(linear ? GL_LINEAR : GL_NEAREST, linear ? GL_LINEAR : GL_NEAREST);
+    }
+}
+
+void bindRgbTextures(const Rgb& t, GLuint firstUnit) {
+    for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(firstUnit + c, t[c].id());
+}
+
+void bindRgbImages(const Rgb& t, GLuint firstUnit, GLenum access, GLenum format) {
+    for (GLuint c = 0; c < 3; ++c) glBindImageTexture(firstUnit + c, t[c].id(), 0, GL_TRUE, 0, access, format);
+}
+
+void bindUbo(const gl::Buffer& ubo) { glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id()); }
+
+gl::FramebufferHandle layeredFbo(const std::string& label, const Rgb& a, const Rgb& b) {
+    GLuint f = 0;
+    glCreateFramebuffers(1, &f);
+    gl::FramebufferHandle fbo(f);
+    fbo.label(label);
+    GLenum bufs[6];
+    for (int i = 0; i < 6; ++i) {
+        const gl::Texture& t = (i < 3 ? a : b)[std::size_t(i % 3)];
+        glNamedFramebufferTexture(f, GLenum(GL_COLOR_ATTACHMENT0 + i), t.id(), 0);  // 3D: layered
+        bufs[i] = GLenum(GL_COLOR_ATTACHMENT0 + i);
+    }
+    glNamedFramebufferDrawBuffers(f, 6, bufs);
+    if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error(label + ": layered framebuffer incomplete");
+    return fbo;
+}
+
+// Raster state of the seed baseline: blending on the attachments in `blended`.
+void rasterState(const Volumes& v, GLuint fbo, bool blendSteps) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, v.grid.x, v.grid.y);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    for (GLuint i = 0; i < 6; ++i) {
+        if (i >= 3 || blendSteps) {
+            glEnablei(GL_BLEND, i);
+            glBlendFunci(i, GL_ONE, GL_ONE);
+            glBlendEquationi(i, GL_FUNC_ADD);
+        } else {
+            glDisablei(GL_BLEND, i);
+        }
+    }
+}
+
+void endRaster() {
+    for (GLuint i = 0; i < 6; ++i) glDisablei(GL_BLEND, i);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace
+
+bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
+    bool changed = g != grid || fmt != format || !accum[0];
+    grid = g;
+    format = fmt;
+    ensureRgb(ledger, inject, "lpv.inject", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false);
+    for (int k = 0; k < 2; ++k)
+        ensureRgb(ledger, step[std::size_t(k)], "lpv.step" + std::to_string(k), {GL_TEXTURE_3D, fmt, g.x, g.y, g.z},
+                  false);
+    ensureRgb(ledger, accum, "lpv.accum", {GL_TEXTURE_3D, fmt, g.x, g.y, g.z}, true);
+    if (changed) {
+        injectFbo = {};
+        propagateFbo = {};
+    }
+    return changed;
+}
+
+void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
+    glm::ivec3 c = grid + 1;
+    geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z});
+    geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z});
+    geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
+}
+
+void Volumes::ensureHistory(gl::MemoryLedger& ledger) {
+    for (int k = 0; k < 2; ++k)
+        ensureRgb(ledger, history[std::size_t(k)], "lpv.history" + std::to_string(k),
+                  {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+}
+
+void Volumes::ensureRasterTargets() {
+    if (!emptyVao) {
+        GLuint vao = 0;
+        glCreateVertexArrays(1, &vao);
+        emptyVao = gl::VertexArrayHandle(vao);
+        emptyVao.label("lpv.empty_vao");
+    }
+    if (!injectFbo) injectFbo = layeredFbo("lpv.inject.fbo", step[0], accum);
+    for (int k = 0; k < 2; ++k)
+        if (!propagateFbo[std::size_t(k)])
+            propagateFbo[std::size_t(k)] =
+                layeredFbo("lpv.propagate.fbo" + std::to_string(k), step[std::size_t(k)], accum);
+}
+
+gl::Defines formatDefines(GLenum format) {
+    if (format == GL_RGBA32F) return {{"RTGI_LPV_FORMAT", "rgba32f"}};
+    return {{"RTGI_LPV_FORMAT", "rgba16f"}, {"RTGI_LPV_HALF", ""}};
+}
+
+void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
+                   const gl::Buffer& stats) {
+    for (auto& t : v.inject) t.clear();
+    const gl::Program& prog = programs.compute("lpv/inject.comp");
+    bindUbo(ubo);
+    // Producers: lpv.rsm (framebuffer writes) and the clears above.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindTextureUnit(0, rsm.flux.id());
+    glBindTextureUnit(1, rsm.normal.id());
+    glBindTextureUnit(2, rsm.depth.id());
+    bindRgbImages(v.inject, 0, GL_READ_WRITE, GL_R32F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LPV_STATS, stats.id());
+    gl::dispatch(prog, rsmSize, rsmSize);
+}
+
+void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
+    const gl::Program& prog = programs.compute("lpv/pack.comp", formatDefines(v.format));
+    bindUbo(ubo);
+    // Producer: lpv.inject (image atomics).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    bindRgbTextures(v.inject, 0);
+    bindRgbImages(v.step[0], 0, GL_WRITE_ONLY, v.format);
+    bindRgbImages(v.accum, 3, GL_WRITE_ONLY, v.format);
+    gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+}
+
+void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v) {
+    v.ensureRasterTargets();
+    const gl::Program& prog =
+        programs.raster("lpv/inject_raster.vert", "lpv/inject_raster.frag", {}, "lpv/inject_raster.geom");
+    bindUbo(ubo);
+    const float zero[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 6; ++i) glClearNamedFramebufferfv(v.injectFbo.id(), GL_COLOR, i, zero);
+    // Producer: lpv.rsm (framebuffer writes).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    rasterState(v, v.injectFbo.id(), true);
+    glBindTextureUnit(0, rsm.flux.id());
+    glBindTextureUnit(1, rsm.normal.id());
+    glBindTextureUnit(2, rsm.depth.id());
+    glUseProgram(prog.id());
+    glBindVertexArray(v.emptyVao.id());
+    glDrawArrays(GL_POINTS, 0, rsmSize * rsmSize);
+    gl::Profiler::noteDispatch();
+    endRaster();
+}
+
+void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
+                    const GBufferView& gb, Volumes& v) {
+    v.geometryAccum.clear();
+    bindUbo(ubo);
+    // Producers: lpv.rsm and gbuffer (framebuffer writes), the clear above.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindImageTexture(0, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
+    glBindTextureUnit(0, rsm.flux.id());
+    glBindTextureUnit(1, rsm.normal.id());
+    glBindTextureUnit(2, rsm.depth.id());
+    gl::dispatch(fromRsm, rsmSize, rsmSize);
+    if (gb.linearDepth) {
+        const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", {{"RTGI_LPV_GV_GBUFFER", ""}});
+        glBindTextureUnit(0, gb.linearDepth->id());
+        glBindTextureUnit(1, gb.normal->id());
+        glBindTextureUnit(2, gb.albedo->id());
+        glBindTextureUnit(3, gb.material->id());
+        gl::dispatch(fromGBuffer, (gb.size.x + 1) / 2, (gb.size.y + 1) / 2);
+    }
+    const gl::Program& pack =
+        programs.compute("lpv/pack.comp", [&] {
+            gl::Defines d = formatDefines(v.format);
+            d.push_back({"RTGI_LPV_PACK_GEOMETRY", ""});
+            return d;
+        }());
+    // Producer: the geometry injection dispatches above (image atomics).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(0, v.geometryAccum.id());
+    glBindImageTexture(0, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
+    glBindImageTexture(1, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
+}
+
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations) {
+    const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format));
+    bindUbo(ubo);
+    glBindTextureUnit(3, v.geometry.id());
+    glBindTextureUnit(4, v.geometryAlbedo.id());
+    bindRgbImages(v.accum, 3, GL_READ_WRITE, v.format);
+    int src = 0;
+    for (int k = 1; k <= iterations; ++k) {
+        int dst = 1 - src;
+        // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        bindRgbTextures(v.step[std::size_t(src)], 0);
+        bindRgbImages(v.step[std::size_t(dst)], 0, GL_WRITE_ONLY, v.format);
+        prog.set(0, k);
+        gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+        src = dst;
+    }
+    return src;
+}
+
+int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations) {
+    v.ensureRasterTargets();
+    const gl::Program& prog = programs.raster("lpv/propagate_raster.vert", "lpv/propagate_raster.frag",
+                                              formatDefines(v.format), "lpv/propagate_raster.geom");
+    bindUbo(ubo);
+    glUseProgram(prog.id());
+    glBindVertexArray(v.emptyVao.id());
+    glBindTextureUnit(3, v.geometry.id());
+    glBindTextureUnit(4, v.geometryAlbedo.id());
+    int src = 0;
+    for (int k = 1; k <= iterations; ++k) {
+        int dst = 1 - src;
+        rasterState(v, v.propagateFbo[std::size_t(dst)].id(), false);
+        // Producer: the previous draw's framebuffer writes into step[src].
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        bindRgbTextures(v.step[std::size_t(src)], 0);
+        prog.set(0, k);
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 3, v.grid.z);
+        gl::Profiler::noteDispatch();
+        src = dst;
+    }
+    endRaster();
+    return src;
+}
+
+void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target) {
+    const gl::Program& prog = programs.compute("lpv/temporal.comp", formatDefines(v.format));
+    bindUbo(ubo);
+    // Producer: lpv.propagate (image stores / blended framebuffer writes into accum).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    bindRgbTextures(v.accum, 0);
+    bindRgbTextures(v.history[std::size_t(1 - target)], 3);
+    bindRgbImages(v.history[std::size_t(target)], 0, GL_WRITE_ONLY, v.format);
+    gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+}
+
+}  // namespace rtgi::lpv

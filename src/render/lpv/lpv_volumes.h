@@ -1,0 +1,71 @@
+#pragma once
+// The LPV volumes and the GPU kernels that fill them, callable on their own
+// so tests can drive one step with synthetic inputs. Every kernel binds the
+// uniform block, its textures and images itself.
+#include "gl/program.h"
+#include "gl/resources.h"
+
+#include <glm/glm.hpp>
+
+#include <array>
+
+namespace rtgi::lpv {
+
+using Rgb = std::array<gl::Texture, 3>;
+
+// RSM targets (lpv.rsm).
+struct Rsm {
+    gl::Texture flux;    // RGBA32F: albedo * E_perp * A_texel
+    gl::Texture normal;  // RGBA16F: world normal of the lit side, a = 1 where a surface was drawn
+    gl::Texture depth;   // D32F
+};
+
+struct Volumes {
+    glm::ivec3 grid{0};
+    GLenum format = GL_RGBA16F;
+    Rgb inject;                  // R32F (4X, Y, Z): fp32 atomic accumulation, coefficient k at 4x + k
+    std::array<Rgb, 2> step;     // propagation ping-pong (format)
+    Rgb accum;                   // sum of all iterations (format)
+    gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A)
+    gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
+    gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
+    std::array<Rgb, 2> history;  // temporal blend targets (format)
+    gl::FramebufferHandle injectFbo;                   // raster baseline: step[0] + accum, additive
+    std::array<gl::FramebufferHandle, 2> propagateFbo; // raster baseline: step[k] + accum (blended)
+    gl::VertexArrayHandle emptyVao;                    // attribute-less draws need a bound VAO (core profile)
+
+    // (Re)allocates the light volumes; returns true when they changed.
+    bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format);
+    void ensureGeometry(gl::MemoryLedger& ledger);
+    void ensureHistory(gl::MemoryLedger& ledger);
+    void ensureRasterTargets();
+};
+
+// #defines selecting the image format of one volume format.
+gl::Defines formatDefines(GLenum format);
+
+// Compute injection of every RSM texel with fp32 image atomics; `stats`
+// (one uint) counts dropped texels and is not cleared here.
+void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
+                   const gl::Buffer& stats);
+// fp32 accumulation -> step[0] and accum in the propagation format.
+void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v);
+// Seed method: GL_POINTS + geometry shader + additive blending into step[0] and accum.
+void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v);
+// Geometry volume from the RSM and (if linearDepth is non-null) the G-buffer at quarter resolution.
+struct GBufferView {
+    const gl::Texture* linearDepth = nullptr;
+    const gl::Texture* normal = nullptr;
+    const gl::Texture* albedo = nullptr;
+    const gl::Texture* material = nullptr;
+    glm::ivec2 size{0};
+};
+void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
+                    const GBufferView& gbuffer, Volumes& v);
+// Iterations 1..n; returns the index of step[] holding the last iteration.
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
+int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
+// history[target] = mix(accum, history[1 - target] re-indexed, lpv.temporal).
+void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target);
+
+}  // namespace rtgi::lpv

@@ -1,0 +1,40 @@
+#pragma once
+// Error metrics between a tested image and a reference (SPEC 7.2), on the
+// CPU in double precision: RMSE, MAE, PSNR, relative RMSE for HDR radiance,
+// SSIM on luminance (11×11 Gaussian window, σ = 1.5, Wang et al. 2004), and
+// an error heat map with a colour bar.
+#include "gl/image_io.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtgi {
+
+struct ErrorMetrics {
+    double rmse = 0, mae = 0, bias = 0;  // over masked pixels and compared channels; bias = mean(test − ref)
+    double psnr = 0;                     // 10·log10(peak² / MSE); +inf for identical images
+    double relRmse = 0;                  // sqrt(mean((t − r)² / (r² + 0.01²))): HDR radiance
+    double ssim = 0;                     // mean SSIM of luminance over all pixels
+    std::size_t pixels = 0;
+};
+
+// Luminance (Rec. 709) of pixel i, or channel 0 for single-channel data.
+double pixelLuminance(const FloatImage& img, std::size_t i, int channels);
+
+// `channels`: 1 compares channel 0 (AO), 3 compares rgb. `mask` (empty =
+// every pixel) selects pixels for RMSE/MAE/PSNR/relative RMSE; SSIM always
+// uses the whole image. `peak`: signal peak of PSNR and the dynamic range L
+// of SSIM's constants (1 for AO / LDR images).
+ErrorMetrics compareImages(const FloatImage& test, const FloatImage& ref, int channels, double peak,
+                           const std::vector<std::uint8_t>& mask = {});
+double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, double dynamicRange);
+
+// |luminance(test) − luminance(ref)| mapped from 0 (black) to `maxError`
+// (yellow, larger errors saturate) through a perceptually ordered ramp, with a colour bar and its
+// two end values printed on the right. Returns an RGBA image in [0,1].
+FloatImage errorHeatmap(const FloatImage& test, const FloatImage& ref, int channels, double maxError);
+// Quantile q in [0,1] of the per-pixel |Δ luminance| (q = 1: the largest).
+// The heat maps use q = 0.99 so that a few fireflies do not darken the rest.
+double errorQuantile(const FloatImage& test, const FloatImage& ref, int channels, double q);
+
+}  // namespace rtgi

@@ -1,0 +1,47 @@
+#pragma once
+// What rtgi-view can show: the final image, every 2D texture of
+// FrameResources and every pass's debugImages(), each with the mapping that
+// makes it visible (display.frag modes); and the overlay text.
+#include "gl/handles.h"
+#include "gl/image_io.h"
+#include "gl/program.h"
+#include "gl/resources.h"
+#include "render/renderer.h"
+
+#include <string>
+#include <vector>
+
+namespace rtgi::view {
+
+struct DisplayImage {
+    std::string name;
+    const gl::Texture* tex = nullptr;
+    int mode = 0;       // display.frag: 0 ready, 1 radiance, 2 signed, 3 grey, 4 depth
+    float scale = 1.0f;
+};
+
+// The images of the current frame, "final" first; only 2D float/unorm textures.
+std::vector<DisplayImage> displayImages(Renderer& renderer);
+
+// The image as it is displayed, for screenshots (the final image is written
+// exactly as rtgi-bench writes final.png).
+void writeScreenshot(const std::string& path, const DisplayImage& img, float farPlane);
+// The window's back buffer (image + overlay) as drawn this frame.
+void writeWindowScreenshot(const std::string& path, glm::ivec2 size);
+
+// Draws into the window's default framebuffer.
+class ScreenPainter {
+public:
+    ScreenPainter();
+    // `img` over the whole viewport.
+    void drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane);
+    // Text lines in a dark panel at the top left (stb_easy_font), x scale.
+    void drawText(gl::ProgramCache& programs, glm::ivec2 viewport, const std::vector<std::string>& lines, float scale);
+
+private:
+    gl::MemoryLedger ledger_;
+    gl::Buffer positions_;
+    gl::VertexArrayHandle vao_;
+};
+
+}  // namespace rtgi::view

@@ -1,0 +1,325 @@
+// GPU tier of the ray-traced reference: GPU BVH traversal == CPU brute
+// force; AO of a plane == 1; AO beside a wall == CPU quadrature over the same
+// finite geometry (unbounded and finite rays); furnace (closed box of albedo
+// a, emission Le: L = Le/(1-a)); same seed -> same bits; SE ~ 1/sqrt(N);
+// cache round trip. Images 32x32, <= 64 samples (llvmpipe budget).
+#include "gpu_fixture.h"
+
+#include "render/reference/reference_passes.h"
+#include "scene/bvh.h"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <random>
+
+using namespace rtgi;
+using namespace rtgi::test;
+
+namespace {
+
+const glm::ivec2 kSize{32, 32};
+
+Settings referenceSettings(ReferenceSettings::Kind kind, int spp) {
+    Settings s;
+    s.reference.kind = kind;
+    s.reference.spp = spp;
+    s.reference.cacheDir = "off";
+    s.lpv.mode = Toggle::Off;
+    return s;
+}
+
+struct RefResult {
+    FloatImage mean, se, depth;
+    bool fromCache = false;
+};
+
+RefResult renderReference(const Scene& scene, const Settings& s) {
+    gl::Profiler prof(false);
+    auto r = renderFrames(scene, s, kSize, prof);
+    auto* out = dynamic_cast<ReferenceOutput*>(r->findPass(s.reference.kind == ReferenceSettings::Kind::Ao ? "ref.ao" : "ref.path"));
+    REQUIRE(out != nullptr);
+    return {readTexture(out->mean()), readTexture(out->standardError()), readTexture(r->resources().gbuffer.linearDepth),
+            out->fromCache()};
+}
+
+// World position of pixel (x, y) from the G-buffer's linear depth (depth.glsl conventions).
+glm::dvec3 worldPosition(const Scene& scene, const Settings& s, const FloatImage& depth, int x, int y) {
+    Camera cam = resolveCamera(scene, s);
+    View v = makeView(cam, kSize, nullptr, 0);
+    double d = depth.at(x, y, 0);
+    double th = std::tan(0.5 * double(cam.fovY)), aspect = double(kSize.x) / double(kSize.y);
+    glm::dvec2 ndc((x + 0.5) / kSize.x * 2.0 - 1.0, (y + 0.5) / kSize.y * 2.0 - 1.0);
+    glm::dvec4 vp(ndc.x * th * aspect * d, ndc.y * th * d, -d, 1.0);
+    return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
+}
+
+// Floor [-2,2]^2 at y = 0 and a wall at z = -1, x in [-2,2], y in [0, 1.5], facing +z.
+constexpr double kWallZ = -1.0, kWallW = 2.0, kWallH = 1.5;
+Scene cornerScene() {
+    Scene s = floorScene(2.0f, glm::vec3(0.5f), false);
+    s.name = "test:corner";
+    addQuad(s, {-2, 0, -1}, {2, 0, -1}, {2, 1.5f, -1}, {-2, 1.5f, -1}, 0);
+    s.cameras[0].position = {0.3f, 1.2f, 1.5f};
+    s.cameras[0].target = {0, 0, -0.6f};
+    return s;
+}
+
+// AO = (1/π)∫ cos θ V dω over the hemisphere of a floor point; with the
+// Malley map (u1 = sin²θ, u2 = φ/2π) the integrand is V on the unit square:
+// midpoint rule on n × 2n cells, ray-rectangle test in double.
+double aoQuadrature(glm::dvec3 p, double rayLength, double wallW, double wallH, int n = 256) {
+    double visible = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < 2 * n; ++j) {
+            double u1 = (i + 0.5) / n, phi = 2.0 * M_PI * (j + 0.5) / (2 * n);
+            double r = std::sqrt(u1);
+            glm::dvec3 d(r * std::cos(phi), std::sqrt(1.0 - u1), r * std::sin(phi));
+            bool hit = false;
+            if (d.z < 0) {
+                double t = (kWallZ - p.z) / d.z;
+                glm::dvec3 q = p + t * d;
+                hit = t < rayLength && std::abs(q.x) <= wallW && q.y >= 0 && q.y <= wallH;
+            }
+            if (!hit) visible += 1;
+        }
+    return visible / double(2 * n * n);
+}
+
+}  // namespace
+
+TEST_CASE("Reference: GPU BVH traversal equals CPU brute force") {
+    GpuFixture fx;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::vector<glm::vec3> v;
+    for (int t = 0; t < 300; ++t) {
+        glm::vec3 c(u(rng) * 3, u(rng) * 3, u(rng) * 3);
+        for (int k = 0; k < 3; ++k) v.push_back(c + 0.5f * glm::vec3(u(rng), u(rng), u(rng)));
+    }
+    Bvh bvh = buildBvh(v);
+    struct TestRay {
+        glm::vec4 origin, direction;
+    };
+    std::vector<TestRay> rays(256);
+    std::normal_distribution<float> g;
+    for (auto& r : rays) {
+        r.origin = glm::vec4(u(rng) * 4, u(rng) * 4, u(rng) * 4, 1e30f);
+        r.direction = glm::vec4(glm::normalize(glm::vec3(g(rng), g(rng), g(rng))), 0);
+    }
+    gl::MemoryLedger ledger;
+    gl::Buffer nodes(ledger, "t.nodes", std::int64_t(bvh.nodes.size() * sizeof(gpu::BvhNode)), bvh.nodes.data(), 0);
+    gl::Buffer tris(ledger, "t.tris", std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
+    gl::Buffer rayBuf(ledger, "t.rays", std::int64_t(rays.size() * sizeof(TestRay)), rays.data());
+    gl::Buffer frameUbo(ledger, "t.frame", sizeof(gpu::FrameUniforms));
+    gl::ProgramCache programs;
+    const gl::Program& prog = programs.compute("ref/trace_test.comp");
+    glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_FRAME, frameUbo.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, tris.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_RAYS, rayBuf.id());
+    prog.set(0, unsigned(rays.size()));
+    // Not gl::dispatch: it notes the dispatch in the last active Profiler,
+    // which an earlier test case destroyed (gl::Profiler::active_ dangles).
+    glUseProgram(prog.id());
+    glDispatchCompute(gl::groupCount(int(rays.size()), prog.localSize().x), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: trace_test.comp (SSBO writes)
+    std::vector<TestRay> out(rays.size());
+    rayBuf.download(out.data(), std::int64_t(out.size() * sizeof(TestRay)));
+    int hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        glm::vec3 o(rays[i].origin), d(rays[i].direction);
+        // Brute force over all triangles on the CPU, original order.
+        std::optional<RayHit> best;
+        for (auto& t : bvh.triangles)
+            if (auto h = intersectTriangle(t, o, d, 0.0f, best ? best->t : 1e30f)) best = h;
+        REQUIRE((out[i].direction.x >= 0.0f) == best.has_value());
+        CHECK((out[i].direction.z > 0.5f) == best.has_value());
+        if (!best) continue;
+        ++hits;
+        std::uint32_t id;
+        std::memcpy(&id, &out[i].direction.y, 4);
+        CHECK(id == best->triangle);
+        // The GPU may contract to FMA: distances agree to float rounding.
+        CHECK(out[i].direction.x == doctest::Approx(best->t).epsilon(1e-5));
+    }
+    CHECK(hits > 20);
+}
+
+TEST_CASE("Reference AO: a plane is unoccluded (AO = 1)") {
+    GpuFixture fx;
+    Scene s = floorScene(20.0f, glm::vec3(0.5f), false);
+    Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 16);
+    st.ao.radius = 1e6f;
+    RefResult r = renderReference(s, st);
+    int geometry = 0;
+    for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x) {
+            if (!(r.depth.at(x, y, 0) > 0)) continue;
+            ++geometry;
+            CHECK(r.mean.at(x, y, 0) == 1.0f);  // exact: no ray can hit the plane it leaves
+            CHECK(r.se.at(x, y, 0) == 0.0f);
+        }
+    CHECK(geometry > kSize.x * kSize.y / 2);
+}
+
+TEST_CASE("Reference AO: floor beside a wall equals quadrature over the same geometry (unbounded and finite rays)") {
+    // The oracle itself: beside a very large wall, unbounded rays see AO -> 1/2.
+    CHECK(aoQuadrature({0, 0, kWallZ + 1e-4}, 1e30, 1e5, 1e5) == doctest::Approx(0.5).epsilon(0.01));
+
+    GpuFixture fx;
+    Scene s = cornerScene();
+    for (double length : {1e6, 0.5}) {
+        Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 64);
+        st.ao.radius = float(length);
+        RefResult r = renderReference(s, st);
+        int n = 0, outside = 0;
+        double sumDiff = 0, sumVar = 0, sumSeReported = 0, sumSeExact = 0;
+        for (int y = 0; y < kSize.y; ++y)
+            for (int x = 0; x < kSize.x; ++x) {
+                if (!(r.depth.at(x, y, 0) > 0)) continue;
+                glm::dvec3 p = worldPosition(s, st, r.depth, x, y);
+                if (std::abs(p.y) > 1e-3 || p.z < kWallZ + 0.02) continue;  // floor pixels in front of the wall
+                double expect = aoQuadrature(p, length, kWallW, kWallH, 128);
+                double got = r.mean.at(x, y, 0);
+                // Each cosine-sampled ray is a Bernoulli trial with p = AO, so
+                // the estimator's exact standard error is sqrt(p(1-p)/N) (the
+                // per-pixel sample SE of 64 trials is too noisy to test with).
+                double se = std::sqrt(expect * (1.0 - expect) / 64.0);
+                // 3 standard errors + 4e-3 for the quadrature's discretization
+                // of the wall's silhouette (128 x 256 cells).
+                if (std::abs(got - expect) > 3.0 * se + 4e-3) ++outside;
+                sumDiff += got - expect;
+                sumVar += se * se;
+                sumSeReported += r.se.at(x, y, 0);
+                sumSeExact += se;
+                ++n;
+            }
+        INFO("ray length " << length << ", floor pixels " << n << ", outside 3 SE " << outside);
+        REQUIRE(n > 200);
+        // Per pixel: 3 SE holds for 99.7 % of normal errors; allow 2 % for
+        // the binomial tails at 64 samples.
+        CHECK(outside <= n / 50);
+        // Aggregate over all pixels: the mean error within 3 of its SE.
+        CHECK(std::abs(sumDiff / n) <= 3.0 * std::sqrt(sumVar) / n + 2e-3);
+        // The reported SE image estimates the exact binomial SE (10 %: the
+        // sample SE of 64 trials, averaged over a few hundred pixels).
+        CHECK(sumSeReported / n == doctest::Approx(sumSeExact / n).epsilon(0.1));
+    }
+}
+
+namespace {
+// Closed box [-1,1]^3 of inward-facing quads, albedo a, emission Le.
+Scene furnaceBox(float albedo, float le) {
+    Scene s;
+    s.name = "test:furnace";
+    Material m;
+    m.baseColor = glm::vec4(glm::vec3(albedo), 1);
+    m.emissive = glm::vec3(le);
+    m.roughness = 1.0f;
+    s.materials.push_back(m);
+    auto inward = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+        glm::vec3 n = glm::cross(b - a, d - a), center = 0.25f * (a + b + c + d);
+        if (glm::dot(n, -center) > 0) addQuad(s, a, b, c, d, 0);
+        else addQuad(s, a, d, c, b, 0);
+    };
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {-1.0f, 1.0f}) {
+            glm::vec3 q[4];
+            const float uv[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+            for (int k = 0; k < 4; ++k) {
+                q[k][axis] = side;
+                q[k][(axis + 1) % 3] = uv[k][0];
+                q[k][(axis + 2) % 3] = uv[k][1];
+            }
+            inward(q[0], q[1], q[2], q[3]);
+        }
+    Camera c;
+    c.position = {0.2f, 0.1f, 0.3f};
+    c.target = {-0.5f, -0.3f, -1.0f};
+    c.fovY = glm::radians(70.0f);
+    c.near = 0.05f;
+    c.far = 10.0f;
+    s.cameras.push_back(c);
+    return s;
+}
+}  // namespace
+
+TEST_CASE("Reference path tracer: furnace box returns Le/(1-a) (full) and a·Le/(1-a) (indirect)") {
+    GpuFixture fx;
+    // a = 0.6 = 153/255 is exact in the RGBA8 G-buffer albedo; Le = 1 is
+    // exact in R11G11B10F. Lambert only (the GGX lobe adds its own albedo).
+    const double a = 0.6, le = 1.0;
+    Scene s = furnaceBox(float(a), float(le));
+    for (auto kind : {ReferenceSettings::Kind::Full, ReferenceSettings::Kind::Indirect}) {
+        Settings st = referenceSettings(kind, 32);
+        st.reference.specular = false;
+        st.reference.bounces = 64;  // truncation a^64 ~ 1e-14 of the series
+        RefResult r = renderReference(s, st);
+        double expect = kind == ReferenceSettings::Kind::Full ? le / (1 - a) : a * le / (1 - a);
+        // Every pixel estimates the same value with the same distribution:
+        // the pooled (RMS) standard error is the per-pixel SE, far steadier
+        // than one pixel's sample SE of 32 paths with Russian roulette.
+        double sum = 0, var = 0;
+        int n = 0, outside = 0;
+        for (int y = 0; y < kSize.y; ++y)
+            for (int x = 0; x < kSize.x; ++x) {
+                REQUIRE(r.depth.at(x, y, 0) > 0);  // the box encloses the camera
+                sum += r.mean.at(x, y, 0);
+                var += double(r.se.at(x, y, 0)) * r.se.at(x, y, 0);
+                ++n;
+            }
+        double pooled = std::sqrt(var / n);
+        for (int y = 0; y < kSize.y; ++y)
+            for (int x = 0; x < kSize.x; ++x)
+                if (std::abs(r.mean.at(x, y, 0) - expect) > 3.0 * pooled) ++outside;
+        INFO("kind " << int(kind) << " mean " << sum / n << " expected " << expect);
+        CHECK(std::abs(sum / n - expect) <= 3.0 * std::sqrt(var) / n);  // aggregate within 3 SE
+        CHECK(outside <= n / 50);  // per pixel: 3 SE except the tails (2 %)
+    }
+}
+
+TEST_CASE("Reference: same seed gives the same bits, another seed other bits; SE falls as 1/sqrt(N)") {
+    GpuFixture fx;
+    Scene s = cornerScene();
+    Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 16);
+    st.ao.radius = 1.0f;
+    RefResult a = renderReference(s, st), b = renderReference(s, st);
+    CHECK(a.mean.data == b.mean.data);
+    CHECK(a.se.data == b.se.data);
+    st.reference.seed = 2;
+    CHECK(renderReference(s, st).mean.data != a.mean.data);
+    st.reference.seed = 1;
+    st.reference.spp = 64;
+    RefResult c = renderReference(s, st);
+    // Mean SE over pixels that are partly occluded at both sample counts.
+    double se16 = 0, se64 = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < a.se.data.size(); i += 4)
+        if (a.se.data[i] > 0 && c.se.data[i] > 0) {
+            se16 += a.se.data[i];
+            se64 += c.se.data[i];
+            ++n;
+        }
+    REQUIRE(n > 100);
+    // 4x the samples: half the standard error; 10 % for the estimate's own
+    // noise over a few hundred pixels and the bias of sqrt(s²) at small n.
+    CHECK(se16 / se64 == doctest::Approx(2.0).epsilon(0.1));
+}
+
+TEST_CASE("Reference cache: a second renderer loads the stored reference") {
+    GpuFixture fx;
+    Scene s = cornerScene();
+    Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 8);
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / "rtgi-test-ref-cache";
+    std::filesystem::remove_all(dir);
+    st.reference.cacheDir = dir.string();
+    RefResult a = renderReference(s, st);
+    CHECK_FALSE(a.fromCache);
+    RefResult b = renderReference(s, st);
+    CHECK(b.fromCache);
+    CHECK(a.mean.data == b.mean.data);  // PFM stores float32: lossless
+    st.reference.spp = 9;  // other settings, other key
+    CHECK_FALSE(renderReference(s, st).fromCache);
+    std::filesystem::remove_all(dir);
+}
