@@ -4,6 +4,7 @@
 #include "render/reference/metrics.h"
 #include "render/reference/reference_cache.h"
 #include "render/reference/reference_passes.h"
+#include "render/ssr/ssr_passes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -78,6 +79,19 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     e["peak"] = peak;
     double heatMax = errorQuantile(test, mean, channels, 0.99);
     e["heatmap_max"] = heatMax;
+    // Issue 6: the reflection error on the pixels SSR shades (roughness <=
+    // ssr.roughness_cutoff), beside the whole-image one. SSIM is computed over
+    // the whole image, so it is not repeated here.
+    if (kind == K::Full && effectiveSsrTracer(run.scene(), run.settings()) != SsrSettings::Tracer::Off) {
+        FloatImage material = readTexture(res.gbuffer.material);
+        std::vector<std::uint8_t> glossy(mask.size());
+        const float cutoff = run.settings().ssr.roughnessCutoff;
+        for (std::size_t i = 0; i < glossy.size(); ++i)
+            glossy[i] = mask[i] && material.data[i * std::size_t(material.channels)] <= cutoff;
+        nlohmann::json g = metricsJson(compareImages(test, mean, channels, peak, glossy), true);
+        g.erase("ssim");
+        e["glossy"] = g;
+    }
     nlohmann::json refInfo = referenceSettingsJson(referenceConstants(rs, run.scene().bounds()));
     for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
     refInfo["spp"] = rs.reference.spp;
