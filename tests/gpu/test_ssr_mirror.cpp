@@ -4,6 +4,7 @@
 // each cell's footprint, pruning, and robustness (--check counts).
 #include "gpu_fixture.h"
 
+#include "render/reference/reference_runner.h"
 #include "render/ssr/ssr_constants.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -323,4 +324,57 @@ TEST_CASE("SSR never writes NaN/Inf: grazing view, zero thickness, every tracer,
         }
         CHECK(checked >= 6);
     }
+}
+
+TEST_CASE("--reference reports the SSR error over the glossy pixels (the mirror floor) beside the whole image") {
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    const glm::ivec2 size(16, 16);
+    Scene s = mirrorScene();
+    Settings st;
+    st.ssr.tracer = SsrSettings::Tracer::Linear;
+    st.reference.spp = 4;  // only the pixel sets are checked, not the converged values
+    st.reference.bounces = 1;
+    st.reference.cacheDir = "off";
+    auto r = renderFrames(s, st, size, prof, 2);
+    const Camera cam = resolveCamera(s, st);
+    nlohmann::json e = compareWithReference(*r, cam, size, "", false);
+    REQUIRE(e.contains("glossy"));
+    // The glossy pixels are those whose centre ray sees the mirror floor first
+    // (CPU ray cast in double against the floor and the wall); pixels whose
+    // centre ray passes within 0.05 pixel of an edge may go either way in the
+    // rasterizer.
+    auto seesFloor = [&](double px, double py) {
+        glm::dvec3 eye(cam.position), f = glm::normalize(glm::dvec3(cam.target) - eye);
+        glm::dvec3 rt = glm::normalize(glm::cross(f, glm::dvec3(0, 1, 0))), up = glm::cross(rt, f);
+        double t = std::tan(0.5 * double(cam.fovY)), aspect = double(size.x) / size.y;
+        glm::dvec3 d = f + rt * ((px / size.x * 2 - 1) * t * aspect) + up * ((py / size.y * 2 - 1) * t);
+        if (d.y >= 0) return false;
+        double tFloor = -eye.y / d.y;
+        glm::dvec3 p = eye + d * tFloor;
+        if (std::abs(p.x) > 10 || std::abs(p.z) > 10) return false;
+        double tWall = (kWallZ - eye.z) / d.z;  // the wall hides the floor behind it
+        glm::dvec3 w = eye + d * tWall;
+        return !(tWall > 0 && tWall < tFloor && std::abs(w.x) <= kWallHalfWidth && w.y >= 0 && w.y <= kWallHeight);
+    };
+    int sure = 0, maybe = 0;
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) {
+            bool c = seesFloor(x + 0.5, y + 0.5);
+            bool any = false, all = true;
+            for (double d : {-0.05, 0.05})
+                for (double d2 : {-0.05, 0.05}) {
+                    bool f = seesFloor(x + 0.5 + d, y + 0.5 + d2);
+                    any |= f;
+                    all &= f;
+                }
+            sure += c && all;
+            maybe += any && !all;
+        }
+    const int glossy = e["glossy"]["pixels"].get<int>();
+    CHECK(glossy >= sure);
+    CHECK(glossy <= sure + maybe);
+    CHECK(glossy < e["pixels"].get<int>());  // the wall is geometry but not glossy
+    CHECK_FALSE(e["glossy"].contains("ssim"));
+    for (const char* k : {"rmse", "mae", "bias", "rel_rmse"}) CHECK(std::isfinite(e["glossy"][k].get<double>()));
 }
