@@ -6,6 +6,7 @@
 // The passes share one SsrState (private targets and the constant block); all
 // of it is created inside execute(), so nothing is allocated when SSR is off.
 #include "render/ssr/ssr_passes.h"
+#include "render/passes/core_passes.h"
 
 #include "gl/program.h"
 #include "render/filter.h"
@@ -320,37 +321,9 @@ public:
         st_->directDiffuse.ensure(ctx.ledger, "ssr.direct_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         r.diffuseHistory.ensure(ctx.ledger, "ssr.diffuse_history", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         r.diffuseHistory.setSampling(GL_LINEAR, GL_LINEAR);
-        const gl::Defines diffuseOnly{{"RTGI_DIFFUSE_ONLY", ""}};
-        const gl::Program& direct = ctx.programs.compute("post/direct.comp", diffuseOnly);
-        const gl::Program& compose = ctx.programs.compute("post/compose.comp", diffuseOnly);
-        const GBuffer& g = r.gbuffer;
-        // Producers: gbuffer, shadow (raster writes); ao.*, lpv.apply (image stores).
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, g.linearDepth.id());
-        glBindTextureUnit(1, g.normal.id());
-        glBindTextureUnit(2, g.albedo.id());
-        glBindTextureUnit(3, g.material.id());
-        glBindTextureUnit(4, g.emissive.id());
-        bool shadow = bool(r.shadowMap);
-        glBindTextureUnit(5, shadow ? r.shadowMap.id() : 0);
-        direct.set(0, shadow ? 1 : 0);
-        ctx.gpuScene.bindTables();
-        glBindImageTexture(0, st_->directDiffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(direct, s.x, s.y);
-        // Producer: the diffuse-only direct dispatch above.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, st_->directDiffuse.id());
-        glBindTextureUnit(1, g.albedo.id());
-        glBindTextureUnit(2, g.material.id());
-        glBindTextureUnit(3, r.indirectDiffuse ? r.indirectDiffuse.id() : 0);
-        glBindTextureUnit(4, 0);
-        glBindTextureUnit(5, r.ao ? r.ao.id() : 0);
-        bool aoInLpv = ctx.settings.ao.directional != AoSettings::Directional::Off && bool(r.indirectDiffuse) &&
-                       bool(r.bentNormal.id() || r.s3ho.id());
-        compose.set(0, glm::ivec4(bool(r.indirectDiffuse), 0, bool(r.ao), aoInLpv));
-        glBindImageTexture(0, r.diffuseHistory.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(compose, s.x, s.y);
-        for (int u = 3; u <= 5; ++u) glBindTextureUnit(GLuint(u), 0);
+        dispatchDirect(ctx, st_->directDiffuse, true);
+        // Producer: the diffuse-only direct dispatch above (barrier inside dispatchCompose).
+        dispatchCompose(ctx, st_->directDiffuse, r.diffuseHistory, nullptr, true);
         st_->diffuseHistoryValid = true;
     }
 };
