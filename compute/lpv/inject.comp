@@ -4,6 +4,7 @@
 // Layout of each r32f accumulation texture: coefficient k of cell (x, y, z)
 // at (4x + k, y, z). The textures are zero on entry (lpv.pack zeroes what it
 // consumed). Texels outside the grid are counted.
+#extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;

@@ -6,6 +6,7 @@
 // accumulation texture is zero on entry (the geometry pack zeroes it).
 // Default source: the RSM; RTGI_LPV_GV_GBUFFER: the camera G-buffer sampled
 // at quarter resolution (every second pixel in x and y, seed 5.2.3).
+#extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"

@@ -10,7 +10,7 @@
 //   void lpvGlobalAdd(uint key, int channel, float value);
 // Every invocation of the workgroup must call lpvReduceBegin() and
 // lpvReduceEnd() (barriers); lpvReduceAdd() only where it has a contribution.
-#extension GL_NV_shader_atomic_float : require
+// The includer enables GL_NV_shader_atomic_float first (float atomicAdd on shared memory).
 
 const uint LPV_REDUCE_SLOTS = 32u;  // power of two
 const uint LPV_REDUCE_PROBES = 8u;

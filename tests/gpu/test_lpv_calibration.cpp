@@ -92,10 +92,18 @@ TEST_CASE("LPV calibration: wall lit by a sunlit floor, LPV indirect vs path-tra
         REQUIRE(n > 100);
         double ratio = sumLpv / sumRef;
         double relSe = std::sqrt(var) / sumRef;
-        MESSAGE("LPV / path-traced (one bounce) on the wall, energy_conserving=" << (conserving ? "on" : "off")
-                                                                            << ": " << ratio << " (reference rel. SE "
-                                                                            << relSe << ", " << n << " pixels)");
-        CHECK(relSe < 0.02);
-        CHECK(ratio > 0.0);
+        std::string mode = conserving ? "on" : "off";
+        MESSAGE("LPV / path-traced (one bounce) on the wall, lpv.energy_conserving=" << mode << ": " << ratio
+                                                                                 << " (reference rel. SE " << relSe
+                                                                                 << ", " << n << " pixels)");
+        CHECK(relSe < 0.02);  // 64 paths x ~300 pixels: the reference mean is good to ~1 %
+        // docs/lpv.md, "Calibration": the normalization makes a cosine stream crossing a layer
+        // count 2 cell lengths, as the true one does; the scheme moves light one cell per step but
+        // only 0.402 of the flux upwards in the first step (the rest sideways, none down), less
+        // for the broadened lobes after, so a layer is visited >= 1/0.402 = 2.49 times per
+        // crossing: derived lower bound 2.49 / 2 = 1.24. The upper bound is a margin, not
+        // derived (measured 1.66 conserving, 1.89 classic): 2.0 conserving, 2.3 classic.
+        CHECK(ratio >= 1.24);
+        CHECK(ratio <= (conserving ? 2.0 : 2.3));
     }
 }

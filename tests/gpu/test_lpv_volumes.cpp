@@ -532,8 +532,8 @@ TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole
         g.upload(in);
         g.v.ensureHistory(g.ledger);
     };
-    auto upload = [](const lpv::Rgb& t, const CpuVolume& v) {
-        for (int c = 0; c < 3; ++c) uploadRgba(t[std::size_t(c)], v.c[c]);
+    auto upload = [](const lpv::Rgb& vol, const CpuVolume& v) {
+        for (int c = 0; c < 3; ++c) uploadRgba(vol[std::size_t(c)], v.c[c]);
     };
     // Static scene: the history starts from another volume B and every frame blends the same
     // current volume A: h_k = A + t^k (B - A) (CPU double), -> A.
