@@ -71,10 +71,25 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
         if (!in) throw ConfigError("--config " + f + ": cannot open the file");
         std::stringstream ss;
         ss << in.rdbuf();
-        applyJsonConfig(c.settings, ss.str(), f);
+        for (auto& kv : flattenJsonConfig(ss.str(), f)) {
+            try {
+                applySetting(c.settings, kv.first, kv.second);
+            } catch (const ConfigError& e) {
+                throw ConfigError(f + ": " + e.what());
+            }
+            c.assignments.push_back(kv);
+        }
     }
-    for (auto& s : sets) applyAssignment(c.settings, s);
+    for (auto& s : sets) {
+        applyAssignment(c.settings, s);
+        auto eq = s.find('=');
+        c.assignments.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+    }
     return c;
+}
+
+Settings settingsFor(const Scene& scene, const CommandLine& cl) {
+    return effectiveSettings(scene.suggestedSettings, cl.assignments, scene.name);
 }
 
 std::string commonHelp() {

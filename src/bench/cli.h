@@ -18,12 +18,18 @@ struct CommandLine {
     int shardIndex = 0, shardCount = 1;
     bool scenesGiven = false;
     std::vector<std::string> extra;  // host-specific options left for the caller
+    // --config files then --set, in order (settings = these applied on top of
+    // the scene's suggested settings: see settingsFor).
+    Assignments assignments;
 };
 
 // Parses argv; throws ConfigError naming the option on bad input. Options a
 // host handles itself are returned in `extra` when listed in hostOptions
 // (name -> takes a value).
 CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<std::string, bool>>& hostOptions = {});
+// The settings of a run of `scene`: defaults, the scene's suggestions, then
+// the command line's --config / --set.
+Settings settingsFor(const Scene& scene, const CommandLine& cl);
 std::string commonHelp();
 std::string settingsHelp();
 

@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
         auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
-        nlohmann::json r = runBenchmark(ctx->info(), scene, cl.settings, cl.run);
+        nlohmann::json r = runBenchmark(ctx->info(), scene, settingsFor(scene, cl), cl.run);
         std::filesystem::create_directories(cl.run.outDir);
         std::ofstream(cl.run.outDir + "/results.json") << r.dump(2) << "\n";
         std::ofstream csv(cl.run.outDir + "/results.csv");

@@ -104,6 +104,11 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["egl_device"] = info.device;
     r["timer"] = profiler.timer();
     r["scene"] = scene.name;
+    if (!scene.suggestedSettings.empty()) {
+        nlohmann::json ss = nlohmann::json::object();
+        for (auto& [k, v] : scene.suggestedSettings) ss[k] = v;
+        r["scene_settings"] = ss;  // the scene's suggestions; "config" holds what took effect
+    }
     r["triangles"] = scene.triangleCount();
     r["resolution"] = std::to_string(opts.resolution.x) + "x" + std::to_string(opts.resolution.y);
     r["frames"] = opts.frames;

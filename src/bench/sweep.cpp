@@ -113,22 +113,24 @@ int runSweepCommand(const CommandLine& cl) {
         nlohmann::json line;
         std::string retry;
         try {
-            Settings settings = c.settings();
+            std::string sceneKey;
+            for (auto& s : c.scenes) sceneKey += s + "\n";
+            if (sceneKey != loadedScene || !scene) {
+                std::vector<std::string> paths;
+                for (auto& s : c.scenes) paths.push_back(expandScenePath(s));
+                renderer.reset();
+                loadedScene.clear();
+                scene = std::make_unique<Scene>(loadScenes(paths));
+                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+            }
+            Settings settings = effectiveSettings(scene->suggestedSettings, c.assignments, scene->name);
             if (settings.reference.kind != ReferenceSettings::Kind::Off && !haveReference) {
                 // Time the techniques now; the errors come when the reference
                 // lands (resume re-runs lines marked "retry").
                 settings.reference.kind = ReferenceSettings::Kind::Off;
                 retry = "this build has no reference passes: no error values";
             }
-            std::string sceneKey;
-            for (auto& s : c.scenes) sceneKey += s + "\n";
             if (sceneKey != loadedScene || !renderer) {
-                renderer.reset();
-                loadedScene.clear();
-                std::vector<std::string> paths;
-                for (auto& s : c.scenes) paths.push_back(expandScenePath(s));
-                scene = std::make_unique<Scene>(loadScenes(paths));
-                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
                 if (!profiler) profiler = std::make_unique<gl::Profiler>(ctx->info().timerQuery);
                 renderer = std::make_unique<Renderer>(*scene, settings, *profiler);
                 loadedScene = sceneKey;

@@ -306,7 +306,7 @@ std::map<std::string, std::string> describe(const Settings& s) {
     return m;
 }
 
-void applyJsonConfig(Settings& s, const std::string& text, const std::string& source) {
+Assignments flattenJsonConfig(const std::string& text, const std::string& source) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
@@ -316,6 +316,7 @@ void applyJsonConfig(Settings& s, const std::string& text, const std::string& so
     if (!j.is_object()) throw ConfigError(source + ": the configuration must be a JSON object");
     // Nested objects are flattened into dotted keys; "lpv": {"grid": 32}
     // means lpv.grid, and "lpv": "on" sets the family key itself.
+    Assignments out;
     std::function<void(const nlohmann::json&, const std::string&)> walk = [&](const nlohmann::json& o,
                                                                              const std::string& prefix) {
         for (auto it = o.begin(); it != o.end(); ++it) {
@@ -336,19 +337,40 @@ void applyJsonConfig(Settings& s, const std::string& text, const std::string& so
                 o2.precision(9);
                 o2 << v.get<double>();
                 str = o2.str();
-            } else if (v.is_array() && v.size() == 3) {
+            } else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number()) {
                 str = fmt(v[0].get<double>()) + "," + fmt(v[1].get<double>()) + "," + fmt(v[2].get<double>());
             } else {
                 throw ConfigError(source + ": value of '" + key + "' must be a string, number, boolean or [x,y,z]");
             }
-            try {
-                applySetting(s, key, str);
-            } catch (const ConfigError& e) {
-                throw ConfigError(source + ": " + e.what());
-            }
+            out.emplace_back(key, str);
         }
     };
     walk(j, "");
+    return out;
+}
+
+void applyJsonConfig(Settings& s, const std::string& text, const std::string& source) {
+    for (auto& [k, v] : flattenJsonConfig(text, source)) {
+        try {
+            applySetting(s, k, v);
+        } catch (const ConfigError& e) {
+            throw ConfigError(source + ": " + e.what());
+        }
+    }
+}
+
+Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignments& explicitAssignments,
+                           const std::string& sceneName) {
+    Settings s;
+    for (auto& [k, v] : sceneSuggestions) {
+        try {
+            applySetting(s, k, v);
+        } catch (const ConfigError& e) {
+            throw ConfigError(sceneName + ": suggested settings: " + e.what());
+        }
+    }
+    for (auto& [k, v] : explicitAssignments) applySetting(s, k, v);
+    return s;
 }
 
 }  // namespace rtgi

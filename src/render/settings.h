@@ -127,6 +127,15 @@ std::map<std::string, std::string> describe(const Settings& s);
 // whose dotted paths are keys; `source` names the file for errors.
 void applyJsonConfig(Settings& s, const std::string& jsonText, const std::string& source);
 
+using Assignments = std::vector<std::pair<std::string, std::string>>;
+// The (key, value) pairs of a JSON configuration, in file order (same rules
+// as applyJsonConfig; errors name `source`).
+Assignments flattenJsonConfig(const std::string& jsonText, const std::string& source);
+// Defaults, then the scene's suggested settings, then the explicit
+// assignments (config files, --set, sweep axes) in order.
+Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignments& explicitAssignments,
+                           const std::string& sceneName);
+
 const char* toString(Toggle t);
 const char* toString(AoSettings::Variant v);
 const char* toString(SsrSettings::Tracer t);

@@ -15,6 +15,8 @@
 //   sines and cosines, so axis-aligned geometry stays exactly axis-aligned.
 #include "scene/builtin.h"
 
+#include "render/settings.h"
+
 #include "gl/embedded.h"
 
 #include <glm/gtc/constants.hpp>
@@ -604,7 +606,7 @@ Scene Builder::build(const std::string& text) {
         if (auto p = msg.find("] "); msg.rfind("[json.exception", 0) == 0 && p != std::string::npos) msg = msg.substr(p + 2);
         fail("", "invalid JSON (" + msg + ")");
     }
-    allowKeys(doc, "", {"materials", "prefabs", "objects", "lights", "camera", "cameras", "sky"});
+    allowKeys(doc, "", {"materials", "prefabs", "objects", "lights", "camera", "cameras", "sky", "settings"});
     if (!doc.contains("materials")) fail("", "missing 'materials'");
     readMaterials(doc.at("materials"));
     if (doc.contains("prefabs")) {
@@ -621,6 +623,24 @@ Scene Builder::build(const std::string& text) {
             scene_.cameras.push_back(readCamera(cams[k], "cameras[" + std::to_string(k) + "]"));
     }
     scene_.sky = colour(doc, "", "sky", glm::vec3(0.0f));
+    if (doc.contains("settings")) {
+        // Suggested settings (exposure, LPV grid for the scene's scale): the
+        // keys are checked against the settings table when they are applied.
+        if (!doc.at("settings").is_object()) fail("settings", "expected an object of configuration keys");
+        try {
+            scene_.suggestedSettings = flattenJsonConfig(doc.at("settings").dump(), "settings");
+        } catch (const ConfigError& e) {
+            fail("settings", e.what());
+        }
+        Settings probe;
+        for (auto& [k, v] : scene_.suggestedSettings) {
+            try {
+                applySetting(probe, k, v);
+            } catch (const ConfigError& e) {
+                fail("settings", e.what());
+            }
+        }
+    }
     if (!doc.contains("objects")) fail("", "missing 'objects'");
     readItems(doc.at("objects"), "objects", glm::mat4(1.0f), "", 0);
 

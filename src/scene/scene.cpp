@@ -44,6 +44,7 @@ void Scene::merge(const Scene& o) {
     cameras.insert(cameras.end(), o.cameras.begin(), o.cameras.end());
     sky = glm::max(sky, o.sky);
     warnings.insert(warnings.end(), o.warnings.begin(), o.warnings.end());
+    suggestedSettings.insert(suggestedSettings.end(), o.suggestedSettings.begin(), o.suggestedSettings.end());
     name = name.empty() ? o.name : name + "+" + o.name;
 }
 

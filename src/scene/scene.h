@@ -91,6 +91,11 @@ struct Scene {
     // ambient term of the real-time path when no indirect technique runs).
     glm::vec3 sky{0.0f};
     std::vector<std::string> warnings;  // repairs made while loading
+    // Settings the scene's author suggests (e.g. exposure, LPV grid for its
+    // scale), applied before --config / --set / sweep assignments, which win;
+    // results.json records the effective values and lists these under
+    // "scene_settings".
+    std::vector<std::pair<std::string, std::string>> suggestedSettings;
 
     Aabb bounds() const;
     std::size_t triangleCount() const { return indices.size() / 3; }

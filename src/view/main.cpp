@@ -63,7 +63,7 @@ int run(int argc, char** argv) {
     for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", w.c_str());
     auto host = gl::WindowHost::create(cl.run.resolution, "rtgi-view: " + scene.name, cl.debug, vsync && !automate);
     gl::Profiler profiler(host->info().timerQuery);
-    Settings settings = cl.settings;
+    Settings settings = settingsFor(scene, cl);
     Renderer renderer(scene, settings, profiler);
     gl::ProgramCache& programs = renderer.programs();
     view::ScreenPainter painter;

@@ -407,3 +407,13 @@ TEST_CASE("scanned models are placed on builtin:plane by translating them to flo
     CHECK(floor.bounds().lo.y == doctest::Approx(0.0).epsilon(1e-6));
     CHECK(floor.sun() != nullptr);
 }
+
+TEST_CASE("scene files may suggest settings; unknown keys there are errors naming the file") {
+    Scene c = loadBuiltin("cornell");
+    bool grid = false;
+    for (auto& [k, v] : c.suggestedSettings) grid |= k == "lpv.grid";
+    CHECK(grid);
+    const char* bad = R"({"materials": {"m": {"baseColor": [1, 1, 1]}}, "settings": {"lpv.gird": 4},
+                         "objects": [{"material": "m", "box": {"center": [0, 0, 0], "size": [1, 1, 1]}}]})";
+    CHECK_THROWS_WITH_AS(buildSceneFromJson(bad, "scenes/bad.json"), doctest::Contains("scenes/bad.json"), SceneError);
+}

@@ -87,3 +87,19 @@ TEST_CASE("docs/configuration.md documents every key") {
         CHECK(ss.str().find("`" + k.key + "`") != std::string::npos);
     }
 }
+
+TEST_CASE("scene-suggested settings: applied first, explicit assignments win, bad keys name the scene") {
+    Assignments scene = {{"lpv.grid", "16"}, {"post.exposure", "2.5"}};
+    Settings s = effectiveSettings(scene, {}, "builtin:test");
+    CHECK(s.lpv.grid == glm::ivec3(16));
+    CHECK(s.post.exposure == doctest::Approx(2.5));
+    Settings t = effectiveSettings(scene, {{"lpv.grid", "32"}}, "builtin:test");
+    CHECK(t.lpv.grid == glm::ivec3(32));
+    CHECK(t.post.exposure == doctest::Approx(2.5));
+    CHECK_THROWS_WITH_AS(effectiveSettings({{"lpv.gird", "4"}}, {}, "builtin:test"),
+                         doctest::Contains("builtin:test: suggested settings"), ConfigError);
+    Assignments flat = flattenJsonConfig(R"({"ao": {"samples": 8}, "lpv": "on"})", "x.json");
+    REQUIRE(flat.size() == 2);
+    CHECK(flat[0] == std::pair<std::string, std::string>("ao.samples", "8"));
+    CHECK(flat[1] == std::pair<std::string, std::string>("lpv", "on"));
+}
