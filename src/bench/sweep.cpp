@@ -124,10 +124,16 @@ int runSweepCommand(const CommandLine& cl) {
                 for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
             }
             Settings settings = effectiveSettings(scene->suggestedSettings, c.assignments, scene->name);
-            if (settings.reference.kind != ReferenceSettings::Kind::Off && !haveReference) {
+            // A configuration with a reference is timed without it (the
+            // reference passes would run inside the measured frames) and then
+            // compared with it, as `--reference` does; the kind follows from
+            // what the configuration produces (AO, indirect light, image).
+            bool compare = settings.reference.kind != ReferenceSettings::Kind::Off;
+            settings.reference.kind = ReferenceSettings::Kind::Off;
+            if (compare && !haveReference) {
                 // Time the techniques now; the errors come when the reference
                 // lands (resume re-runs lines marked "retry").
-                settings.reference.kind = ReferenceSettings::Kind::Off;
+                compare = false;
                 retry = "this build has no reference passes: no error values";
             }
             if (sceneKey != loadedScene || !renderer) {
@@ -145,6 +151,7 @@ int runSweepCommand(const CommandLine& cl) {
             opts.outDir = dir + "/images/" + c.id;
             opts.check = spec.check || cl.run.check;
             opts.quiet = true;
+            opts.reference = compare;
             line = runBenchmark(ctx->info(), *renderer, opts);
         } catch (const std::exception& e) {
             // A configuration the build cannot run (a technique not landed, a

@@ -118,3 +118,25 @@ TEST_CASE("sweep end to end: ci-tiny runs, resumes, shards, and report.py plots 
     CHECK(mds.str().find(spec.configs[0].id) != std::string::npos);
     fs::remove_all(dir);
 }
+
+TEST_CASE("sweep with a reference: errors in every line, reference passes never in the timed frames") {
+    fs::path dir = fs::temp_directory_path() / ("rtgi-sweep-ref-" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path sweepFile = dir / "ref-tiny.json";
+    std::ofstream(sweepFile) << R"({"name": "ref-tiny", "scenes": ["builtin:corner"], "frames": 2, "warmup": 0,
+        "resolutions": ["48x32"], "reference": "ao", "base": {"reference.spp": 16, "lpv": "off", "ssr": "off"},
+        "axes": [{"ao": ["hbao", "gtao"]}]})";
+    REQUIRE(run(std::string(RTGI_BENCH_EXE) + " --sweep " + sweepFile.string() + " --out " + (dir / "out").string()) == 0);
+    auto lines = readJsonl(dir / "out" / "results.jsonl");
+    REQUIRE(lines.size() == 2u);
+    for (auto& l : lines) {
+        INFO(l["sweep"]["label"]);
+        REQUIRE(l.contains("error"));
+        CHECK(l["error"]["compared"] == "ao");
+        // AO of a floor beside a wall is not 1 everywhere: a real, non-zero error.
+        CHECK(l["error"]["rmse"].get<double>() > 0.0);
+        CHECK(l["error"]["rmse"].get<double>() < 0.5);
+        for (auto& p : l["passes"]) CHECK(p["name"].get<std::string>().rfind("ref.", 0) != 0);
+    }
+}
