@@ -199,7 +199,7 @@ public:
         gl::dispatch(v, t.x, t.y);
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.blurred", &st_->blurred}};
+        return {{"ssr.blur_temp", &st_->blurTemp}, {"ssr.blurred", &st_->blurred}};
     }
 };
 
@@ -240,7 +240,8 @@ public:
         return {{"ssr.temporal.reflection", &st_->temporal[st_->current], 1.0f}};
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.temporal", &st_->temporal[st_->current]}};
+        return {{"ssr.temporal", &st_->temporal[st_->current]},
+                {"ssr.temporal_depth", &st_->temporalDepth[st_->current]}};
     }
 };
 
@@ -333,6 +334,12 @@ public:
         gl::dispatch(compose, s.x, s.y);
         for (int u = 3; u <= 5; ++u) glBindTextureUnit(GLuint(u), 0);
         st_->diffuseHistoryValid = true;
+    }
+    // res.diffuseHistory through writes(); the diffuse-only direct light is private.
+    std::vector<Output> checkedOutputs(const FrameResources& res) const override {
+        std::vector<Output> o = Pass::checkedOutputs(res);
+        o.push_back({"ssr.direct_diffuse", &st_->directDiffuse});
+        return o;
     }
 };
 
