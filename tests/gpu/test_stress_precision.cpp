@@ -192,6 +192,6 @@ TEST_CASE("precision: LPV fp16 vs fp32 volumes on cornell at scene scales 1e-3, 
         if (k == 1.0f) CHECK(rel <= 1e-2);
         // At 1e3 (cells ~700 m, I ~ 5e5 L) the fp16 volume saturates: flagged by --check, not Inf.
         if (k == 1e3f) CHECK(saturated[0] > 0);
-        CHECK(saturated[1] == 0 || k == 1e3f);
+        if (k != 1e3f) CHECK(saturated[1] == 0);
     }
 }
