@@ -70,10 +70,10 @@ TEST_CASE("stress: AO radius 0, 1e-6, larger than the scene and larger than the 
             st.ao.samples = 8;
             st.ao.directional = v == Variant::Gtao ? AoSettings::Directional::S3ho : AoSettings::Directional::BentNormals;
             st.ao.radiusMode = v == Variant::Hbao ? AoSettings::RadiusMode::Dynamic6 : AoSettings::RadiusMode::Fixed;
-            INFO(toString(v) << " radius " << radius);
+            INFO(std::string(toString(v)) << " radius " << radius);
             std::uint64_t bad = 0;
             AoRange a = floorAo(s, st, size, bad);
-            MESSAGE(toString(v) << " radius " << radius << ": floor AO in [" << a.lo << ", " << a.hi
+            MESSAGE(std::string(toString(v)) << " radius " << radius << ": floor AO in [" << a.lo << ", " << a.hi
                                 << "], mean |1 - AO| = " << a.meanDeviation);
             CHECK(a.finite);
             CHECK(a.lo >= 0.0f);

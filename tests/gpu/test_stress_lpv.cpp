@@ -119,7 +119,7 @@ TEST_CASE("stress: LPV grids 1^3 .. 32^3, non-cubic, 64 iterations, cells 1e-3 .
     };
     for (const Case& c : cases) {
         INFO("grid " << c.grid.x << "x" << c.grid.y << "x" << c.grid.z << ", " << c.iterations << " iterations, cell "
-                     << c.cell << (c.format == LpvSettings::Format::Rgba32f ? " fp32" : " fp16"));
+                     << c.cell << std::string(c.format == LpvSettings::Format::Rgba32f ? " fp32" : " fp16"));
         Settings s;
         s.lpv.mode = Toggle::On;
         s.lpv.grid = c.grid;
@@ -143,7 +143,7 @@ TEST_CASE("stress: LPV with blocking potential 1 everywhere stops all transport 
     light[std::size_t(centre)] = lobe(1.0, glm::normalize(glm::dvec3(0.3, 1, -0.2)));
     for (GLenum format : {GL_RGBA32F, GL_RGBA16F})
         for (double potential : {1.0, 1.5}) {
-            INFO((format == GL_RGBA32F ? "fp32" : "fp16") << ", blocking potential " << potential);
+            INFO(std::string(format == GL_RGBA32F ? "fp32" : "fp16") << ", blocking potential " << potential);
             // B(w) = potential for every direction: SH (potential / Y00, 0, 0, 0).
             const glm::vec4 block(float(potential / kY00), 0, 0, 0);
             std::vector<float> acc2, acc64, last64;
@@ -175,7 +175,7 @@ TEST_CASE("stress: LPV with blocking potential 1 everywhere stops all transport 
                             maxDiff = std::max(maxDiff, double(std::abs(acc64[i + std::size_t(k)] - acc2[i + std::size_t(k)])));
                         }
                     }
-            MESSAGE((format == GL_RGBA32F ? "fp32" : "fp16") << " potential " << potential << ": max |step 64| = "
+            MESSAGE(std::string(format == GL_RGBA32F ? "fp32" : "fp16") << " potential " << potential << ": max |step 64| = "
                                                              << maxLast << ", max beyond 1 cell = " << maxFar);
             CHECK(maxLast <= leak);
             CHECK(maxFar <= leak);

@@ -68,11 +68,15 @@ TEST_CASE("stress: SSR thickness 0 and 1e6, every tracer, stays finite") {
             Settings st;
             st.ssr.tracer = tracer;
             st.ssr.thickness = thickness;
-            INFO(toString(tracer) << " thickness " << thickness);
+            INFO(std::string(toString(tracer)) << " thickness " << thickness);
             SsrRun r = runSsr(s, st, {24, 16});
             CHECK(r.bad == 0);
             float lo = 1, hi = 0;
-            for (float c : r.confidence.data) lo = std::min(lo, c), hi = std::max(hi, c);
+            for (int y = 0; y < r.confidence.height; ++y)
+                for (int x = 0; x < r.confidence.width; ++x) {
+                    lo = std::min(lo, r.confidence.at(x, y, 0));
+                    hi = std::max(hi, r.confidence.at(x, y, 0));
+                }
             // The confidence is a weight in [0, 1] whatever the thickness.
             CHECK(lo >= 0.0f);
             CHECK(hi <= 1.0f);
@@ -94,13 +98,14 @@ TEST_CASE("stress: SSR rays parallel to the view (camera straight down on a mirr
             st.ssr.tracer = tracer;
             st.ssr.thickness = thickness;
             st.ssr.halfResolution = false;
-            INFO(toString(tracer) << " thickness " << thickness);
+            INFO(std::string(toString(tracer)) << " thickness " << thickness);
             SsrRun r = runSsr(s, st, {17, 17});  // odd: one pixel centre lies exactly on the view axis
             CHECK(r.bad == 0);
             // Nothing lies above the floor: every reflected ray leaves towards the camera, in front
             // of the depth buffer, so no thickness can turn it into a hit.
             float hi = 0;
-            for (float c : r.confidence.data) hi = std::max(hi, c);
+            for (int y = 0; y < r.confidence.height; ++y)
+                for (int x = 0; x < r.confidence.width; ++x) hi = std::max(hi, r.confidence.at(x, y, 0));
             CHECK(hi == 0.0f);
         }
 }

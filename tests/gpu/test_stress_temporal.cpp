@@ -152,7 +152,7 @@ TEST_CASE("stress: SSR temporal pass over 10000 static frames and alternating cu
                 if (f == kFrames - 1) late = std::abs(double(g) - at1000);
             }
         }
-        MESSAGE("SSR temporal, 10000 frames" << (alternateCuts ? " with cuts" : "") << ": max |GPU - double| = "
+        MESSAGE("SSR temporal, 10000 frames" << std::string(alternateCuts ? " with cuts" : "") << ": max |GPU - double| = "
                                              << maxDev << ", drift 1000->10000 = " << late);
         CHECK(finite);
         // Values in [0.1, 0.9] (red = v, mean 0.5): half quantum <= 2^-11, a = 0.05 -> 2^-11/0.05 = 0.0098.
@@ -205,7 +205,7 @@ TEST_CASE("stress: LPV temporal blend (t = 0.99) over 10000 static frames, fp16 
                 if (f == kFrames - 1) late = std::abs(double(g) - at1000) / cpu;
             }
         }
-        MESSAGE("LPV temporal t=0.99, 10000 frames, " << (format == GL_RGBA32F ? "fp32" : "fp16")
+        MESSAGE("LPV temporal t=0.99, 10000 frames, " << std::string(format == GL_RGBA32F ? "fp32" : "fp16")
                                                      << ": max relative |GPU - double| = " << maxRel
                                                      << ", drift 1000->10000 = " << late);
         CHECK(finite);
