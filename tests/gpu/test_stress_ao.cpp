@@ -78,12 +78,9 @@ TEST_CASE("stress: AO radius 0, 1e-6, larger than the scene and larger than the 
             CHECK(a.finite);
             CHECK(a.lo >= 0.0f);
             CHECK(a.hi <= 1.0f);
-            // Radius 0 and 1e-6: no sample can leave the pixel's own surface; the plane test's
-            // tolerance (0.02, tests/gpu/test_ao_chain.cpp) covers fp16 storage and the bias.
-            if (radius <= 1e-6f) CHECK(a.lo >= 0.98f);
-            // Huge radii: samples project off the screen or onto the far floor. A plane still
-            // cannot occlude itself; the screen-space estimate loses samples at the borders
-            // (clamped reads) but must not report the plane as occluded on average.
-            if (radius >= 1e3f) CHECK(a.meanDeviation <= 0.1);
+            // A plane never occludes itself, for any radius: the plane test's tolerance (0.02,
+            // tests/gpu/test_ao_chain.cpp) covers fp16 storage. Radius 0 and 1e-6 take the guard of
+            // ao.comp (R < 1e-4 of the depth -> unoccluded); 1e3 and 1e6 project off the screen.
+            CHECK(a.lo >= 0.98f);
         }
 }
