@@ -56,12 +56,11 @@ bool ssrReflectionRay(vec3 viewPos, vec3 normal, out vec3 dir) {
     return true;
 }
 
-// Per-pixel start offset in (0, 1]: interleaved gradient noise (Jimenez
-// 2014), shifted per frame over 8 variants (SPEC 6.1).
-float ssrJitter(ivec2 pixel, uint frameIndex) {
-    vec2 p = vec2(pixel) + float(frameIndex % 8u) * vec2(5.588238, 5.588238);
-    return 1.0 - fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715))));
-}
+// Start offset in (0, 1) of the first step from one blue-noise value
+// (SPEC 6.1; lib/noise.glsl, an 8-bit UNORM channel k/255): the centre of
+// byte k's 1/256 interval, so a ray never starts at its own origin (0) and
+// never skips a whole first step (1).
+float ssrJitter(float noise) { return (round(clamp(noise, 0.0, 1.0) * 255.0) + 0.5) / 256.0; }
 
 // Confidence of a hit: 1 inside the screen, fading linearly to 0 over
 // `edgeFade` (uv) at the borders and for rays that face the camera (their
@@ -108,11 +107,14 @@ SsrHit ssrTraceLinear(sampler2D depthTex, vec3 origin, vec3 dir, SsrCamera cam, 
                 if (um.z >= ssrFetchDepth(depthTex, um.xy * cam.size, cam)) b = m;
                 else a = m;
             }
+            // The step's depth range covers everything it passed behind; the
+            // crossing found by bisection must itself pass the thickness test,
+            // else the ray went behind a thin surface and marches on.
+            vec3 ua = uvFromViewPosition(origin + dir * a, cam.tanHalfFov, cam.aspect);
             vec3 ub = uvFromViewPosition(origin + dir * b, cam.tanHalfFov, cam.aspect);
-            // Bisection may land on a nearer surface; keep the tested step then.
-            if (!ssrDepthHit(ub.z, ub.z, ssrFetchDepth(depthTex, ub.xy * cam.size, cam), thickness, cam.far))
-                ub = uvd;
-            return SsrHit(true, ub.xy, ub.z);
+            if (ssrDepthHit(min(ua.z, ub.z), max(ua.z, ub.z), ssrFetchDepth(depthTex, ub.xy * cam.size, cam),
+                            thickness, cam.far))
+                return SsrHit(true, ub.xy, ub.z);
         }
         tPrev = t;
     }
@@ -157,19 +159,19 @@ SsrHit ssrTraceDda(sampler2D depthTex, vec3 origin, vec3 dir, SsrCamera cam, int
         float za = ssrSegmentDepth(g, max(s - 0.5 * ds, 0.0)), zb = ssrSegmentDepth(g, min(s + 0.5 * ds, 1.0));
         float scene = ssrFetchDepth(depthTex, pixel, cam);
         if (ssrDepthHit(min(za, zb), max(za, zb), scene, thickness, cam.far)) {
-            if (stride > 1.0) {
-                float a = max(s - ds, 0.0), b = s;
-                for (int k = 0; k < 6; ++k) {
-                    float m = 0.5 * (a + b);
-                    if (ssrSegmentDepth(g, m) >= ssrFetchDepth(depthTex, g.p0 + g.delta * m, cam)) b = m;
-                    else a = m;
-                }
-                vec2 pb = g.p0 + g.delta * b;
-                float zb2 = ssrSegmentDepth(g, b);
-                if (ssrDepthHit(zb2, zb2, ssrFetchDepth(depthTex, pb, cam), thickness, cam.far))
-                    return SsrHit(true, pb / cam.size, zb2);
+            if (stride <= 1.0) return SsrHit(true, pixel / cam.size, clamp(scene, min(za, zb), max(za, zb)));
+            // Coarse stride: bisect inside it; the crossing must pass the
+            // thickness test (else the ray went behind a thin surface).
+            float a = max(s - 0.5 * ds, 0.0), b = min(s + 0.5 * ds, 1.0);
+            for (int k = 0; k < 6; ++k) {
+                float m = 0.5 * (a + b);
+                if (ssrSegmentDepth(g, m) >= ssrFetchDepth(depthTex, g.p0 + g.delta * m, cam)) b = m;
+                else a = m;
             }
-            return SsrHit(true, pixel / cam.size, clamp(scene, min(za, zb), max(za, zb)));
+            vec2 pb = g.p0 + g.delta * b;
+            float zA = ssrSegmentDepth(g, a), zB = ssrSegmentDepth(g, b);
+            if (ssrDepthHit(min(zA, zB), max(zA, zB), ssrFetchDepth(depthTex, pb, cam), thickness, cam.far))
+                return SsrHit(true, pb / cam.size, zB);
         }
     }
     return ssrMiss();
@@ -181,7 +183,8 @@ SsrHit ssrTraceDda(sampler2D depthTex, vec3 origin, vec3 dir, SsrCamera cam, int
 // left-over pixel). Where the ray stays in front of a cell's minimum it skips
 // the cell and climbs a level; otherwise it advances to where it reaches the
 // minimum and descends; at level 0 it applies the common hit test and passes
-// behind surfaces more than `thickness` thick. `iterations` bounds the loop.
+// behind surfaces more than `thickness` thick. `iterations` bounds the cells
+// it advances over (descending a level does not count).
 SsrHit ssrTraceHiz(sampler2D hiz, int levels, vec3 origin, vec3 dir, SsrCamera cam, int iterations,
                    float thickness) {
     SsrSegment g = ssrScreenSegment(origin, dir, cam);
@@ -191,8 +194,10 @@ SsrHit ssrTraceHiz(sampler2D hiz, int levels, vec3 origin, vec3 dir, SsrCamera c
     vec2 invDelta = vec2(abs(g.delta.x) > 1e-6 ? 1.0 / g.delta.x : 3.0e38,
                          abs(g.delta.y) > 1e-6 ? 1.0 / g.delta.y : 3.0e38);
     float s = 1.0 / len;  // one pixel along the major axis: out of the origin pixel
-    int level = 0;
-    for (int i = 0; i < iterations && s <= 1.0; ++i) {
+    int level = 0, advances = 0;
+    // `iterations` bounds the cells the ray advances over; descents are free
+    // (at most `levels` between two advances), so the loop ends.
+    for (int i = 0; advances < iterations && i < iterations * (levels + 1) && s <= 1.0; ++i) {
         vec2 p = g.p0 + g.delta * s;
         float cellSize = float(1 << level);
         ivec2 cell = clamp(ivec2(floor(p / cellSize)), ivec2(0), textureSize(hiz, level) - 1);
@@ -205,6 +210,7 @@ SsrHit ssrTraceHiz(sampler2D hiz, int levels, vec3 origin, vec3 dir, SsrCamera c
         float rayNear = min(dEnter, dExit), rayFar = max(dEnter, dExit);
         if (rayFar < dmin) {  // in front of everything in the cell
             s = sExit + kCross / len;
+            ++advances;
             level = min(level + 1, levels - 1);
             continue;
         }
@@ -214,6 +220,7 @@ SsrHit ssrTraceHiz(sampler2D hiz, int levels, vec3 origin, vec3 dir, SsrCamera c
                 return SsrHit(true, (g.p0 + g.delta * sHit) / cam.size, ssrSegmentDepth(g, sHit));
             }
             s = sExit + kCross / len;  // passes behind a thick surface (or reached the sky)
+            ++advances;
             continue;
         }
         if (dEnter < dmin && abs(g.dk) > 0.0) s = clamp((1.0 / dmin - g.k0) / g.dk, s, sExit);

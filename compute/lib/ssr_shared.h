@@ -22,8 +22,6 @@ RTGI_STRUCT(SsrUniforms) {
     ivec4 sizes;    // trace width, trace height, full width, full height
     ivec4 params;   // max steps / iterations, tracer id, Hi-Z levels, full/trace pixel ratio (1 or 2)
     vec4 trace;     // thickness (view units), roughness cutoff, screen-edge fade width (uv), unused
-    vec4 blur;      // blur sigma (trace pixels), blur radius, depth threshold (relative), normal threshold (cos)
-    vec4 temporal;  // x: the temporal history holds a resolved frame (1) or not (0); yzw unused
 };
 
 #ifndef RTGI_GLSL

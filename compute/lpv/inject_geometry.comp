@@ -1,15 +1,17 @@
 // lpv.inject_geometry: blocking potential B(w) = A_s s^-2 max(0, n.w) (seed
 // eq. 11, [KD10]) projected with the cosine lobe, plus A_s * albedo (rgb) and
 // A_s for the mean albedo the bounce reflects with (colour bleeding), accumulated with fp32 atomics on
-// the corner lattice (offset by half a cell: corner g sits at origin + g*s).
+// the corner lattice (offset by half a cell: corner g sits at origin + g*s),
+// pre-reduced per workgroup in shared memory (lpv_reduce.glsl); the
+// accumulation texture is zero on entry (the geometry pack zeroes it).
 // Default source: the RSM; RTGI_LPV_GV_GBUFFER: the camera G-buffer sampled
 // at quarter resolution (every second pixel in x and y, seed 5.2.3).
-#extension GL_NV_shader_atomic_float : require
+#extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 
-layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
+layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;
 
 layout(r32f, binding = 0) uniform image3D uGeometryAccum;
 
@@ -25,17 +27,26 @@ layout(binding = 1) uniform sampler2D uNormal;
 layout(binding = 2) uniform sampler2D uDepth;
 #endif
 
+#define LPV_REDUCE_CHANNELS RTGI_LPV_GV_CHANNELS
+void lpvGlobalAdd(uint key, int channel, float value) {
+    ivec3 g = lpvCellOfKey(key, lpv.grid.xyz + 1);
+    imageAtomicAdd(uGeometryAccum, ivec3(RTGI_LPV_GV_CHANNELS * g.x + channel, g.y, g.z), value);
+}
+#include "lpv/lpv_reduce.glsl"
+
 void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
     ivec3 g = ivec3(floor(lpvCellCoord(p) + 0.5));
     if (!lpvInside(g, lpv.grid.xyz + 1) || !(area > 0.0)) return;
     vec4 b = shCosineLobe(n) * (area * lpv.rsm.y);
-    int x = RTGI_LPV_GV_CHANNELS * g.x;
-    for (int k = 0; k < 4; ++k) imageAtomicAdd(uGeometryAccum, ivec3(x + k, g.y, g.z), b[k]);
-    for (int k = 0; k < 3; ++k) imageAtomicAdd(uGeometryAccum, ivec3(x + 4 + k, g.y, g.z), area * albedo[k]);
-    imageAtomicAdd(uGeometryAccum, ivec3(x + 7, g.y, g.z), area);
+    float v[RTGI_LPV_GV_CHANNELS];
+    for (int k = 0; k < 4; ++k) v[k] = b[k];
+    for (int k = 0; k < 3; ++k) v[4 + k] = area * albedo[k];
+    v[7] = area;
+    lpvReduceAdd(lpvKeyOfCell(g, lpv.grid.xyz + 1), v);
 }
 
-void main() {
+// The contribution of this invocation's texel, if any (no barriers inside).
+void blocker() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
 #ifdef RTGI_LPV_GV_GBUFFER
     ivec2 full = t * kStride;
@@ -66,4 +77,10 @@ void main() {
     vec3 albedo = vec3(e.r > 0.0 ? flux.r / e.r : 0.0, e.g > 0.0 ? flux.g / e.g : 0.0, e.b > 0.0 ? flux.b / e.b : 0.0);
     addBlocker(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, area, clamp(albedo, 0.0, 1.0));
 #endif
+}
+
+void main() {
+    lpvReduceBegin();
+    blocker();
+    lpvReduceEnd();
 }

@@ -20,6 +20,13 @@ vec3 lpvCellCoord(vec3 world) { return (world - lpv.origin.xyz) / lpv.origin.w; 
 
 bool lpvInside(ivec3 c, ivec3 dims) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, dims)); }
 
+// Linear index of cell c of a grid of `dims` cells (<= 513^3 < 2^32) and back.
+uint lpvKeyOfCell(ivec3 c, ivec3 dims) { return uint(c.x) + uint(dims.x) * (uint(c.y) + uint(dims.y) * uint(c.z)); }
+ivec3 lpvCellOfKey(uint key, ivec3 dims) {
+    uint xy = uint(dims.x) * uint(dims.y);
+    return ivec3(int(key % uint(dims.x)), int((key % xy) / uint(dims.x)), int(key / xy));
+}
+
 // World position of an RSM texel from its window-space depth (orthographic).
 vec3 rsmWorldPosition(ivec2 texel, float depth) {
     vec2 uv = (vec2(texel) + 0.5) / float(lpv.grid.w);

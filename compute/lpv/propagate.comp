@@ -1,5 +1,6 @@
 // lpv.propagate (compute): one dispatch per iteration; writes volume k and
-// adds it into the accumulated volume in the same dispatch (fused, SPEC 3.5).
+// adds it into the accumulated volume in the same dispatch (fused, SPEC 3.5);
+// the first step writes accum = step[0] + step[1].
 #include "lpv/propagate.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
@@ -29,7 +30,10 @@ void main() {
     imageStore(uDstG, c, v.g);
     imageStore(uDstB, c, v.b);
     // Each invocation owns its cell: the read-modify-write needs no atomics.
-    imageStore(uAccumR, c, lpvStorable(imageLoad(uAccumR, c) + v.r));
-    imageStore(uAccumG, c, lpvStorable(imageLoad(uAccumG, c) + v.g));
-    imageStore(uAccumB, c, lpvStorable(imageLoad(uAccumB, c) + v.b));
+    // The first step starts the sum from the injected volume (its source), so
+    // lpv.pack writes only step[0].
+    bool first = uIteration == 1;
+    imageStore(uAccumR, c, lpvStorable((first ? texelFetch(uSrcR, c, 0) : imageLoad(uAccumR, c)) + v.r));
+    imageStore(uAccumG, c, lpvStorable((first ? texelFetch(uSrcG, c, 0) : imageLoad(uAccumG, c)) + v.g));
+    imageStore(uAccumB, c, lpvStorable((first ? texelFetch(uSrcB, c, 0) : imageLoad(uAccumB, c)) + v.b));
 }

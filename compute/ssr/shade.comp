@@ -1,7 +1,8 @@
 // ssr.shade (full resolution): specular = splitSum(F0, n·v, roughness) ×
 // reflection × specular occlusion + LPV specular × (1 − specular occlusion)
 // (seed 000 5.2.6, 5.4; SPEC 3.6, 5). The filtered reflection is
-// premultiplied (L·c, c) at trace resolution and upsampled bilinearly.
+// premultiplied (L·c, c) at full resolution (ssr.upsample, the shared
+// depth-aware upsampling, brought it there from half resolution).
 #include "lib/common.glsl"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
@@ -10,7 +11,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
-layout(binding = 0) uniform sampler2D uReflection;  // bilinear
+layout(binding = 0) uniform sampler2D uReflection;  // full resolution
 layout(binding = 1) uniform sampler2D uBrdfLut;     // bilinear, (n·v, roughness)
 layout(binding = 2) uniform sampler2D uLinearDepth;
 layout(binding = 3) uniform sampler2D uNormal;
@@ -37,7 +38,7 @@ void main() {
         float NdotV = nn > 1e-12 && nn < 1e12 ? clamp(dot(n * inversesqrt(nn), v), 0.0, 1.0) : 0.0;
         vec2 ab = textureLod(uBrdfLut, vec2(NdotV, rm.x), 0.0).rg;
         splitSum = specularF0(texelFetch(uAlbedo, p, 0).rgb, rm.y) * ab.x + ab.y;
-        reflection = textureLod(uReflection, uv, 0.0);
+        reflection = texelFetch(uReflection, p, 0);
         reflection.a = clamp(reflection.a, 0.0, 1.0);
     }
     imageStore(uSpecular, p, vec4(splitSum * reflection.rgb + lpv * (1.0 - reflection.a), 1.0));

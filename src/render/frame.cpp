@@ -18,11 +18,17 @@ class HistoryPass final : public Pass {
 public:
     std::string name() const override { return "post.history"; }
     Need needed(const Scene& scene, const Settings& s) const override {
-        bool nearfield = s.ao.variant != AoSettings::Variant::Off && s.ao.nearfield > 0.0f;
-        // ssr.diffuse_history keeps its own (diffuse-only) history.
-        bool ssr = effectiveSsrTracer(scene, s) != SsrSettings::Tracer::Off && !s.ssr.diffuseHistory;
-        if (!nearfield && !ssr) return Need::no("no pass reads the previous frame (near-field and SSR off)");
-        return Need::yes();
+        // Why each reader does not read it (empty: it does).
+        std::string nearfield = s.ao.variant == AoSettings::Variant::Off ? "ao=off"
+                                : !(s.ao.nearfield > 0.0f)               ? "ao.nearfield=0"
+                                                                         : "";
+        std::string ssr = s.ssr.tracer == SsrSettings::Tracer::Off ? "ssr=off"
+                          : effectiveSsrTracer(scene, s) == SsrSettings::Tracer::Off
+                              ? "SSR skipped (no glossy material)"
+                          : s.ssr.diffuseHistory ? "SSR reads its own diffuse-only history (ssr.diffuse_history=on)"
+                                                 : "";
+        if (nearfield.empty() || ssr.empty()) return Need::yes();
+        return Need::no("no pass reads the previous frame: near-field light off (" + nearfield + "), " + ssr);
     }
     std::vector<std::string> reads() const override { return {"hdr"}; }
     std::vector<std::string> writes() const override { return {"history"}; }

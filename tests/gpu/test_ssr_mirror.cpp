@@ -4,6 +4,7 @@
 // each cell's footprint, pruning, and robustness (--check counts).
 #include "gpu_fixture.h"
 
+#include "render/reference/reference_runner.h"
 #include "render/ssr/ssr_constants.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -111,6 +112,13 @@ TraceResult runMirror(SsrSettings::Tracer tracer, glm::ivec2 size, int steps) {
 }
 
 std::string tracerName(SsrSettings::Tracer t) { return toString(t); }
+
+// The reason a pass was skipped ("" when it ran or is unknown).
+std::string skipReason(const Renderer& r, const std::string& pass) {
+    for (auto& k : r.skipped())
+        if (k.name == pass) return k.reason;
+    return "";
+}
 
 }  // namespace
 
@@ -253,6 +261,9 @@ TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates n
     CHECK(skipped >= 5);
     for (auto& [name, bytes] : r->ledger().entries()) CHECK(name.rfind("ssr.", 0) != 0);
     CHECK_FALSE(r->resources().brdfLut);
+    // post.history names why each of its readers is absent (AO is off by default).
+    CHECK(skipReason(*r, "post.history").find("SSR skipped (no glossy material)") != std::string::npos);
+    CHECK(skipReason(*r, "post.history").find("ao=off") != std::string::npos);
 
     // floor.roughness makes the same scene glossy: auto runs the linear tracer.
     Settings glossy;
@@ -261,12 +272,26 @@ TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates n
     CHECK(g->findPass("ssr.trace"));
     CHECK(g->findPass("ssr.shade"));
     CHECK_FALSE(g->findPass("ssr.hiz"));  // only the hiz tracer needs the pyramid
+    CHECK(g->findPass("ssr.upsample"));    // half resolution: the shared depth-aware upsampling
+    CHECK(g->findPass("post.history"));    // ssr.resolve reads the previous frame
     CHECK(g->resources().brdfLut);
+    CHECK(g->resources().blueNoise);       // the linear tracer's start jitter
+
+    // The diffuse-only history replaces post.history; full resolution needs no upsampling.
+    Settings diffuse = glossy;
+    diffuse.ssr.diffuseHistory = true;
+    diffuse.ssr.halfResolution = false;
+    auto d = renderFrames(rough, diffuse, {16, 16}, prof, 1);
+    CHECK(d->findPass("ssr.diffuse_history"));
+    CHECK_FALSE(d->findPass("post.history"));
+    CHECK(skipReason(*d, "post.history").find("diffuse-only history") != std::string::npos);
+    CHECK(skipReason(*d, "ssr.upsample") == "ssr.resolution=full");
 
     glossy.ssr.tracer = SsrSettings::Tracer::Off;
     auto o = renderFrames(rough, glossy, {16, 16}, prof, 1);
     for (auto& [name, bytes] : o->ledger().entries()) CHECK(name.rfind("ssr.", 0) != 0);
     CHECK_FALSE(o->resources().specularOcclusion);
+    CHECK(skipReason(*o, "post.history").find("ssr=off") != std::string::npos);
 }
 
 TEST_CASE("SSR never writes NaN/Inf: grazing view, zero thickness, every tracer, diffuse history") {
@@ -299,4 +324,57 @@ TEST_CASE("SSR never writes NaN/Inf: grazing view, zero thickness, every tracer,
         }
         CHECK(checked >= 6);
     }
+}
+
+TEST_CASE("--reference reports the SSR error over the glossy pixels (the mirror floor) beside the whole image") {
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    const glm::ivec2 size(16, 16);
+    Scene s = mirrorScene();
+    Settings st;
+    st.ssr.tracer = SsrSettings::Tracer::Linear;
+    st.reference.spp = 4;  // only the pixel sets are checked, not the converged values
+    st.reference.bounces = 1;
+    st.reference.cacheDir = "off";
+    auto r = renderFrames(s, st, size, prof, 2);
+    const Camera cam = resolveCamera(s, st);
+    nlohmann::json e = compareWithReference(*r, cam, size, "", false);
+    REQUIRE(e.contains("glossy"));
+    // The glossy pixels are those whose centre ray sees the mirror floor first
+    // (CPU ray cast in double against the floor and the wall); pixels whose
+    // centre ray passes within 0.05 pixel of an edge may go either way in the
+    // rasterizer.
+    auto seesFloor = [&](double px, double py) {
+        glm::dvec3 eye(cam.position), f = glm::normalize(glm::dvec3(cam.target) - eye);
+        glm::dvec3 rt = glm::normalize(glm::cross(f, glm::dvec3(0, 1, 0))), up = glm::cross(rt, f);
+        double t = std::tan(0.5 * double(cam.fovY)), aspect = double(size.x) / size.y;
+        glm::dvec3 d = f + rt * ((px / size.x * 2 - 1) * t * aspect) + up * ((py / size.y * 2 - 1) * t);
+        if (d.y >= 0) return false;
+        double tFloor = -eye.y / d.y;
+        glm::dvec3 p = eye + d * tFloor;
+        if (std::abs(p.x) > 10 || std::abs(p.z) > 10) return false;
+        double tWall = (kWallZ - eye.z) / d.z;  // the wall hides the floor behind it
+        glm::dvec3 w = eye + d * tWall;
+        return !(tWall > 0 && tWall < tFloor && std::abs(w.x) <= kWallHalfWidth && w.y >= 0 && w.y <= kWallHeight);
+    };
+    int sure = 0, maybe = 0;
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) {
+            bool c = seesFloor(x + 0.5, y + 0.5);
+            bool any = false, all = true;
+            for (double d : {-0.05, 0.05})
+                for (double d2 : {-0.05, 0.05}) {
+                    bool f = seesFloor(x + 0.5 + d, y + 0.5 + d2);
+                    any |= f;
+                    all &= f;
+                }
+            sure += c && all;
+            maybe += any && !all;
+        }
+    const int glossy = e["glossy"]["pixels"].get<int>();
+    CHECK(glossy >= sure);
+    CHECK(glossy <= sure + maybe);
+    CHECK(glossy < e["pixels"].get<int>());  // the wall is geometry but not glossy
+    CHECK_FALSE(e["glossy"].contains("ssim"));
+    for (const char* k : {"rmse", "mae", "bias", "rel_rmse"}) CHECK(std::isfinite(e["glossy"][k].get<double>()));
 }

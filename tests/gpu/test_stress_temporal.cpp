@@ -1,7 +1,7 @@
 // Temporal filters over 10 000 static frames and alternating camera cuts
 // (issue 9), with the real shaders on tiny images/volumes: the shared
-// screen-space filter (AO; R16F and, for the precision study, R8), SSR's
-// own temporal pass (RGBA16F) and the LPV volume blend (fp16, fp32).
+// screen-space filter (AO: R16F and, for the precision study, R8; SSR:
+// RGBA16F) and the LPV volume blend (fp16, fp32).
 // Oracle: the same recurrence in CPU double precision. Bound: a history
 // stored with quantum q and updated by a fraction a stalls once a·|x - h|
 // falls below one rounding step, so |h - x| <= q/a (truncating stores, as
@@ -11,9 +11,6 @@
 #include "render/filter.h"
 #include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_volumes.h"
-#include "render/ssr/ssr_constants.h"
-
-#include <glm/gtc/packing.hpp>
 
 #include <cmath>
 
@@ -93,71 +90,17 @@ TEST_CASE("stress: shared temporal filter with a camera cut every other frame fo
     CHECK(h.maxDeviation <= std::ldexp(1.0, -10));
 }
 
-TEST_CASE("stress: SSR temporal pass over 10000 static frames and alternating cuts stays at the CPU recurrence") {
+TEST_CASE("stress: SSR's temporal filter (shared filter, RGBA16F) over 10000 frames, static and with cuts") {
     GpuFixture gpu;
-    gl::ProgramCache programs;
-    gl::MemoryLedger ledger;
-    const int w = 8, h = 8;
-    SsrSettings ss;
-    ss.halfResolution = false;
-    gpu::SsrUniforms su = makeSsrUniforms(ss, SsrSettings::Tracer::Linear, {w, h}, true);
-    gl::Buffer ssrUbo(ledger, "t.ssr", sizeof su, &su);
-    gpu::FrameUniforms fu{};
-    gl::Buffer frameUbo(ledger, "t.frame", sizeof fu, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    gl::Texture depth = floatTexture(ledger, "t.depth", GL_R32F, w, h, 1, std::vector<float>(w * h, 3.0f));
-    gl::Texture vel = floatTexture(ledger, "t.vel", GL_RG16F, w, h, 2, std::vector<float>(w * h * 2, 0.0f));
-    // Premultiplied reflection (L*c, c): colour and confidence flicker around (0.5, 1).
-    std::vector<gl::Texture> cur;
-    for (float v : kVariants) {
-        std::vector<float> px;
-        for (int i = 0; i < w * h; ++i) px.insert(px.end(), {v, 2 * v, 4 * v, std::min(1.0f, 2 * v)});
-        cur.push_back(floatTexture(ledger, "t.cur", GL_RGBA16F, w, h, 4, px));
-    }
-    double stored[8];
-    for (int i = 0; i < 8; ++i) stored[i] = readTexture(cur[std::size_t(i)]).at(0, 0, 0);  // red channel: v
-    gl::Texture hist[2], histDepth[2];
-    for (int i = 0; i < 2; ++i) {
-        hist[i] = gl::Texture(ledger, "t.hist", {GL_TEXTURE_2D, GL_RGBA16F, w, h});
-        hist[i].setSampling(GL_LINEAR, GL_LINEAR);
-        histDepth[i] = gl::Texture(ledger, "t.histDepth", {GL_TEXTURE_2D, GL_R32F, w, h});
-    }
-    const gl::Program& prog = programs.compute("ssr/temporal.comp");
-    for (bool alternateCuts : {false, true}) {
-        double cpu = 0, maxDev = 0, at1000 = 0, late = 0;
-        bool finite = true;
-        for (int f = 0; f < kFrames; ++f) {
-            bool cut = f == 0 || (alternateCuts && f % 2 == 0);
-            fu.size = glm::ivec4(w, h, f, cut ? 1 : 0);
-            frameUbo.upload(&fu, sizeof fu);
-            int c = f % 2, p = 1 - c;
-            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_FRAME, frameUbo.id());
-            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_SSR, ssrUbo.id());
-            // Producer: the previous iteration's dispatch (image stores into hist[p]).
-            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-            glBindTextureUnit(0, cur[std::size_t(f % 8)].id());
-            glBindTextureUnit(1, hist[p].id());
-            glBindTextureUnit(2, histDepth[p].id());
-            glBindTextureUnit(3, depth.id());
-            glBindTextureUnit(4, vel.id());
-            glBindImageTexture(0, hist[c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-            glBindImageTexture(1, histDepth[c].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-            gl::dispatch(prog, w, h);
-            cpu = cut ? stored[f % 8] : 0.95 * cpu + 0.05 * stored[f % 8];
-            if (f == 999 || f == kFrames - 1 || f < 4 || f % 1000 == 7) {
-                glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);  // producer: the dispatch above
-                float g = readTexture(hist[c]).at(2, 6, 0);
-                finite = finite && std::isfinite(g);
-                maxDev = std::max(maxDev, std::abs(double(g) - cpu));
-                if (f == 999) at1000 = g;
-                if (f == kFrames - 1) late = std::abs(double(g) - at1000);
-            }
-        }
-        MESSAGE("SSR temporal, 10000 frames" << std::string(alternateCuts ? " with cuts" : "") << ": max |GPU - double| = "
-                                             << maxDev << ", drift 1000->10000 = " << late);
-        CHECK(finite);
-        // Values in [0.1, 0.9] (red = v, mean 0.5): half quantum <= 2^-11, a = 0.05 -> 2^-11/0.05 = 0.0098.
-        CHECK(maxDev <= std::ldexp(1.0, -11) / 0.05);
-        if (!alternateCuts) CHECK(late <= std::ldexp(1.0, -11));
+    // ssr.temporal runs the shared filter on the RGBA16F premultiplied reflection.
+    for (bool cuts : {false, true}) {
+        Drift d = runFilter({GL_RGBA16F, "rgba16f"}, cuts);
+        MESSAGE("RGBA16F temporal, 10000 frames" << std::string(cuts ? " with cuts" : "") << ": max |GPU - double| = "
+                                                 << d.maxDeviation << ", drift 1000->10000 = " << d.driftLate);
+        CHECK(d.finite);
+        // Values in [0.1, 0.9]: half quantum <= 2^-11, a = 0.05 -> 2^-11/0.05 = 0.0098.
+        CHECK(d.maxDeviation <= std::ldexp(1.0, -11) / 0.05);
+        if (!cuts) CHECK(d.driftLate <= std::ldexp(1.0, -11));
     }
 }
 

@@ -31,18 +31,16 @@ TEST_CASE("SSR constant block follows the settings") {
     s.steps = 32;
     s.thickness = 0.5f;
     s.roughnessCutoff = 0.3f;
-    auto u = makeSsrUniforms(s, SsrSettings::Tracer::Hiz, {100, 50}, true);
+    auto u = makeSsrUniforms(s, SsrSettings::Tracer::Hiz, {100, 50});
     CHECK(u.sizes == glm::ivec4(50, 25, 100, 50));
     CHECK(u.params == glm::ivec4(32, RTGI_SSR_HIZ, 7, 2));
     CHECK(u.trace.x == 0.5f);
     CHECK(u.trace.y == 0.3f);
-    CHECK(u.temporal.x == 1.0f);
     s.halfResolution = false;
-    u = makeSsrUniforms(s, SsrSettings::Tracer::Dda, {100, 50}, false);
+    u = makeSsrUniforms(s, SsrSettings::Tracer::Dda, {100, 50});
     CHECK(u.sizes == glm::ivec4(100, 50, 100, 50));
     CHECK(u.params.y == RTGI_SSR_DDA);
     CHECK(u.params.w == 1);
-    CHECK(u.temporal.x == 0.0f);
     CHECK_THROWS(ssrTracerId(SsrSettings::Tracer::Auto));
 }
 

@@ -316,34 +316,15 @@ public:
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
         r.indirectDiffuse.ensure(ctx.ledger, "indirectDiffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         if (specular) r.specular.ensure(ctx.ledger, "specular", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        gl::Defines d;
-        if (specular) d.push_back({"RTGI_LPV_SPECULAR", ""});
-        if (specular && r.brdfLut) d.push_back({"RTGI_LPV_BRDF_LUT", ""});
-        // Directional occlusion hooks (AO family): S3HO wins over bent normals.
-        const gl::Texture* directional = nullptr;
-        if (r.s3ho) {
-            d.push_back({"RTGI_LPV_S3HO", ""});
-            directional = &r.s3ho;
-        } else if (r.bentNormal) {
-            d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
-            directional = &r.bentNormal;
-        }
-        const gl::Program& prog = ctx.programs.compute("lpv/apply.comp", d);
-        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
-        // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-        const GBuffer& g = r.gbuffer;
-        glBindTextureUnit(0, g.linearDepth.id());
-        glBindTextureUnit(1, g.normal.id());
-        glBindTextureUnit(2, g.albedo.id());
-        glBindTextureUnit(3, g.material.id());
-        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(4 + c, (*st.result)[c].id());
-        glBindTextureUnit(7, r.brdfLut ? r.brdfLut.id() : 0);
-        glBindTextureUnit(8, directional ? directional->id() : 0);
-        glBindImageTexture(0, r.indirectDiffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        if (specular) glBindImageTexture(1, r.specular.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(prog, s.x, s.y);
-        for (GLuint u = 4; u <= 8; ++u) glBindTextureUnit(u, 0);
+        lpv::ApplyInputs in;
+        in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
+        in.volume = st.result;
+        in.brdfLut = r.brdfLut ? &r.brdfLut : nullptr;
+        in.s3ho = r.s3ho ? &r.s3ho : nullptr;
+        in.bentNormal = r.bentNormal ? &r.bentNormal : nullptr;
+        in.indirect = &r.indirectDiffuse;
+        in.specular = specular ? &r.specular : nullptr;
+        lpv::applyCompute(ctx.programs, st.ubo, in);
     }
 };
 

@@ -11,11 +11,14 @@ namespace {
 
 const char* kChannel[3] = {"r", "g", "b"};
 
-void ensureRgb(gl::MemoryLedger& ledger, Rgb& t, const std::string& label, const gl::TextureDesc& d, bool linear) {
+// Returns true when a texture was (re)allocated.
+bool ensureRgb(gl::MemoryLedger& ledger, Rgb& t, const std::string& label, const gl::TextureDesc& d, bool linear) {
+    bool changed = false;
     for (int c = 0; c < 3; ++c) {
-        t[std::size_t(c)].ensure(ledger, label + "." + kChannel[c], d);
+        changed |= t[std::size_t(c)].ensure(ledger, label + "." + kChannel[c], d);
         t[std::size_t(c)].setSampling(linear ? GL_LINEAR : GL_NEAREST, linear ? GL_LINEAR : GL_NEAREST);
     }
+    return changed;
 }
 
 void bindRgbTextures(const Rgb& t, GLuint firstUnit) {
@@ -76,7 +79,10 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
     bool changed = g != grid || fmt != format || !accum[0];
     grid = g;
     format = fmt;
-    ensureRgb(ledger, inject, "lpv.inject", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false);
+    // The fp32 accumulation is zero between frames (lpv.pack zeroes what it consumes): cleared
+    // once here, when allocated.
+    if (ensureRgb(ledger, inject, "lpv.inject", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false))
+        for (auto& t : inject) t.clear();
     for (int k = 0; k < 2; ++k)
         ensureRgb(ledger, step[std::size_t(k)], "lpv.step" + std::to_string(k), {GL_TEXTURE_3D, fmt, g.x, g.y, g.z},
                   false);
@@ -90,7 +96,9 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
 
 void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     glm::ivec3 c = grid + 1;
-    geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z});
+    // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
+    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z}))
+        geometryAccum.clear();
     geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z});
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
 }
@@ -122,10 +130,10 @@ gl::Defines formatDefines(GLenum format) {
 
 void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
                    const gl::Buffer& stats) {
-    for (auto& t : v.inject) t.clear();
     const gl::Program& prog = programs.compute("lpv/inject.comp");
     bindUbo(ubo);
-    // Producers: lpv.rsm (framebuffer writes) and the clears above.
+    // Producers: lpv.rsm (framebuffer writes); the zeroing of the accumulation by the previous
+    // lpv.pack (image stores) or its clear at allocation.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindTextureUnit(0, rsm.flux.id());
     glBindTextureUnit(1, rsm.normal.id());
@@ -139,10 +147,9 @@ void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
     const gl::Program& prog = programs.compute("lpv/pack.comp", formatDefines(v.format));
     bindUbo(ubo);
     // Producer: lpv.inject (image atomics).
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    bindRgbTextures(v.inject, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    bindRgbImages(v.inject, 3, GL_READ_WRITE, GL_R32F);
     bindRgbImages(v.step[0], 0, GL_WRITE_ONLY, v.format);
-    bindRgbImages(v.accum, 3, GL_WRITE_ONLY, v.format);
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
 }
 
@@ -168,9 +175,9 @@ void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& 
 
 void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
                     const GBufferView& gb, Volumes& v) {
-    v.geometryAccum.clear();
     bindUbo(ubo);
-    // Producers: lpv.rsm and gbuffer (framebuffer writes), the clear above.
+    // Producers: lpv.rsm and gbuffer (framebuffer writes); the zeroing of the accumulation by
+    // the previous geometry pack (image stores) or its clear at allocation.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindImageTexture(0, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
@@ -193,8 +200,8 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
             return d;
         }());
     // Producer: the geometry injection dispatches above (image atomics).
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(0, v.geometryAccum.id());
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindImageTexture(2, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(0, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
     glBindImageTexture(1, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
@@ -254,6 +261,31 @@ void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v
     bindRgbTextures(v.history[std::size_t(1 - target)], 3);
     bindRgbImages(v.history[std::size_t(target)], 0, GL_WRITE_ONLY, v.format);
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+}
+
+void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in) {
+    gl::Defines d;
+    if (in.specular) d.push_back({"RTGI_LPV_SPECULAR", ""});
+    if (in.specular && in.brdfLut) d.push_back({"RTGI_LPV_BRDF_LUT", ""});
+    const gl::Texture* directional = in.s3ho ? in.s3ho : in.bentNormal;
+    if (in.s3ho) d.push_back({"RTGI_LPV_S3HO", ""});
+    else if (in.bentNormal) d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
+    const gl::Program& prog = programs.compute("lpv/apply.comp", d);
+    bindUbo(ubo);
+    // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    const GBufferView& g = in.gbuffer;
+    glBindTextureUnit(0, g.linearDepth->id());
+    glBindTextureUnit(1, g.normal->id());
+    glBindTextureUnit(2, g.albedo->id());
+    glBindTextureUnit(3, g.material->id());
+    bindRgbTextures(*in.volume, 4);
+    glBindTextureUnit(7, in.brdfLut ? in.brdfLut->id() : 0);
+    glBindTextureUnit(8, directional ? directional->id() : 0);
+    glBindImageTexture(0, in.indirect->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.specular) glBindImageTexture(1, in.specular->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    gl::dispatch(prog, g.size.x, g.size.y);
+    for (GLuint u = 4; u <= 8; ++u) glBindTextureUnit(u, 0);
 }
 
 }  // namespace rtgi::lpv

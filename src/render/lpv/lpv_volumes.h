@@ -23,10 +23,10 @@ struct Rsm {
 struct Volumes {
     glm::ivec3 grid{0};
     GLenum format = GL_RGBA16F;
-    Rgb inject;                  // R32F (4X, Y, Z): fp32 atomic accumulation, coefficient k at 4x + k
+    Rgb inject;                  // R32F (4X, Y, Z): fp32 atomic accumulation, coefficient k at 4x + k; zero between frames
     std::array<Rgb, 2> step;     // propagation ping-pong (format)
     Rgb accum;                   // sum of all iterations (format)
-    gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A)
+    gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A); zero between frames
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
     std::array<Rgb, 2> history;  // temporal blend targets (format)
@@ -44,11 +44,13 @@ struct Volumes {
 // #defines selecting the image format of one volume format.
 gl::Defines formatDefines(GLenum format);
 
-// Compute injection of every RSM texel with fp32 image atomics; `stats`
-// (one uint) counts dropped texels and is not cleared here.
+// Compute injection of every RSM texel with fp32 image atomics (pre-reduced per
+// workgroup) into v.inject, which must be zero (it is after allocation and after
+// packLight); `stats` (one uint) counts dropped texels and is not cleared here.
 void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
                    const gl::Buffer& stats);
-// fp32 accumulation -> step[0] and accum in the propagation format.
+// fp32 accumulation -> step[0] in the propagation format; zeroes v.inject behind
+// (the first propagation step starts accum from step[0]).
 void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v);
 // Seed method: GL_POINTS + geometry shader + additive blending into step[0] and accum.
 void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v);
@@ -65,6 +67,18 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 // Iterations 1..n; returns the index of step[] holding the last iteration.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
+// lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
+// `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
+struct ApplyInputs {
+    GBufferView gbuffer;
+    const Rgb* volume = nullptr;
+    const gl::Texture* brdfLut = nullptr;     // split-sum LUT (SSR family), optional
+    const gl::Texture* s3ho = nullptr;        // AO hooks, optional; S3HO wins over bent normals
+    const gl::Texture* bentNormal = nullptr;
+    gl::Texture* indirect = nullptr;          // RGBA16F outputs
+    gl::Texture* specular = nullptr;
+};
+void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in);
 // history[target] = mix(accum, history[1 - target] re-indexed, lpv.temporal).
 void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target);
 

@@ -17,26 +17,36 @@ public:
         FrameResources& r = ctx.res;
         r.hdr.ensure(ctx.ledger, "post.hdr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
         r.ldr.ensure(ctx.ledger, "post.ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-        const gl::Program& prog = ctx.programs.compute("post/compose.comp");
-        // Producers: direct, ao.*, lpv.apply, ssr.* (all image stores).
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glBindTextureUnit(0, r.direct.id());
-        glBindTextureUnit(1, r.gbuffer.albedo.id());
-        glBindTextureUnit(2, r.gbuffer.material.id());
-        glBindTextureUnit(3, r.indirectDiffuse ? r.indirectDiffuse.id() : 0);
-        glBindTextureUnit(4, r.specular ? r.specular.id() : 0);
-        glBindTextureUnit(5, r.ao ? r.ao.id() : 0);
-        bool aoInLpv = ctx.settings.ao.directional != AoSettings::Directional::Off && bool(r.indirectDiffuse) &&
-                       bool(r.bentNormal.id() || r.s3ho.id());
-        prog.set(0, glm::ivec4(bool(r.indirectDiffuse), bool(r.specular), bool(r.ao), aoInLpv));
-        glBindImageTexture(0, r.hdr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, r.ldr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-        gl::dispatch(prog, s.x, s.y);
-        for (int u = 3; u <= 5; ++u) glBindTextureUnit(GLuint(u), 0);
+        dispatchCompose(ctx, r.direct, r.hdr, &r.ldr, false);
     }
 };
 
 }  // namespace
+
+void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Texture& hdr, const gl::Texture* ldr,
+                     bool diffuseOnly) {
+    const FrameResources& r = ctx.res;
+    const gl::Program& prog = ctx.programs.compute(
+        "post/compose.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
+    // Producers: direct, ao.*, lpv.apply, ssr.* (all image stores).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindTextureUnit(0, direct.id());
+    glBindTextureUnit(1, r.gbuffer.albedo.id());
+    glBindTextureUnit(2, r.gbuffer.material.id());
+    glBindTextureUnit(3, r.indirectDiffuse ? r.indirectDiffuse.id() : 0);
+    bool specular = bool(r.specular) && !diffuseOnly;
+    glBindTextureUnit(4, specular ? r.specular.id() : 0);
+    glBindTextureUnit(5, r.ao ? r.ao.id() : 0);
+    // Occlusion is not applied to the indirect term twice when the LPV lookup
+    // already used bent normals or S3HO.
+    bool aoInLpv = ctx.settings.ao.directional != AoSettings::Directional::Off && bool(r.indirectDiffuse) &&
+                   bool(r.bentNormal.id() || r.s3ho.id());
+    prog.set(0, glm::ivec4(bool(r.indirectDiffuse), specular, bool(r.ao), aoInLpv));
+    glBindImageTexture(0, hdr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, diffuseOnly ? GL_RGBA16F : GL_RGBA32F);
+    if (ldr) glBindImageTexture(1, ldr->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    gl::dispatch(prog, hdr.width(), hdr.height());
+    for (int u = 3; u <= 5; ++u) glBindTextureUnit(GLuint(u), 0);
+}
 
 std::unique_ptr<Pass> makeComposePass() { return std::make_unique<ComposePass>(); }
 

@@ -15,6 +15,13 @@ std::unique_ptr<Pass> makeBrdfLutPass();
 constexpr int kBrdfLutSize = 64;       // texels per side
 constexpr int kBrdfLutSamples = 4096;  // GGX importance samples per texel
 
+// The direct-light and composition dispatches, shared by the direct and
+// post.compose passes and by ssr.diffuse_history (diffuseOnly: no specular
+// lobe, no specular term, no tonemapping; target RGBA16F).
+void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOnly);
+void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Texture& hdr, const gl::Texture* ldr,
+                     bool diffuseOnly);
+
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).
 glm::mat4 orthoLightViewProj(const Aabb& box, glm::vec3 towardLight);

@@ -18,26 +18,31 @@ public:
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
         ctx.res.direct.ensure(ctx.ledger, "direct", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        const GBuffer& g = ctx.res.gbuffer;
-        const gl::Program& prog = ctx.programs.compute("post/direct.comp");
-        // Producer: gbuffer raster pass (framebuffer writes) and shadow pass.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, g.linearDepth.id());
-        glBindTextureUnit(1, g.normal.id());
-        glBindTextureUnit(2, g.albedo.id());
-        glBindTextureUnit(3, g.material.id());
-        glBindTextureUnit(4, g.emissive.id());
-        bool shadow = bool(ctx.res.shadowMap);
-        glBindTextureUnit(5, shadow ? ctx.res.shadowMap.id() : 0);
-        prog.set(0, shadow ? 1 : 0);
-        ctx.gpuScene.bindTables();
-        glBindImageTexture(0, ctx.res.direct.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(prog, s.x, s.y);
-        glBindTextureUnit(5, 0);
+        dispatchDirect(ctx, ctx.res.direct, false);
     }
 };
 
 }  // namespace
+
+void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOnly) {
+    const GBuffer& g = ctx.res.gbuffer;
+    const gl::Program& prog = ctx.programs.compute(
+        "post/direct.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
+    // Producer: gbuffer and shadow raster passes (framebuffer writes).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(0, g.linearDepth.id());
+    glBindTextureUnit(1, g.normal.id());
+    glBindTextureUnit(2, g.albedo.id());
+    glBindTextureUnit(3, g.material.id());
+    glBindTextureUnit(4, g.emissive.id());
+    bool shadow = bool(ctx.res.shadowMap);
+    glBindTextureUnit(5, shadow ? ctx.res.shadowMap.id() : 0);
+    prog.set(0, shadow ? 1 : 0);
+    ctx.gpuScene.bindTables();
+    glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    gl::dispatch(prog, target.width(), target.height());
+    glBindTextureUnit(5, 0);
+}
 
 std::unique_ptr<Pass> makeDirectPass() { return std::make_unique<DirectPass>(); }
 

@@ -78,6 +78,20 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     e["peak"] = peak;
     double heatMax = errorQuantile(test, mean, channels, 0.99);
     e["heatmap_max"] = heatMax;
+    // Issue 6: the reflection error on the glossy pixels (roughness <=
+    // ssr.roughness_cutoff, the ones SSR shades; also with ssr=off, as the
+    // baseline), beside the whole-image one. SSIM is computed over the whole
+    // image, so it is not repeated here.
+    if (kind == K::Full) {
+        FloatImage material = readTexture(res.gbuffer.material);
+        std::vector<std::uint8_t> glossy(mask.size());
+        const float cutoff = run.settings().ssr.roughnessCutoff;
+        for (std::size_t i = 0; i < glossy.size(); ++i)
+            glossy[i] = mask[i] && material.data[i * std::size_t(material.channels)] <= cutoff;
+        nlohmann::json g = metricsJson(compareImages(test, mean, channels, peak, glossy), true);
+        g.erase("ssim");
+        e["glossy"] = g;
+    }
     nlohmann::json refInfo = referenceSettingsJson(referenceConstants(rs, run.scene().bounds()));
     for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
     refInfo["spp"] = rs.reference.spp;

@@ -34,16 +34,12 @@ int ssrTracerId(SsrSettings::Tracer t) {
     }
 }
 
-gpu::SsrUniforms makeSsrUniforms(const SsrSettings& s, SsrSettings::Tracer tracer, glm::ivec2 full,
-                                 bool temporalHistoryValid) {
-    using F = SsrFilterConstants;
+gpu::SsrUniforms makeSsrUniforms(const SsrSettings& s, SsrSettings::Tracer tracer, glm::ivec2 full) {
     gpu::SsrUniforms u{};
     glm::ivec2 t = ssrTraceSize(full, s.halfResolution);
     u.sizes = glm::ivec4(t, full);
     u.params = glm::ivec4(s.steps, ssrTracerId(tracer), hizLevelCount(full), s.halfResolution ? 2 : 1);
-    u.trace = glm::vec4(s.thickness, s.roughnessCutoff, F::kEdgeFade, 0.0f);
-    u.blur = glm::vec4(F::kBlurSigma, float(F::kBlurRadius), F::kDepthThreshold, F::kNormalThreshold);
-    u.temporal = glm::vec4(temporalHistoryValid ? 1.0f : 0.0f, 0, 0, 0);
+    u.trace = glm::vec4(s.thickness, s.roughnessCutoff, SsrFilterConstants::kEdgeFade, 0.0f);
     return u;
 }
 

@@ -1,13 +1,17 @@
 // Screen-space reflections (seed 000 4.4, 5.4; SPEC 5):
-//   ssr.hiz -> ssr.trace -> ssr.resolve -> ssr.blur -> ssr.temporal -> ssr.shade
-//   (+ ssr.diffuse_history with ssr.diffuse_history=on).
-// The passes share one SsrState (private targets at trace resolution and the
-// constant block); all of it is created inside execute(), so nothing is
-// allocated when SSR is off.
+//   ssr.hiz -> ssr.trace -> ssr.resolve -> ssr.blur -> ssr.temporal
+//   -> ssr.upsample -> ssr.shade (+ ssr.diffuse_history with ssr.diffuse_history=on).
+// Blur, temporal filter and upsampling are the shared chain of render/filter.h
+// (the AO family's code) on the premultiplied RGBA16F reflection.
+// The passes share one SsrState (private targets and the constant block); all
+// of it is created inside execute(), so nothing is allocated when SSR is off.
 #include "render/ssr/ssr_passes.h"
+#include "render/passes/core_passes.h"
 
 #include "gl/program.h"
+#include "render/filter.h"
 #include "render/gpu_scene.h"
+#include "render/noise.h"
 #include "render/ssr/ssr_constants.h"
 
 #include <cstdio>
@@ -15,26 +19,38 @@
 namespace rtgi {
 namespace {
 
+// The reflection's value format in the shared filter chain: premultiplied (L·c, c).
+const FilterFormat kSsrFormat{GL_RGBA16F, "rgba16f"};
+
 struct SsrState {
     gl::Texture hiz;                           // R32F min-depth pyramid (full resolution, all levels)
     gl::Texture hit, confidence, hitDistance;  // trace outputs
+    gl::Texture traceDepth, traceNormal;       // the traced pixels' depth / normal (half resolution only)
     gl::Texture resolved, blurTemp, blurred;   // premultiplied (L·c, c)
-    gl::Texture temporal[2], temporalDepth[2]; // ping-pong temporal history + its linear depth
+    TemporalFilter temporal;                   // shared temporal filter with its own history
+    gl::Texture upsampled;                     // full-resolution reflection (half resolution only)
     gl::Texture directDiffuse;                 // diffuse-only direct light (ssr.diffuse_history)
     gl::Buffer ubo;
-    int current = 0;                   // temporal[current] is this frame's output
+    const gl::Texture* reflection = nullptr;  // what ssr.shade reads this frame (full resolution)
     bool resolvedHadHistory = false;   // this frame's resolve fetched a valid history
-    bool temporalValid = false;        // temporal[1 - current] holds a resolved frame
+    bool temporalHasReflections = false;  // the temporal history comes from a frame that resolved a history
     bool diffuseHistoryValid = false;  // res.diffuseHistory holds the previous frame
 
     SsrSettings::Tracer tracer(const FrameContext& ctx) const { return effectiveSsrTracer(ctx.scene, ctx.settings); }
     glm::ivec2 traceSize(const FrameContext& ctx) const {
         return ssrTraceSize(ctx.view.size, ctx.settings.ssr.halfResolution);
     }
+    // Depth and normal of the traced pixels, at trace resolution (the filters' guides).
+    const gl::Texture& depth(const FrameContext& ctx) const {
+        return ctx.settings.ssr.halfResolution ? traceDepth : ctx.res.gbuffer.linearDepth;
+    }
+    const gl::Texture& normal(const FrameContext& ctx) const {
+        return ctx.settings.ssr.halfResolution ? traceNormal : ctx.res.gbuffer.normal;
+    }
     // Uploads the constant block for this frame and binds it.
     void bindUniforms(FrameContext& ctx) {
         if (!ubo) ubo = gl::Buffer(ctx.ledger, "ssr.uniforms", sizeof(gpu::SsrUniforms));
-        gpu::SsrUniforms u = makeSsrUniforms(ctx.settings.ssr, tracer(ctx), ctx.view.size, temporalValid);
+        gpu::SsrUniforms u = makeSsrUniforms(ctx.settings.ssr, tracer(ctx), ctx.view.size);
         ubo.upload(&u, sizeof(u));
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_SSR, ubo.id());
     }
@@ -51,25 +67,34 @@ Need ssrNeed(const Scene& scene, const Settings& s) {
     return Need::yes();
 }
 
+// Base of every ssr.* pass: its name, the shared state, and ssrNeed; a pass
+// that belongs to the chain only in some configurations says why it does not
+// in notInChain() (nullptr: it does).
 class SsrPass : public Pass {
 public:
-    explicit SsrPass(std::shared_ptr<SsrState> st) : st_(std::move(st)) {}
-    Need needed(const Scene& scene, const Settings& s) const override { return ssrNeed(scene, s); }
+    SsrPass(std::shared_ptr<SsrState> st, std::string name) : st_(std::move(st)), name_(std::move(name)) {}
+    std::string name() const override { return name_; }
+    Need needed(const Scene& scene, const Settings& s) const override {
+        Need n = ssrNeed(scene, s);
+        const char* why = n.needed ? notInChain(scene, s) : nullptr;
+        return why ? Need::no(why) : n;
+    }
 
 protected:
+    virtual const char* notInChain(const Scene&, const Settings&) const { return nullptr; }
     std::shared_ptr<SsrState> st_;
+
+private:
+    std::string name_;
 };
 
 // ---- ssr.hiz ---------------------------------------------------------------
 class HizPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.hiz"; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        Need n = ssrNeed(scene, s);
-        if (n.needed && effectiveSsrTracer(scene, s) != SsrSettings::Tracer::Hiz)
-            return Need::no("only the hiz tracer reads the depth pyramid");
-        return n;
+    const char* notInChain(const Scene& scene, const Settings& s) const override {
+        bool hiz = effectiveSsrTracer(scene, s) == SsrSettings::Tracer::Hiz;
+        return hiz ? nullptr : "only the hiz tracer reads the depth pyramid";
     }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth"}; }
     void execute(FrameContext& ctx) override {
@@ -100,7 +125,6 @@ public:
 class TracePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.trace"; }
     std::vector<std::string> reads() const override {
         return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.material"};
     }
@@ -109,9 +133,16 @@ public:
         st_->hit.ensure(ctx.ledger, "ssr.hit", {GL_TEXTURE_2D, GL_RG16F, t.x, t.y});
         st_->confidence.ensure(ctx.ledger, "ssr.confidence", {GL_TEXTURE_2D, GL_R16F, t.x, t.y});
         st_->hitDistance.ensure(ctx.ledger, "ssr.hit_distance", {GL_TEXTURE_2D, GL_R16F, t.x, t.y});
+        const bool half = ctx.settings.ssr.halfResolution;
+        if (half) {
+            st_->traceDepth.ensure(ctx.ledger, "ssr.trace.depth", {GL_TEXTURE_2D, GL_R32F, t.x, t.y});
+            st_->traceNormal.ensure(ctx.ledger, "ssr.trace.normal", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y});
+        }
         SsrSettings::Tracer tracer = st_->tracer(ctx);
-        const gl::Program& prog =
-            ctx.programs.compute("ssr/trace.comp", {{"RTGI_SSR_TRACER", std::to_string(ssrTracerId(tracer))}});
+        gl::Defines defs{{"RTGI_SSR_TRACER", std::to_string(ssrTracerId(tracer))}};
+        if (half) defs.push_back({"RTGI_SSR_HALF", ""});
+        const gl::Program& prog = ctx.programs.compute("ssr/trace.comp", defs);
+        const gl::Texture& noise = ensureBlueNoise(ctx.res, ctx.ledger);
         st_->bindUniforms(ctx);
         const GBuffer& g = ctx.res.gbuffer;
         // Producers: gbuffer (framebuffer writes), ssr.hiz (image stores).
@@ -120,9 +151,14 @@ public:
         glBindTextureUnit(1, g.normal.id());
         glBindTextureUnit(2, g.material.id());
         glBindTextureUnit(3, tracer == SsrSettings::Tracer::Hiz ? st_->hiz.id() : g.linearDepth.id());
+        glBindTextureUnit(4, noise.id());
         glBindImageTexture(0, st_->hit.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
         glBindImageTexture(1, st_->confidence.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
         glBindImageTexture(2, st_->hitDistance.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        if (half) {
+            glBindImageTexture(3, st_->traceDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+            glBindImageTexture(4, st_->traceNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        }
         gl::dispatch(prog, t.x, t.y);
     }
     std::vector<DebugImage> debugImages() const override {
@@ -131,8 +167,11 @@ public:
                 {"ssr.trace.hit_distance", &st_->hitDistance, 0.1f}};
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.hit", &st_->hit, true}, {"ssr.confidence", &st_->confidence},
-                {"ssr.hit_distance", &st_->hitDistance}};
+        std::vector<Output> o{{"ssr.hit", &st_->hit, true}, {"ssr.confidence", &st_->confidence},
+                              {"ssr.hit_distance", &st_->hitDistance}};
+        if (st_->traceDepth) o.push_back({"ssr.trace.depth", &st_->traceDepth});
+        if (st_->traceNormal) o.push_back({"ssr.trace.normal", &st_->traceNormal, true});
+        return o;
     }
 };
 
@@ -140,7 +179,6 @@ public:
 class ResolvePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.resolve"; }
     // With ssr.diffuse_history the previous frame's res.diffuseHistory is read
     // instead (written by ssr.diffuse_history at the end of the chain).
     std::vector<std::string> reads() const override { return {"gbuffer.velocity", "history"}; }
@@ -176,27 +214,11 @@ public:
 class BlurPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.blur"; }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
     void execute(FrameContext& ctx) override {
-        const glm::ivec2 t = st_->traceSize(ctx);
-        st_->blurTemp.ensure(ctx.ledger, "ssr.blur_temp", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y});
-        st_->blurred.ensure(ctx.ledger, "ssr.blurred", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y});
-        const gl::Program& h = ctx.programs.compute("ssr/blur.comp");
-        const gl::Program& v = ctx.programs.compute("ssr/blur.comp", {{"RTGI_BLUR_VERTICAL", ""}});
-        st_->bindUniforms(ctx);
-        glBindTextureUnit(1, ctx.res.gbuffer.linearDepth.id());
-        glBindTextureUnit(2, ctx.res.gbuffer.normal.id());
-        // Producer: ssr.resolve (image stores).
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, st_->resolved.id());
-        glBindImageTexture(0, st_->blurTemp.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(h, t.x, t.y);
-        // Producer: the horizontal dispatch above.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, st_->blurTemp.id());
-        glBindImageTexture(0, st_->blurred.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(v, t.x, t.y);
+        using F = SsrFilterConstants;
+        separableBlur(ctx.programs, ctx.ledger, "ssr.blur", kSsrFormat, st_->resolved, st_->depth(ctx),
+                      st_->normal(ctx), st_->blurTemp, st_->blurred, {F::kDepthThreshold, F::kNormalThreshold});
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         return {{"ssr.blur_temp", &st_->blurTemp}, {"ssr.blurred", &st_->blurred}};
@@ -207,41 +229,42 @@ public:
 class TemporalPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.temporal"; }
     std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.velocity"}; }
     void execute(FrameContext& ctx) override {
-        const glm::ivec2 t = st_->traceSize(ctx);
-        for (int i = 0; i < 2; ++i) {
-            const std::string n = std::to_string(i);
-            if (st_->temporal[i].ensure(ctx.ledger, "ssr.temporal" + n, {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y}))
-                st_->temporalValid = false;
-            st_->temporalDepth[i].ensure(ctx.ledger, "ssr.temporal_depth" + n, {GL_TEXTURE_2D, GL_R32F, t.x, t.y});
-            st_->temporal[i].setSampling(GL_LINEAR, GL_LINEAR);
-            st_->temporalDepth[i].setSampling(GL_NEAREST, GL_NEAREST);
-        }
-        st_->current = 1 - st_->current;
-        const int cur = st_->current, prev = 1 - cur;
-        const gl::Program& prog = ctx.programs.compute("ssr/temporal.comp");
-        st_->bindUniforms(ctx);
-        // Producer: ssr.blur (image stores); the previous frame's ssr.temporal.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, st_->blurred.id());
-        glBindTextureUnit(1, st_->temporal[prev].id());
-        glBindTextureUnit(2, st_->temporalDepth[prev].id());
-        glBindTextureUnit(3, ctx.res.gbuffer.linearDepth.id());
-        glBindTextureUnit(4, ctx.res.gbuffer.velocity.id());
-        glBindImageTexture(0, st_->temporal[cur].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        glBindImageTexture(1, st_->temporalDepth[cur].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        gl::dispatch(prog, t.x, t.y);
         // A frame resolved without history is all misses: never blend it in later.
-        st_->temporalValid = st_->resolvedHadHistory;
+        const bool reset = ctx.view.cut || !st_->temporalHasReflections;
+        const gl::Texture& out = st_->temporal.run(ctx.programs, ctx.ledger, "ssr.temporal", kSsrFormat,
+                                                   st_->blurred, st_->depth(ctx), ctx.res.gbuffer.velocity, reset);
+        st_->temporalHasReflections = st_->resolvedHadHistory;
+        st_->reflection = &out;
     }
     std::vector<DebugImage> debugImages() const override {
-        return {{"ssr.temporal.reflection", &st_->temporal[st_->current], 1.0f}};
+        return {{"ssr.temporal.reflection", &st_->temporal.output(), 1.0f}};
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.temporal", &st_->temporal[st_->current]},
-                {"ssr.temporal_depth", &st_->temporalDepth[st_->current]}};
+        return {{"ssr.temporal", &st_->temporal.output()}};
+    }
+};
+
+// ---- ssr.upsample ----------------------------------------------------------
+class UpsamplePass final : public SsrPass {
+public:
+    using SsrPass::SsrPass;
+    const char* notInChain(const Scene&, const Settings& s) const override {
+        return s.ssr.halfResolution ? nullptr : "ssr.resolution=full";
+    }
+    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth"}; }
+    void execute(FrameContext& ctx) override {
+        // Joint bilateral (depth-aware) so receivers do not take reflections across depth edges.
+        upsample(ctx.programs, ctx.ledger, "ssr.upsample", kSsrFormat, *st_->reflection, st_->traceDepth,
+                 ctx.res.gbuffer.linearDepth, st_->upsampled, true);
+        st_->reflection = &st_->upsampled;
+    }
+    std::vector<DebugImage> debugImages() const override {
+        return {{"ssr.upsample.reflection", &st_->upsampled, 1.0f}};
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return {{"ssr.upsample", &st_->upsampled}};
     }
 };
 
@@ -249,7 +272,6 @@ public:
 class ShadePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.shade"; }
     std::vector<std::string> reads() const override {
         return {"brdfLut", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
     }
@@ -262,8 +284,8 @@ public:
         r.specularOcclusion.ensure(ctx.ledger, "ssr.specular_occlusion", {GL_TEXTURE_2D, GL_R16F, s.x, s.y});
         const gl::Program& prog = ctx.programs.compute("ssr/shade.comp");
         st_->bindUniforms(ctx);
-        const gl::Texture& reflection = st_->temporal[st_->current];
-        // Producers: ssr.temporal, brdf_lut, lpv.apply (image stores).
+        const gl::Texture& reflection = *st_->reflection;
+        // Producers: ssr.upsample / ssr.temporal, brdf_lut, lpv.apply (image stores).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         glBindTextureUnit(0, reflection.id());
         glBindTextureUnit(1, r.brdfLut.id());
@@ -286,11 +308,8 @@ public:
 class DiffuseHistoryPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::string name() const override { return "ssr.diffuse_history"; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        Need n = ssrNeed(scene, s);
-        if (n.needed && !s.ssr.diffuseHistory) return Need::no("ssr.diffuse_history=off (full HDR history)");
-        return n;
+    const char* notInChain(const Scene&, const Settings& s) const override {
+        return s.ssr.diffuseHistory ? nullptr : "ssr.diffuse_history=off (full HDR history)";
     }
     std::vector<std::string> reads() const override {
         return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
@@ -302,37 +321,9 @@ public:
         st_->directDiffuse.ensure(ctx.ledger, "ssr.direct_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         r.diffuseHistory.ensure(ctx.ledger, "ssr.diffuse_history", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         r.diffuseHistory.setSampling(GL_LINEAR, GL_LINEAR);
-        const gl::Defines diffuseOnly{{"RTGI_DIFFUSE_ONLY", ""}};
-        const gl::Program& direct = ctx.programs.compute("post/direct.comp", diffuseOnly);
-        const gl::Program& compose = ctx.programs.compute("post/compose.comp", diffuseOnly);
-        const GBuffer& g = r.gbuffer;
-        // Producers: gbuffer, shadow (raster writes); ao.*, lpv.apply (image stores).
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, g.linearDepth.id());
-        glBindTextureUnit(1, g.normal.id());
-        glBindTextureUnit(2, g.albedo.id());
-        glBindTextureUnit(3, g.material.id());
-        glBindTextureUnit(4, g.emissive.id());
-        bool shadow = bool(r.shadowMap);
-        glBindTextureUnit(5, shadow ? r.shadowMap.id() : 0);
-        direct.set(0, shadow ? 1 : 0);
-        ctx.gpuScene.bindTables();
-        glBindImageTexture(0, st_->directDiffuse.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(direct, s.x, s.y);
-        // Producer: the diffuse-only direct dispatch above.
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, st_->directDiffuse.id());
-        glBindTextureUnit(1, g.albedo.id());
-        glBindTextureUnit(2, g.material.id());
-        glBindTextureUnit(3, r.indirectDiffuse ? r.indirectDiffuse.id() : 0);
-        glBindTextureUnit(4, 0);
-        glBindTextureUnit(5, r.ao ? r.ao.id() : 0);
-        bool aoInLpv = ctx.settings.ao.directional != AoSettings::Directional::Off && bool(r.indirectDiffuse) &&
-                       bool(r.bentNormal.id() || r.s3ho.id());
-        compose.set(0, glm::ivec4(bool(r.indirectDiffuse), 0, bool(r.ao), aoInLpv));
-        glBindImageTexture(0, r.diffuseHistory.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(compose, s.x, s.y);
-        for (int u = 3; u <= 5; ++u) glBindTextureUnit(GLuint(u), 0);
+        dispatchDirect(ctx, st_->directDiffuse, true);
+        // Producer: the diffuse-only direct dispatch above (barrier inside dispatchCompose).
+        dispatchCompose(ctx, st_->directDiffuse, r.diffuseHistory, nullptr, true);
         st_->diffuseHistoryValid = true;
     }
     // res.diffuseHistory through writes(); the diffuse-only direct light is private.
@@ -347,13 +338,16 @@ public:
 
 void appendSsrPasses(std::vector<std::unique_ptr<Pass>>& f) {
     auto st = std::make_shared<SsrState>();
-    f.push_back(std::make_unique<HizPass>(st));       // min-depth pyramid (hiz tracer only)
-    f.push_back(std::make_unique<TracePass>(st));     // ray march: hit offset + confidence
-    f.push_back(std::make_unique<ResolvePass>(st));   // reproject the hit, fetch last frame's radiance
-    f.push_back(std::make_unique<BlurPass>(st));            // separable edge-preserving Gaussian
-    f.push_back(std::make_unique<TemporalPass>(st));        // seed 000 listing 11 reprojection
-    f.push_back(std::make_unique<ShadePass>(st));           // split-sum × reflection × occlusion + LPV fill
-    f.push_back(std::make_unique<DiffuseHistoryPass>(st));  // next frame's diffuse-only history
+    // min-depth pyramid (hiz only) -> ray march -> reproject the hit into last frame's radiance
+    // -> shared blur / temporal / depth-aware upsampling -> split-sum shading (+ diffuse-only history)
+    f.push_back(std::make_unique<HizPass>(st, "ssr.hiz"));
+    f.push_back(std::make_unique<TracePass>(st, "ssr.trace"));
+    f.push_back(std::make_unique<ResolvePass>(st, "ssr.resolve"));
+    f.push_back(std::make_unique<BlurPass>(st, "ssr.blur"));
+    f.push_back(std::make_unique<TemporalPass>(st, "ssr.temporal"));
+    f.push_back(std::make_unique<UpsamplePass>(st, "ssr.upsample"));
+    f.push_back(std::make_unique<ShadePass>(st, "ssr.shade"));
+    f.push_back(std::make_unique<DiffuseHistoryPass>(st, "ssr.diffuse_history"));
 }
 
 SsrSettings::Tracer effectiveSsrTracer(const Scene& scene, const Settings& s) {
