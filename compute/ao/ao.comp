@@ -298,6 +298,19 @@ void main() {
 #if AO_RADIUS == 2
     R *= texelFetch(uRadiusScale, p, 0).r;
 #endif
+    // Guard (issue 9, docs/STABILITY.md): a radius below 1e-4 of the view depth puts every sample
+    // within ~1000 fp32 ulps of P, where the depth comparisons are decided by rounding (ssao-disk
+    // counted a plane as fully occluded at R = 0, vo as 16 % occluded at 1e-6). Nothing can be
+    // closer than R -> 0, so the exact AO is 1 and the directional terms are the unoccluded ones.
+    if (!(R > 1e-4 * d)) {
+        imageStore(uAo, p, vec4(1.0));
+#if AO_DIRECTIONAL == 1
+        imageStore(uDirectional, p, vec4(n, 1.0));
+#elif AO_DIRECTIONAL == 2
+        imageStore(uDirectional, p, shCosineLobe(n));
+#endif
+        return;
+    }
     float a = estimate(p, uv, P, n, d, R, bn);
 #if AO_RADIUS == 1
     float b = estimate(p, uv, P, n, d, ao.radius.y, bn);

@@ -7,7 +7,9 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace rtgi::test {
 
@@ -75,6 +77,38 @@ inline std::unique_ptr<Renderer> renderFrames(const Scene& scene, const Settings
     }
     glFinish();
     return r;
+}
+
+// A 2D texture of format fmt filled from `comps` floats per texel.
+inline gl::Texture floatTexture(gl::MemoryLedger& ledger, const char* label, GLenum fmt, int w, int h, int comps,
+                                const std::vector<float>& data) {
+    gl::Texture t(ledger, label, {GL_TEXTURE_2D, fmt, w, h});
+    GLenum f = comps == 1 ? GL_RED : comps == 2 ? GL_RG : GL_RGBA;
+    glTextureSubImage2D(t.id(), 0, 0, 0, w, h, f, GL_FLOAT, data.data());
+    return t;
+}
+
+// Renders `frames` frames with --check on; CHECKs that no output holds NaN or
+// Inf (each offender named) and returns their total count.
+inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 size, int frames = 2) {
+    gl::Profiler prof(false);
+    Renderer r(s, st, prof);
+    r.setCheck(true);
+    Camera cam = resolveCamera(s, st);
+    View prev;
+    for (int f = 0; f < frames; ++f) {
+        View v = makeView(cam, size, f ? &prev : nullptr, unsigned(f));
+        r.render(v);
+        prev = v;
+    }
+    std::uint64_t bad = 0;
+    for (auto& c : r.finiteCounts()) {
+        INFO(c.pass << " " << c.resource << " nan=" << c.nan << " inf=" << c.inf);
+        CHECK(c.nan + c.inf == 0);
+        bad += c.nan + c.inf;
+    }
+    CHECK_FALSE(r.finiteCounts().empty());
+    return bad;
 }
 
 }  // namespace rtgi::test

@@ -28,14 +28,6 @@ Settings aoSettings(AoSettings::Variant v) {
     return st;
 }
 
-gl::Texture floatTexture(gl::MemoryLedger& ledger, const char* label, GLenum fmt, int w, int h, int comps,
-                         const std::vector<float>& data) {
-    gl::Texture t(ledger, label, {GL_TEXTURE_2D, fmt, w, h});
-    GLenum f = comps == 1 ? GL_RED : comps == 2 ? GL_RG : GL_RGBA;
-    glTextureSubImage2D(t.id(), 0, 0, 0, w, h, f, GL_FLOAT, data.data());
-    return t;
-}
-
 }  // namespace
 
 TEST_CASE("AO of every variant on a plane is 1 within 0.02 (16 samples, blur + temporal + upsample); sky is 1") {

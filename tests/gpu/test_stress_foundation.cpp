@@ -9,31 +9,6 @@
 using namespace rtgi;
 using namespace rtgi::test;
 
-namespace {
-
-// Renders with --check on and returns the total NaN+Inf count over all outputs.
-std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 size, int frames = 2) {
-    gl::Profiler prof(false);
-    Renderer r(s, st, prof);
-    r.setCheck(true);
-    Camera cam = resolveCamera(s, st);
-    View prev;
-    for (int f = 0; f < frames; ++f) {
-        View v = makeView(cam, size, f ? &prev : nullptr, unsigned(f));
-        r.render(v);
-        prev = v;
-    }
-    std::uint64_t bad = 0;
-    for (auto& c : r.finiteCounts()) {
-        INFO(c.pass << " " << c.resource << " nan=" << c.nan << " inf=" << c.inf);
-        CHECK(c.nan + c.inf == 0);
-        bad += c.nan + c.inf;
-    }
-    CHECK_FALSE(r.finiteCounts().empty());
-    return bad;
-}
-
-}  // namespace
 
 TEST_CASE("stress: resolutions 1x1, 7x3, 3x7 and odd sizes stay finite") {
     GpuFixture gpu;

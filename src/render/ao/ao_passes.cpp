@@ -220,6 +220,7 @@ public:
         glBindTextureUnit(3, 0);
         glBindTextureUnit(4, 0);
         c.current = &out;
+        written_ = &out;
         lastDirectional_ = dirTex;
     }
     std::vector<DebugImage> debugImages() const override {
@@ -228,15 +229,17 @@ public:
         if (lastDirectional_) d.push_back({lastDirectional_->label(), lastDirectional_, 1.0f});
         return d;
     }
+    // The texture written this frame: ao.raw, or res.ao when the estimate is the last stage.
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
-        if (chain_->raw) o.push_back({"ao.raw", &chain_->raw});
+        if (written_ && *written_) o.push_back({written_->label(), written_});
         if (lastDirectional_) o.push_back({lastDirectional_->label(), lastDirectional_, true});
         return o;
     }
 
 private:
     Variant variant_;
+    const gl::Texture* written_ = nullptr;
     const gl::Texture* lastDirectional_ = nullptr;
 };
 
@@ -262,19 +265,24 @@ public:
         separableBlur(ctx.programs, ctx.ledger, &out == &ctx.res.ao ? "ao" : name(), kAoFormat, *c.current,
                       c.depth(ctx), c.normal(ctx), c.blurTmp, out);
         c.current = &out;
+        written_ = &out;
     }
     std::vector<DebugImage> debugImages() const override {
         const gl::Texture& t = second_ ? chain_->blurred2 : chain_->blurred;
         return t ? std::vector<DebugImage>{{second_ ? "ao.blurred2" : "ao.blurred", &t, 1.0f}}
                  : std::vector<DebugImage>{};
     }
+    // The horizontal pass's target and the texture written this frame (res.ao when last).
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        const gl::Texture& t = second_ ? chain_->blurred2 : chain_->blurred;
-        return t ? std::vector<Output>{{name(), &t}} : std::vector<Output>{};
+        std::vector<Output> o;
+        if (chain_->blurTmp) o.push_back({name() + ":tmp", &chain_->blurTmp});
+        if (written_ && *written_) o.push_back({name() + ":" + written_->label(), written_});
+        return o;
     }
 
 private:
     bool second_;
+    const gl::Texture* written_ = nullptr;
 };
 
 // ---- ao.temporal --------------------------------------------------------------

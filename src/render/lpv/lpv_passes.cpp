@@ -25,6 +25,7 @@ struct LpvState {
     bool havePrevious = false;
     int historyTarget = 0;
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
+    int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made in debugImages(), outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
@@ -32,6 +33,12 @@ struct LpvState {
 };
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
+
+// --check entries of one R, G, B volume triple (SH coefficients: signed).
+void addRgb(std::vector<Pass::Output>& o, const std::string& pass, const lpv::Rgb& v) {
+    for (const gl::Texture& t : v)
+        if (t) o.push_back({pass + ":" + t.label(), &t, true});
+}
 
 class LpvPass : public Pass {
 public:
@@ -111,6 +118,9 @@ public:
         gl::Profiler::noteDispatch();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        return {{"lpv.rsm.flux", &st_->rsm.flux}, {"lpv.rsm.normal", &st_->rsm.normal, true}};
+    }
     std::vector<DebugImage> debugImages() const override {
         return {{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)},
                 {"lpv.rsm.normal", &st_->rsm.normal, 1.0f}};
@@ -138,6 +148,7 @@ public:
         st.volumes.ensureLight(ctx.ledger, st.placement.grid,
                                ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
+        path_ = ls.path;
         if (ls.path == LpvSettings::Path::Raster) {
             lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes);
         } else {
@@ -152,13 +163,20 @@ public:
         st_->stats.download(&dropped, sizeof(dropped));
         return {{"dropped_texels", double(dropped)}};
     }
+    // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
-        for (int c = 0; c < 3; ++c)
-            if (st_->volumes.step[0][std::size_t(c)])
-                o.push_back({name() + ":" + st_->volumes.step[0][std::size_t(c)].label(), &st_->volumes.step[0][std::size_t(c)], true});
+        if (path_ == LpvSettings::Path::Raster) {
+            addRgb(o, name(), st_->volumes.step[0]);
+            addRgb(o, name(), st_->volumes.accum);
+        } else {
+            addRgb(o, name(), st_->volumes.inject);
+        }
         return o;
     }
+
+private:
+    LpvSettings::Path path_ = LpvSettings::Path::Compute;
 };
 
 // lpv.pack: fp32 accumulation -> propagation format (compute path only).
@@ -172,6 +190,12 @@ public:
         return Need::yes();
     }
     void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        std::vector<Output> o;
+        addRgb(o, name(), st_->volumes.step[0]);
+        addRgb(o, name(), st_->volumes.accum);
+        return o;
+    }
 };
 
 // lpv.inject_geometry: blocking potential from the RSM and the G-buffer.
@@ -209,7 +233,8 @@ public:
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         if (!st_->volumes.geometry) return {};
-        return {{name() + ":lpv.geometry", &st_->volumes.geometry, true}};
+        return {{name() + ":lpv.geometry", &st_->volumes.geometry, true},
+                {name() + ":lpv.geometry_albedo", &st_->volumes.geometryAlbedo}};
     }
 };
 
@@ -222,9 +247,9 @@ public:
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
         if (ls.path == LpvSettings::Path::Raster)
-            lpv::propagateRaster(ctx.programs, st.ubo, st.volumes, ls.iterations);
+            st.lastStep = lpv::propagateRaster(ctx.programs, st.ubo, st.volumes, ls.iterations);
         else
-            lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
+            st.lastStep = lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
         st.result = &st.volumes.accum;
     }
     std::vector<DebugImage> debugImages() const override {
@@ -246,10 +271,8 @@ public:
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
-        for (int c = 0; c < 3; ++c) {
-            const gl::Texture& t = st_->volumes.accum[std::size_t(c)];
-            if (t) o.push_back({name() + ":" + t.label(), &t, true});
-        }
+        addRgb(o, name(), st_->volumes.accum);
+        addRgb(o, name(), st_->volumes.step[std::size_t(st_->lastStep)]);
         return o;
     }
 };
@@ -269,6 +292,11 @@ public:
         st.historyTarget = 1 - st.historyTarget;
         lpv::temporalBlend(ctx.programs, st.ubo, st.volumes, st.historyTarget);
         st.result = &st.volumes.history[std::size_t(st.historyTarget)];
+    }
+    std::vector<Output> checkedOutputs(const FrameResources&) const override {
+        std::vector<Output> o;
+        addRgb(o, name(), st_->volumes.history[std::size_t(st_->historyTarget)]);
+        return o;
     }
 };
 

@@ -221,7 +221,7 @@ public:
                       st_->normal(ctx), st_->blurTemp, st_->blurred, {F::kDepthThreshold, F::kNormalThreshold});
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.blurred", &st_->blurred}};
+        return {{"ssr.blur_temp", &st_->blurTemp}, {"ssr.blurred", &st_->blurred}};
     }
 };
 
@@ -325,6 +325,12 @@ public:
         // Producer: the diffuse-only direct dispatch above (barrier inside dispatchCompose).
         dispatchCompose(ctx, st_->directDiffuse, r.diffuseHistory, nullptr, true);
         st_->diffuseHistoryValid = true;
+    }
+    // res.diffuseHistory through writes(); the diffuse-only direct light is private.
+    std::vector<Output> checkedOutputs(const FrameResources& res) const override {
+        std::vector<Output> o = Pass::checkedOutputs(res);
+        o.push_back({"ssr.direct_diffuse", &st_->directDiffuse});
+        return o;
     }
 };
 
