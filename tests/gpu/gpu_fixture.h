@@ -8,6 +8,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -66,8 +67,9 @@ inline Scene floorScene(float h, glm::vec3 albedo, bool withSun, glm::vec3 towar
 
 // Renders `frames` frames of scene with settings at size; returns the renderer.
 inline std::unique_ptr<Renderer> renderFrames(const Scene& scene, const Settings& settings, glm::ivec2 size,
-                                              gl::Profiler& profiler, int frames = 1) {
+                                              gl::Profiler& profiler, int frames = 1, bool check = false) {
     auto r = std::make_unique<Renderer>(scene, settings, profiler);
+    r->setCheck(check);
     Camera cam = resolveCamera(scene, settings);
     View prev;
     for (int f = 0; f < frames; ++f) {
@@ -109,6 +111,19 @@ inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 si
     }
     CHECK_FALSE(r.finiteCounts().empty());
     return bad;
+}
+
+// World position of pixel (x, y) of a `size` image from the G-buffer's
+// linear depth (depth.glsl conventions), in double precision.
+inline glm::dvec3 worldPosition(const Scene& scene, const Settings& s, glm::ivec2 size, const FloatImage& depth, int x,
+                                int y) {
+    Camera cam = resolveCamera(scene, s);
+    View v = makeView(cam, size, nullptr, 0);
+    double d = depth.at(x, y, 0);
+    double th = std::tan(0.5 * double(cam.fovY)), aspect = double(size.x) / double(size.y);
+    glm::dvec2 ndc((x + 0.5) / size.x * 2.0 - 1.0, (y + 0.5) / size.y * 2.0 - 1.0);
+    glm::dvec4 vp(ndc.x * th * aspect * d, ndc.y * th * d, -d, 1.0);
+    return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
 }
 
 }  // namespace rtgi::test

@@ -30,16 +30,6 @@ Scene wallScene() {
     return s;
 }
 
-// World position of pixel (x, y) from the G-buffer's linear depth (depth.glsl conventions).
-glm::dvec3 worldPosition(const Scene& scene, const Settings& s, const FloatImage& depth, int x, int y) {
-    Camera cam = resolveCamera(scene, s);
-    View v = makeView(cam, kSize, nullptr, 0);
-    double d = depth.at(x, y, 0);
-    double th = std::tan(0.5 * double(cam.fovY)), aspect = double(kSize.x) / double(kSize.y);
-    glm::dvec2 ndc((x + 0.5) / kSize.x * 2.0 - 1.0, (y + 0.5) / kSize.y * 2.0 - 1.0);
-    glm::dvec4 vp(ndc.x * th * aspect * d, ndc.y * th * d, -d, 1.0);
-    return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
-}
 
 }  // namespace
 
@@ -82,7 +72,7 @@ TEST_CASE("LPV calibration: wall lit by a sunlit floor, LPV indirect vs path-tra
         for (int y = 0; y < kSize.y; ++y)
             for (int x = 0; x < kSize.x; ++x) {
                 if (!(depth.at(x, y, 0) > 0)) continue;
-                glm::dvec3 p = worldPosition(scene, rs, depth, x, y);
+                glm::dvec3 p = worldPosition(scene, rs, kSize, depth, x, y);
                 if (std::abs(p.z) > 1e-2 || p.y < 0.25 || p.y > 1.2 || std::abs(p.x) > 1.0) continue;
                 sumLpv += lpvImg.at(x, y, 0);
                 sumRef += refMean.at(x, y, 0);

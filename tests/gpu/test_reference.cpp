@@ -43,16 +43,6 @@ RefResult renderReference(const Scene& scene, const Settings& s) {
             out->fromCache()};
 }
 
-// World position of pixel (x, y) from the G-buffer's linear depth (depth.glsl conventions).
-glm::dvec3 worldPosition(const Scene& scene, const Settings& s, const FloatImage& depth, int x, int y) {
-    Camera cam = resolveCamera(scene, s);
-    View v = makeView(cam, kSize, nullptr, 0);
-    double d = depth.at(x, y, 0);
-    double th = std::tan(0.5 * double(cam.fovY)), aspect = double(kSize.x) / double(kSize.y);
-    glm::dvec2 ndc((x + 0.5) / kSize.x * 2.0 - 1.0, (y + 0.5) / kSize.y * 2.0 - 1.0);
-    glm::dvec4 vp(ndc.x * th * aspect * d, ndc.y * th * d, -d, 1.0);
-    return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
-}
 
 // Floor [-2,2]^2 at y = 0 and a wall at z = -1, x in [-2,2], y in [0, 1.5], facing +z.
 constexpr double kWallZ = -1.0, kWallW = 2.0, kWallH = 1.5;
@@ -178,7 +168,7 @@ TEST_CASE("Reference AO: floor beside a wall equals quadrature over the same geo
         for (int y = 0; y < kSize.y; ++y)
             for (int x = 0; x < kSize.x; ++x) {
                 if (!(r.depth.at(x, y, 0) > 0)) continue;
-                glm::dvec3 p = worldPosition(s, st, r.depth, x, y);
+                glm::dvec3 p = worldPosition(s, st, kSize, r.depth, x, y);
                 if (std::abs(p.y) > 1e-3 || p.z < kWallZ + 0.02) continue;  // floor pixels in front of the wall
                 double expect = aoQuadrature(p, length, kWallW, kWallH, 128);
                 double got = r.mean.at(x, y, 0);

@@ -23,15 +23,8 @@ struct AoRange {
 
 AoRange floorAo(const Scene& s, const Settings& st, glm::ivec2 size, std::uint64_t& nonFiniteOutputs) {
     gl::Profiler prof(false);
-    Renderer r(s, st, prof);
-    r.setCheck(true);
-    Camera cam = resolveCamera(s, st);
-    View prev;
-    for (int f = 0; f < 3; ++f) {
-        View v = makeView(cam, size, f ? &prev : nullptr, unsigned(f));
-        r.render(v);
-        prev = v;
-    }
+    auto rp = renderFrames(s, st, size, prof, 3, /*check=*/true);
+    Renderer& r = *rp;
     for (auto& c : r.finiteCounts()) {
         INFO(c.pass << " " << c.resource << " nan=" << c.nan << " inf=" << c.inf << " neg=" << c.negative);
         CHECK(c.nan + c.inf == 0);

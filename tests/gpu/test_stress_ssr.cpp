@@ -33,15 +33,8 @@ struct SsrRun {
 
 SsrRun runSsr(const Scene& s, const Settings& st, glm::ivec2 size) {
     gl::Profiler prof(false);
-    Renderer r(s, st, prof);
-    r.setCheck(true);
-    Camera cam = resolveCamera(s, st);
-    View prev;
-    for (int f = 0; f < 3; ++f) {
-        View v = makeView(cam, size, f ? &prev : nullptr, unsigned(f));
-        r.render(v);
-        prev = v;
-    }
+    auto rp = renderFrames(s, st, size, prof, 3, /*check=*/true);
+    Renderer& r = *rp;
     SsrRun out;
     int ssrOutputs = 0;
     for (auto& c : r.finiteCounts()) {
