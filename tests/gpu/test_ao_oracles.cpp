@@ -263,9 +263,8 @@ struct Oracle {
                             if (!sceneAlong(P, side == 0 ? glm::dvec2(dir) : -glm::dvec2(dir), s, S)) continue;
                             glm::dvec3 D = S - P;
                             double dist = glm::length(D);
-                            if (dist < 1e-6) continue;
-                            double w = std::clamp((R - dist) / (0.4 * R), 0.0, 1.0);
-                            hc[side] = std::max(hc[side], low[side] + (glm::dot(D / dist, Vd) - low[side]) * w);
+                            if (dist < 1e-6 || dist >= R) continue;  // visibility up to R: hard cut
+                            hc[side] = std::max(hc[side], glm::dot(D / dist, Vd));
                         }
                     double h0 = nA + std::max(-std::acos(std::clamp(hc[1], -1.0, 1.0)) - nA, -kPi / 2);
                     double h1 = nA + std::min(std::acos(std::clamp(hc[0], -1.0, 1.0)) - nA, kPi / 2);
