@@ -252,9 +252,12 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
                 vec3 D = viewPosAt(uvS, zS) - P;
                 float dist = length(D);
                 if (dist < 1e-6) continue;
-                // Linear falloff from 0.6 R to R keeps distant blockers from popping.
-                float w = clamp((R - dist) / (0.4 * R), 0.0, 1.0);
-                float shc = mix(side == 0 ? low0 : low1, dot(D / dist, V), w);
+                // Hard cut at R: the quantity is visibility up to distance R,
+                // the reference's ray length. (The former linear falloff from
+                // 0.6 R to R shortened the effective range: +0.02 bias on the
+                // corner scene, docs/ao.md "Error against ray-traced AO".)
+                if (dist >= R) continue;
+                float shc = dot(D / dist, V);
                 if (side == 0) hc0 = max(hc0, shc); else hc1 = max(hc1, shc);
             }
         }

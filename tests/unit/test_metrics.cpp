@@ -110,3 +110,26 @@ TEST_CASE("Reference settings -> GPU constants") {
     CHECK_THROWS_AS(applySetting(s, "reference.seed", "-1"), ConfigError);
     CHECK_THROWS_AS(applySetting(s, "reference.specular", "maybe"), ConfigError);
 }
+
+TEST_CASE("depthInteriorMask drops sky and every pixel whose 3x3 neighbourhood jumps in depth by more than 10 %") {
+    // 5x1 row pattern stacked 3 high: depths 1, 1, 1.05, 2, 2 (a 5 % step, then a 90 % step).
+    // A sky column would be 0; the middle row checks the vertical neighbours too.
+    FloatImage d = grey(5, 3, {1.0f, 1.0f, 1.05f, 2.0f, 2.0f,  //
+                               1.0f, 1.0f, 1.05f, 2.0f, 0.0f,  //
+                               1.0f, 1.0f, 1.05f, 2.0f, 2.0f});
+    d.channels = 4;
+    std::vector<std::uint8_t> m = depthInteriorMask(d, 0.1);
+    REQUIRE(m.size() == 15u);
+    // Columns 0, 1: only 5 % steps at most (1 -> 1.05 is within 10 % of 1): interior.
+    for (int y = 0; y < 3; ++y) {
+        CHECK(m[std::size_t(y * 5 + 0)] == 1);
+        CHECK(m[std::size_t(y * 5 + 1)] == 1);
+        // Column 2 neighbours depth 2 (|2 - 1.05| > 0.105): edge; column 3 neighbours 1.05: edge.
+        CHECK(m[std::size_t(y * 5 + 2)] == 0);
+        CHECK(m[std::size_t(y * 5 + 3)] == 0);
+    }
+    // Column 4: the sky pixel itself and both its vertical neighbours are excluded.
+    CHECK(m[4] == 0);
+    CHECK(m[9] == 0);
+    CHECK(m[14] == 0);
+}

@@ -57,6 +57,27 @@ ErrorMetrics compareImages(const FloatImage& t, const FloatImage& r, int channel
     return m;
 }
 
+std::vector<std::uint8_t> depthInteriorMask(const FloatImage& depth, double relativeJump) {
+    const int w = depth.width, h = depth.height;
+    const std::size_t ch = std::size_t(depth.channels);
+    auto at = [&](int x, int y) { return double(depth.data[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * ch]); };
+    std::vector<std::uint8_t> mask(std::size_t(w) * std::size_t(h), 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double d = at(x, y);
+            if (!(d > 0.0)) continue;
+            bool interior = true;
+            for (int dy = -1; dy <= 1 && interior; ++dy)
+                for (int dx = -1; dx <= 1 && interior; ++dx) {
+                    const int nx = std::clamp(x + dx, 0, w - 1), ny = std::clamp(y + dy, 0, h - 1);
+                    const double n = at(nx, ny);
+                    interior = n > 0.0 && std::abs(n - d) <= relativeJump * d;
+                }
+            mask[std::size_t(y) * std::size_t(w) + std::size_t(x)] = interior ? 1 : 0;
+        }
+    return mask;
+}
+
 double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, double L) {
     checkSizes(a, b);
     const int w = a.width, h = a.height;

@@ -29,6 +29,14 @@ ErrorMetrics compareImages(const FloatImage& test, const FloatImage& ref, int ch
                            const std::vector<std::uint8_t>& mask = {});
 double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, double dynamicRange);
 
+// Pixels away from depth discontinuities: 1 where the pixel is not sky and
+// every pixel of its 3×3 neighbourhood is neither sky nor differs from it in
+// linear depth by more than `relativeJump` of the centre depth. `depth`:
+// linear view depth in channel 0 (0 = sky). The AO error splits into this
+// interior and the edge band, where half-resolution AO, the upsample and the
+// depth buffer's missing thickness dominate (docs/ao.md).
+std::vector<std::uint8_t> depthInteriorMask(const FloatImage& depth, double relativeJump);
+
 // |luminance(test) − luminance(ref)| mapped from 0 (black) to `maxError`
 // (yellow, larger errors saturate) through a perceptually ordered ramp, with a colour bar and its
 // two end values printed on the right. Returns an RGBA image in [0,1].

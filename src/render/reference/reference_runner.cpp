@@ -78,6 +78,17 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     e["peak"] = peak;
     double heatMax = errorQuantile(test, mean, channels, 0.99);
     e["heatmap_max"] = heatMax;
+    // The same metrics over the pixels away from depth discontinuities (3×3
+    // relative depth jump <= 10 %): separates the estimator's error from the
+    // edge band's (docs/ao.md, "Error against ray-traced AO"). SSIM is a
+    // whole-image metric and not repeated.
+    {
+        const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
+        nlohmann::json in = metricsJson(compareImages(test, mean, channels, peak, interior), kind != K::Ao);
+        in.erase("ssim");
+        in["relative_depth_jump"] = 0.1;
+        e["interior"] = in;
+    }
     // Issue 6: the reflection error on the glossy pixels (roughness <=
     // ssr.roughness_cutoff, the ones SSR shades; also with ssr=off, as the
     // baseline), beside the whole-image one. SSIM is computed over the whole
