@@ -30,7 +30,11 @@ void main() {
     float lastDepth = texture(uHistoryDepth, uvPrev).r;
     float alpha = temporalAlpha(abs(depth - lastDepth), velocity, uvPrev);
     if (uReset != 0 || isSky(depth)) alpha = 1.0;
+    // On a reset the history is not touched at all: 0 * NaN is NaN, and a
+    // history image may hold anything before its first write (NVIDIA does not
+    // zero new textures; llvmpipe does). A non-finite history is rejected too.
     vec4 last = texture(uHistory, uvPrev);
-    imageStore(uOut, p, (1.0 - alpha) * last + alpha * current);
+    bool historyValid = alpha < 1.0 && !any(isnan(last)) && !any(isinf(last));
+    imageStore(uOut, p, historyValid ? mix(last, current, alpha) : current);
     imageStore(uOutDepth, p, vec4(depth));
 }

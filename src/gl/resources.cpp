@@ -65,6 +65,10 @@ Texture::Texture(MemoryLedger& ledger, std::string label, const TextureDesc& d) 
         glTextureStorage2D(id, d.levels, d.format, d.width, d.height);
     handle_.label(label_);
     setSampling(d.levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST, GL_NEAREST);
+    // New storage is undefined in GL (NVIDIA hands out old memory, llvmpipe
+    // zeros): start every texture at zero so that a pass reading history or an
+    // accumulation before its first write sees 0, never garbage or NaN.
+    zeroAllLevels();
     std::int64_t bytes = 0;
     for (int l = 0; l < d.levels; ++l) {
         std::int64_t w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
@@ -72,6 +76,26 @@ Texture::Texture(MemoryLedger& ledger, std::string label, const TextureDesc& d) 
         bytes += w * h * z * bytesPerTexel(d.format);
     }
     entry_ = LedgerEntry(&ledger, label_, bytes);
+}
+
+void Texture::zeroAllLevels() const {
+    GLenum f = desc_.format;
+    bool depth = f == GL_DEPTH_COMPONENT32F || f == GL_DEPTH_COMPONENT24 || f == GL_DEPTH_COMPONENT16;
+    bool depthStencil = f == GL_DEPTH24_STENCIL8;
+    bool integer = f == GL_R8UI || f == GL_R16UI || f == GL_R32UI || f == GL_R32I || f == GL_RG32UI ||
+                   f == GL_RGBA8UI || f == GL_RGBA32UI;
+    const std::uint32_t zeros[4] = {0, 0, 0, 0};
+    for (int l = 0; l < desc_.levels; ++l) {
+        if (depthStencil)
+            glClearTexImage(id(), l, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, zeros);
+        else if (depth)
+            glClearTexImage(id(), l, GL_DEPTH_COMPONENT, GL_FLOAT, zeros);
+        else if (integer)
+            glClearTexImage(id(), l, f == GL_R32I ? GL_RED_INTEGER : GL_RGBA_INTEGER,
+                            f == GL_R32I ? GL_INT : GL_UNSIGNED_INT, zeros);
+        else
+            glClearTexImage(id(), l, GL_RGBA, GL_FLOAT, zeros);
+    }
 }
 
 void Texture::setSampling(GLenum minFilter, GLenum magFilter, GLenum wrap) const {

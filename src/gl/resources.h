@@ -68,6 +68,8 @@ public:
     // Clears every level-0 texel to the given value (glClearTexImage).
     void clear(float r = 0, float g = 0, float b = 0, float a = 0) const;
     void clearInt(std::uint32_t v = 0) const;
+    // Every level to zero (done once at creation).
+    void zeroAllLevels() const;
     // Re-creates the texture only when the description changed (XeGTAO-style
     // ensureResources); returns true when it did.
     bool ensure(MemoryLedger& ledger, const std::string& label, const TextureDesc& desc);

@@ -192,8 +192,8 @@ public:
     void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
+        // pack writes step 0 only; accum is first written by lpv.propagate.
         addRgb(o, name(), st_->volumes.step[0]);
-        addRgb(o, name(), st_->volumes.accum);
         return o;
     }
 };
