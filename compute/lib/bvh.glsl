@@ -15,8 +15,12 @@ struct Hit {
 
 const float BVH_MISS = 1e30;
 
-// Rays traced by this invocation (the kernels add it to a counter once).
+// Rays traced by this invocation; a kernel adds it once to the slot of its
+// dispatch (slot = the dispatch's first sample index), so a progressive
+// reference reads all counters back once at the end, not after every dispatch.
 uint bvhRayCount = 0u;
+layout(std430, binding = RTGI_SSBO_REF_COUNTER) buffer RayCounterBlock { uint rayCounter[]; };
+void bvhCommitRayCount(uint slot) { atomicAdd(rayCounter[slot], bvhRayCount); }
 
 float bvhBox(uint node, vec3 o, vec3 invD, float tMin, float tMax) {
     vec3 t0 = (bvhNodes[node].lo - o) * invD, t1 = (bvhNodes[node].hi - o) * invD;

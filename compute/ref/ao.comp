@@ -14,7 +14,6 @@ layout(binding = 1) uniform sampler2D uNormal;
 layout(rgba32f, binding = 0) uniform image2D uAccum;    // Σx (rgb), sample count (a)
 layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // Σx² (rgb)
 
-layout(std430, binding = RTGI_SSBO_REF_COUNTER) buffer RayCounterBlock { uint rayCounter; };
 
 layout(location = 0) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed
 layout(location = 1) uniform vec2 uRay;       // maximum ray length, origin offset along the normal
@@ -43,5 +42,5 @@ void main() {
     // Visibility is 0 or 1, so Σx² = Σx.
     imageStore(uAccum, p, imageLoad(uAccum, p) + vec4(vec3(visible), n));
     imageStore(uAccumSq, p, imageLoad(uAccumSq, p) + vec4(vec3(visible), 0.0));
-    atomicAdd(rayCounter, bvhRayCount);
+    bvhCommitRayCount(uSamples.x);
 }

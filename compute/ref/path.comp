@@ -26,7 +26,6 @@ layout(binding = 5) uniform sampler2D uEmissive;
 layout(rgba32f, binding = 0) uniform image2D uAccum;    // Σx (rgb), sample count (a)
 layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // Σx² (rgb)
 
-layout(std430, binding = RTGI_SSBO_REF_COUNTER) buffer RayCounterBlock { uint rayCounter; };
 
 layout(location = 0) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
 layout(location = 1) uniform vec2 uRay;       // unused, origin offset along the normal
@@ -110,5 +109,5 @@ void main() {
     }
     imageStore(uAccum, p, imageLoad(uAccum, p) + vec4(sum, float(uSamples.y)));
     imageStore(uAccumSq, p, imageLoad(uAccumSq, p) + vec4(sumSq, 0.0));
-    atomicAdd(rayCounter, bvhRayCount);
+    bvhCommitRayCount(uSamples.x);
 }

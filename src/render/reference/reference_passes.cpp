@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <vector>
 #include <cstring>
 
 namespace rtgi {
@@ -161,7 +162,9 @@ private:
         accumSq_.ensure(ctx.ledger, name() + ".accum_sq", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
         accum_.clear();
         accumSq_.clear();
-        if (!rayCounter_) rayCounter_ = gl::Buffer(ctx.ledger, "ref.ray_counter", 4);
+        // One counter per dispatch, indexed by the dispatch's first sample.
+        rayCounter_.ensure(ctx.ledger, "ref.ray_counters", std::int64_t(c.spp) * 4);
+        rayCounter_.clearZero();
         const gl::Program& prog =
             ao_ ? ctx.programs.compute("ref/ao.comp") : ctx.programs.compute("ref/path.comp", c.defines());
         const GBuffer& g = ctx.res.gbuffer;
@@ -191,21 +194,19 @@ private:
         rays_ = 0;
         for (int first = 0; first < c.spp; first += c.samplesPerDispatch) {
             int n = std::min(c.samplesPerDispatch, c.spp - first);
-            rayCounter_.clearZero();
             // uvec4 uSamples (Program has no uvec4 setter).
             glProgramUniform4ui(prog.id(), 0, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
             // Producer: the previous dispatch of this loop (accumulation images).
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
             gl::dispatch(prog, s.x, s.y);
-            // Producer: the dispatch above (ray counter atomics). The 32-bit
-            // counter is read per dispatch so it cannot overflow at 1080p.
-            glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-            std::uint32_t count = 0;
-            rayCounter_.download(&count, 4);
-            rays_ += double(count);
         }
         glFinish();
         seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        // Producer: the dispatches above (ray counter atomics); read once, after timing.
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<std::uint32_t> counts(std::size_t(c.spp));
+        rayCounter_.download(counts.data(), std::int64_t(counts.size() * 4));
+        for (auto n : counts) rays_ += double(n);
         spp_ = c.spp;
         resolve(ctx, false);
     }
