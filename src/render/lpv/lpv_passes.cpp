@@ -100,23 +100,7 @@ public:
             ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
         prog.set(0, in.rsmViewProj);
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
-        glBindFramebuffer(GL_FRAMEBUFFER, st.rsmFbo.id());
-        glViewport(0, 0, n, n);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_TRUE);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_BLEND);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        const float zero[4] = {0, 0, 0, 0};
-        glClearNamedFramebufferfv(f(), GL_COLOR, 0, zero);
-        glClearNamedFramebufferfv(f(), GL_COLOR, 1, zero);
-        glClearNamedFramebufferfi(f(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-        glUseProgram(prog.id());
-        ctx.gpuScene.bindTables();
-        ctx.gpuScene.draw();
-        gl::Profiler::noteDispatch();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         return {{"lpv.rsm.flux", &st_->rsm.flux}, {"lpv.rsm.normal", &st_->rsm.normal, true}};
@@ -127,7 +111,6 @@ public:
     }
 
 private:
-    GLuint f() const { return st_->rsmFbo.id(); }
     float maxFlux() const {
         FloatImage img = readTexture(st_->rsm.flux);
         float m = 0;

@@ -1,5 +1,6 @@
 #pragma once
 // The foundation's passes (one file each).
+#include "gl/program.h"
 #include "render/pass.h"
 
 #include <memory>
@@ -21,6 +22,14 @@ constexpr int kBrdfLutSamples = 4096;  // GGX importance samples per texel
 void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOnly);
 void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Texture& hdr, const gl::Texture* ldr,
                      bool diffuseOnly);
+
+// The one way the scene is rasterized (G-buffer, shadow map, RSM): binds
+// `fbo`, sets the full raster state (depth test, no blending, no culling —
+// scenes may be open and normals are flipped for back faces — optional
+// slope-scaled depth bias), clears `colorTargets` colour attachments to 0 and
+// depth to 1, draws the whole scene with `prog`, and unbinds.
+void rasterizeScene(FrameContext& ctx, const gl::Program& prog, GLuint fbo, glm::ivec2 size, int colorTargets,
+                    bool depthBias = false);
 
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).

@@ -44,22 +44,7 @@ public:
                 throw std::runtime_error("gbuffer: framebuffer incomplete");
         }
         const gl::Program& prog = ctx.programs.raster("raster/scene.vert", "raster/gbuffer.frag");
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-        glViewport(0, 0, s.x, s.y);
-        glDisable(GL_BLEND);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_TRUE);
-        glDisable(GL_CULL_FACE);  // scenes may be open/thin; normals are flipped for back faces
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        const float zero[4] = {0, 0, 0, 0};
-        for (int i = 0; i < 6; ++i) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, i, zero);
-        glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-        glUseProgram(prog.id());
-        ctx.gpuScene.bindTables();
-        ctx.gpuScene.draw();
-        gl::Profiler::noteDispatch();
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        rasterizeScene(ctx, prog, fbo_.id(), s, 6);
     }
 
 private:

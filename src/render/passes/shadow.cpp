@@ -54,22 +54,7 @@ public:
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
         prog.set(0, ctx.res.shadowViewProj);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-        glViewport(0, 0, n, n);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_TRUE);
-        glDisable(GL_CULL_FACE);
-        glDisable(GL_BLEND);
-        glEnable(GL_POLYGON_OFFSET_FILL);
-        glPolygonOffset(1.5f, 2.0f);  // slope-scaled bias against acne
-        glClearNamedFramebufferfi(fbo_.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-        glUseProgram(prog.id());
-        ctx.gpuScene.bindTables();
-        ctx.gpuScene.draw();
-        gl::Profiler::noteDispatch();
-        glDisable(GL_POLYGON_OFFSET_FILL);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        rasterizeScene(ctx, prog, fbo_.id(), {n, n}, 0, /*depthBias=*/true);
     }
 
 private:
