@@ -113,6 +113,19 @@ inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 si
     return bad;
 }
 
+// The scene uniformly scaled by k about the origin, cameras included (scale
+// invariance and precision-at-scale tests).
+inline Scene scaledScene(Scene s, float k) {
+    for (auto& v : s.vertices) v.position *= k;
+    for (auto& c : s.cameras) {
+        c.position *= k;
+        c.target *= k;
+        c.near *= k;
+        c.far *= k;
+    }
+    return s;
+}
+
 // World position of pixel (x, y) of a `size` image from the G-buffer's
 // linear depth (depth.glsl conventions), in double precision.
 inline glm::dvec3 worldPosition(const Scene& scene, const Settings& s, glm::ivec2 size, const FloatImage& depth, int x,

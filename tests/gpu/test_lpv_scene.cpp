@@ -125,14 +125,7 @@ TEST_CASE("LPV radiance is invariant under scaling the scene by 1e-3 and 1e3 (au
     s.lpv.format = LpvSettings::Format::Rgba32f;
     s.lpv.occlusion = s.lpv.bounce = false;  // the G-buffer blockers' areas depend on pixel footprints only
     auto render = [&](float k) {
-        Scene sc = base;
-        for (auto& v : sc.vertices) v.position *= k;
-        for (auto& c : sc.cameras) {
-            c.position *= k;
-            c.target *= k;
-            c.near *= k;
-            c.far *= k;
-        }
+        Scene sc = scaledScene(base, k);
         return readTexture(renderFrames(sc, s, {24, 24}, prof)->resources().indirectDiffuse);
     };
     FloatImage ref = render(1.0f);

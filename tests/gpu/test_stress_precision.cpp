@@ -150,14 +150,7 @@ TEST_CASE("precision: LPV fp16 vs fp32 volumes on cornell at scene scales 1e-3, 
     GpuFixture gpu;
     Scene base = loadBuiltin("cornell");
     for (float k : {1e-3f, 1.0f, 1e3f}) {
-        Scene sc = base;
-        for (auto& v : sc.vertices) v.position *= k;
-        for (auto& c : sc.cameras) {
-            c.position *= k;
-            c.target *= k;
-            c.near *= k;
-            c.far *= k;
-        }
+        Scene sc = scaledScene(base, k);
         FloatImage img[2];
         std::uint64_t saturated[2] = {0, 0};
         for (int f = 0; f < 2; ++f) {
