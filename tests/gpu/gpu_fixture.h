@@ -113,6 +113,18 @@ inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 si
     return bad;
 }
 
+// LPV on at a size llvmpipe runs in well under a second (8^3, 4 iterations,
+// RSM 64^2, shadow map 256^2).
+inline Settings smallLpvSettings() {
+    Settings s;
+    s.lpv.mode = Toggle::On;
+    s.lpv.grid = glm::ivec3(8);
+    s.lpv.iterations = 4;
+    s.lpv.rsm = 64;
+    s.light.shadowSize = 256;
+    return s;
+}
+
 // The scene uniformly scaled by k about the origin, cameras included (scale
 // invariance and precision-at-scale tests).
 inline Scene scaledScene(Scene s, float k) {

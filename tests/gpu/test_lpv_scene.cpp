@@ -18,15 +18,7 @@ namespace {
 
 const double kPi = 3.14159265358979323846;
 
-Settings lpvSettings() {
-    Settings s;
-    s.lpv.mode = Toggle::On;
-    s.lpv.grid = glm::ivec3(8);
-    s.lpv.iterations = 4;
-    s.lpv.rsm = 64;
-    s.light.shadowSize = 256;
-    return s;
-}
+
 
 // Accumulated LPV volume (R, G, B) as floats, through the pass's checked outputs.
 std::vector<float> accumulated(const Renderer& r) {
@@ -57,7 +49,7 @@ TEST_CASE("LPV raster baseline produces the compute path's volumes on the cornel
     gl::Profiler prof(false);
     Scene scene = loadBuiltin("cornell");
     for (auto format : {LpvSettings::Format::Rgba32f, LpvSettings::Format::Rgba16f}) {
-        Settings s = lpvSettings();
+        Settings s = smallLpvSettings();
         s.lpv.format = format;
         auto compute = renderFrames(scene, s, {32, 32}, prof);
         std::vector<float> a = accumulated(*compute);
@@ -82,7 +74,7 @@ TEST_CASE("LPV extremes: sun 1e-6..1e6 is linear in fp32 and finite in fp16; a v
     GpuFixture gpu;
     gl::Profiler prof(false);
     Scene scene = loadBuiltin("cornell");
-    Settings s = lpvSettings();
+    Settings s = smallLpvSettings();
     s.lpv.format = LpvSettings::Format::Rgba32f;
     s.light.sunIrradiance = 1.0f;
     std::vector<float> ref = accumulated(*renderFrames(scene, s, {16, 16}, prof));
@@ -121,7 +113,7 @@ TEST_CASE("LPV radiance is invariant under scaling the scene by 1e-3 and 1e3 (au
     GpuFixture gpu;
     gl::Profiler prof(false);
     Scene base = loadBuiltin("cornell");
-    Settings s = lpvSettings();
+    Settings s = smallLpvSettings();
     s.lpv.format = LpvSettings::Format::Rgba32f;
     s.lpv.occlusion = s.lpv.bounce = false;  // the G-buffer blockers' areas depend on pixel footprints only
     auto render = [&](float k) {
@@ -148,7 +140,7 @@ TEST_CASE("LPV radiance is invariant under scaling the scene by 1e-3 and 1e3 (au
 TEST_CASE("LPV pass pruning: no sun -> no LPV passes; occlusion/bounce off -> no geometry volume") {
     GpuFixture gpu;
     gl::Profiler prof(false);
-    Settings s = lpvSettings();
+    Settings s = smallLpvSettings();
     s.lpv.mode = Toggle::Auto;
     Scene dark = floorScene(2, glm::vec3(0.5f), false);
     Renderer r(dark, s, prof);
@@ -169,7 +161,7 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
     Scene scene = floorScene(2.0f, glm::vec3(0.5f), true, {0.3f, 1.0f, 0.2f});
     scene.materials[0].metallic = 1.0f;  // mirror-like: F0 = albedo, no diffuse
     scene.materials[0].roughness = 0.02f;
-    Settings s = lpvSettings();
+    Settings s = smallLpvSettings();
     s.lpv.format = LpvSettings::Format::Rgba32f;
     s.lpv.specular = Toggle::On;
     s.lpv.occlusion = s.lpv.bounce = false;

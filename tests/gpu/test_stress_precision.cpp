@@ -154,12 +154,7 @@ TEST_CASE("precision: LPV fp16 vs fp32 volumes on cornell at scene scales 1e-3, 
         FloatImage img[2];
         std::uint64_t saturated[2] = {0, 0};
         for (int f = 0; f < 2; ++f) {
-            Settings s;
-            s.lpv.mode = Toggle::On;
-            s.lpv.grid = glm::ivec3(8);
-            s.lpv.iterations = 4;
-            s.lpv.rsm = 64;
-            s.light.shadowSize = 256;
+            Settings s = smallLpvSettings();
             s.lpv.format = f ? LpvSettings::Format::Rgba32f : LpvSettings::Format::Rgba16f;
             gl::Profiler prof(false);
             auto r = frames(sc, s, {24, 24}, prof, 1);
