@@ -192,7 +192,9 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
 
     // Base-colour textures: one 2D array at a common size (at least one layer
     // so the sampler is always complete).
-    const int size = 512;
+    // Without images a 1x1 white layer keeps the sampler complete (never sampled:
+    // every material's texture layer is -1).
+    const int size = scene.images.empty() ? 1 : 512;
     int layers = std::max<int>(1, int(scene.images.size()));
     int levels = 1 + int(std::log2(size));
     textures_ = gl::Texture(ledger, "scene.textures", {GL_TEXTURE_2D_ARRAY, GL_SRGB8_ALPHA8, size, size, layers, levels});
