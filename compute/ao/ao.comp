@@ -29,16 +29,16 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
-layout(binding = 0) uniform sampler2D uDepth;    // AO-resolution linear depth (0 = sky)
-layout(binding = 1) uniform sampler2D uNormal;   // AO-resolution view-space normals
-layout(binding = 2) uniform sampler2DArray uNoise;
-layout(binding = 3) uniform sampler2D uRadiusScale;
-layout(binding = 4) uniform sampler2D uShadowMap;
-layout(binding = 5) uniform sampler2D uAlbedo;   // full resolution (gtao multi-bounce)
-layout(r16f, binding = 0) uniform writeonly image2D uAo;
-layout(rgba16f, binding = 1) uniform writeonly image2D uDirectional;
-layout(location = 0) uniform mat4 uViewToShadow;  // shadowViewProj * invView
-layout(location = 1) uniform mat4 uShadowToView;  // its inverse
+layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;    // AO-resolution linear depth (0 = sky)
+layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;   // AO-resolution view-space normals
+layout(binding = RTGI_AO_ESTIMATE_TEX_NOISE) uniform sampler2DArray uNoise;
+layout(binding = RTGI_AO_TEX_RADIUS_SCALE) uniform sampler2D uRadiusScale;
+layout(binding = RTGI_AO_TEX_SHADOW_MAP) uniform sampler2D uShadowMap;
+layout(binding = RTGI_AO_ESTIMATE_TEX_ALBEDO) uniform sampler2D uAlbedo;   // full resolution (gtao multi-bounce)
+layout(r16f, binding = RTGI_AO_IMG_AO) uniform writeonly image2D uAo;
+layout(rgba16f, binding = RTGI_AO_IMG_DIRECTIONAL) uniform writeonly image2D uDirectional;
+layout(location = RTGI_AO_LOC_VIEW_TO_SHADOW) uniform mat4 uViewToShadow;  // shadowViewProj * invView
+layout(location = RTGI_AO_LOC_SHADOW_TO_VIEW) uniform mat4 uShadowToView;  // its inverse
 
 ivec2 aoSize() { return ao.size.xy; }
 float tanHalfFov() { return ao.focal.z; }
