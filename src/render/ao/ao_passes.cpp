@@ -4,6 +4,7 @@
 // last stage of the chain writes res.ao (R16F, full resolution).
 #include "render/ao/ao_passes.h"
 
+#include "gl/bindings.h"
 #include "gl/program.h"
 #include "render/ao/ao_params.h"
 #include "render/filter.h"
@@ -208,17 +209,18 @@ public:
         }
         // Producers: ao.downsample / ao.radius (image stores), gbuffer, shadow.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(RTGI_AO_TEX_DEPTH, c.depth(ctx).id());
-        glBindTextureUnit(RTGI_AO_TEX_NORMAL, c.normal(ctx).id());
-        glBindTextureUnit(RTGI_AO_ESTIMATE_TEX_NOISE, noise.id());
-        glBindTextureUnit(RTGI_AO_TEX_RADIUS_SCALE, radius == 2 ? c.radiusScale.id() : 0);
-        glBindTextureUnit(RTGI_AO_TEX_SHADOW_MAP, light ? ctx.res.shadowMap.id() : 0);
-        glBindTextureUnit(RTGI_AO_ESTIMATE_TEX_ALBEDO, ctx.res.gbuffer.albedo.id());
-        glBindImageTexture(RTGI_AO_IMG_AO, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-        if (dirTex) glBindImageTexture(RTGI_AO_IMG_DIRECTIONAL, dirTex->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(prog, a.x, a.y);
-        glBindTextureUnit(RTGI_AO_TEX_RADIUS_SCALE, 0);
-        glBindTextureUnit(RTGI_AO_TEX_SHADOW_MAP, 0);
+        {
+            gl::ScopedBindings b;
+            b.texture(RTGI_AO_TEX_DEPTH, c.depth(ctx))
+                .texture(RTGI_AO_TEX_NORMAL, c.normal(ctx))
+                .texture(RTGI_AO_ESTIMATE_TEX_NOISE, noise)
+                .texture(RTGI_AO_TEX_RADIUS_SCALE, radius == 2 ? &c.radiusScale : nullptr)
+                .texture(RTGI_AO_TEX_SHADOW_MAP, light ? &ctx.res.shadowMap : nullptr)
+                .texture(RTGI_AO_ESTIMATE_TEX_ALBEDO, ctx.res.gbuffer.albedo)
+                .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
+            if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
+            gl::dispatch(prog, a.x, a.y);
+        }
         c.current = &out;
         written_ = &out;
         lastDirectional_ = dirTex;
@@ -369,17 +371,17 @@ public:
         prog.set(RTGI_AO_LOC_HISTORY_VALID, history ? 1 : 0);
         // Producers: gbuffer, post.history (last frame), lpv.apply (image stores).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glBindTextureUnit(RTGI_AO_TEX_DEPTH, r.gbuffer.linearDepth.id());
-        glBindTextureUnit(RTGI_AO_TEX_NORMAL, r.gbuffer.normal.id());
-        glBindTextureUnit(RTGI_AO_NEARFIELD_TEX_ALBEDO, r.gbuffer.albedo.id());
-        glBindTextureUnit(RTGI_AO_TEX_MATERIAL, r.gbuffer.material.id());
-        glBindTextureUnit(RTGI_AO_TEX_HISTORY, history ? r.history.id() : 0);
-        glBindTextureUnit(RTGI_AO_TEX_VELOCITY, r.gbuffer.velocity.id());
-        glBindTextureUnit(RTGI_AO_NEARFIELD_TEX_NOISE, noise.id());
-        glBindImageTexture(RTGI_AO_IMG_NEAR_FIELD, c.nearField.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
-        glBindImageTexture(RTGI_AO_IMG_INDIRECT, r.indirectDiffuse.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        gl::ScopedBindings b;
+        b.texture(RTGI_AO_TEX_DEPTH, r.gbuffer.linearDepth)
+            .texture(RTGI_AO_TEX_NORMAL, r.gbuffer.normal)
+            .texture(RTGI_AO_NEARFIELD_TEX_ALBEDO, r.gbuffer.albedo)
+            .texture(RTGI_AO_TEX_MATERIAL, r.gbuffer.material)
+            .texture(RTGI_AO_TEX_HISTORY, history ? &r.history : nullptr)
+            .texture(RTGI_AO_TEX_VELOCITY, r.gbuffer.velocity)
+            .texture(RTGI_AO_NEARFIELD_TEX_NOISE, noise)
+            .image(RTGI_AO_IMG_NEAR_FIELD, c.nearField, GL_WRITE_ONLY, GL_R11F_G11F_B10F)
+            .image(RTGI_AO_IMG_INDIRECT, r.indirectDiffuse, GL_READ_WRITE, GL_RGBA16F);
         gl::dispatch(prog, s.x, s.y);
-        glBindTextureUnit(RTGI_AO_TEX_HISTORY, 0);
     }
     std::vector<DebugImage> debugImages() const override { return {{"ao.nearfield", &chain_->nearField, 1.0f}}; }
     std::vector<Output> checkedOutputs(const FrameResources& r) const override {

@@ -1,5 +1,6 @@
 #include "render/lpv/lpv_volumes.h"
 
+#include "gl/bindings.h"
 #include "gl/profiler.h"
 #include "render/lpv/lpv_math.h"
 
@@ -283,17 +284,20 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     const GBufferView& g = in.gbuffer;
-    glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, g.linearDepth->id());
-    glBindTextureUnit(RTGI_LPV_TEX_VIEW_NORMAL, g.normal->id());
-    glBindTextureUnit(RTGI_LPV_TEX_ALBEDO, g.albedo->id());
-    glBindTextureUnit(RTGI_LPV_TEX_MATERIAL, g.material->id());
-    bindRgbTextures(*in.volume, RTGI_LPV_TEX_LIGHT_R);
-    glBindTextureUnit(RTGI_LPV_TEX_BRDF_LUT, in.brdfLut ? in.brdfLut->id() : 0);
-    glBindTextureUnit(RTGI_LPV_TEX_DIRECTIONAL, directional ? directional->id() : 0);
-    glBindImageTexture(RTGI_LPV_IMG_INDIRECT, in.indirect->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    if (in.specular) glBindImageTexture(RTGI_LPV_IMG_SPECULAR, in.specular->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    const Rgb& light = *in.volume;
+    gl::ScopedBindings b;
+    b.texture(RTGI_LPV_TEX_LINEAR_DEPTH, g.linearDepth)
+        .texture(RTGI_LPV_TEX_VIEW_NORMAL, g.normal)
+        .texture(RTGI_LPV_TEX_ALBEDO, g.albedo)
+        .texture(RTGI_LPV_TEX_MATERIAL, g.material)
+        .texture(RTGI_LPV_TEX_LIGHT_R, light[0])
+        .texture(RTGI_LPV_TEX_LIGHT_G, light[1])
+        .texture(RTGI_LPV_TEX_LIGHT_B, light[2])
+        .texture(RTGI_LPV_TEX_BRDF_LUT, in.brdfLut)
+        .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
+        .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, g.size.x, g.size.y);
-    for (GLuint u = RTGI_LPV_TEX_LIGHT_R; u <= RTGI_LPV_TEX_DIRECTIONAL; ++u) glBindTextureUnit(u, 0);
 }
 
 }  // namespace rtgi::lpv

@@ -1,4 +1,5 @@
 // direct: sun + punctual lights + emission into res.direct (compute).
+#include "gl/bindings.h"
 #include "gl/program.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
@@ -31,18 +32,18 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
         "post/direct.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
     // Producer: gbuffer and shadow raster passes (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(RTGI_POST_TEX_LINEAR_DEPTH, g.linearDepth.id());
-    glBindTextureUnit(RTGI_POST_TEX_NORMAL, g.normal.id());
-    glBindTextureUnit(RTGI_POST_DIRECT_TEX_ALBEDO, g.albedo.id());
-    glBindTextureUnit(RTGI_POST_DIRECT_TEX_MATERIAL, g.material.id());
-    glBindTextureUnit(RTGI_POST_TEX_EMISSIVE, g.emissive.id());
     bool shadow = bool(ctx.res.shadowMap);
-    glBindTextureUnit(RTGI_POST_TEX_SHADOW_MAP, shadow ? ctx.res.shadowMap.id() : 0);
+    gl::ScopedBindings b;
+    b.texture(RTGI_POST_TEX_LINEAR_DEPTH, g.linearDepth)
+        .texture(RTGI_POST_TEX_NORMAL, g.normal)
+        .texture(RTGI_POST_DIRECT_TEX_ALBEDO, g.albedo)
+        .texture(RTGI_POST_DIRECT_TEX_MATERIAL, g.material)
+        .texture(RTGI_POST_TEX_EMISSIVE, g.emissive)
+        .texture(RTGI_POST_TEX_SHADOW_MAP, shadow ? &ctx.res.shadowMap : nullptr);
     prog.set(RTGI_POST_LOC_HAS_SHADOW_MAP, shadow ? 1 : 0);
     ctx.gpuScene.bindTables();
-    glBindImageTexture(RTGI_POST_IMG_DIRECT, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    b.image(RTGI_POST_IMG_DIRECT, target, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, target.width(), target.height());
-    glBindTextureUnit(RTGI_POST_TEX_SHADOW_MAP, 0);
 }
 
 std::unique_ptr<Pass> makeDirectPass() { return std::make_unique<DirectPass>(); }
