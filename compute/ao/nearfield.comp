@@ -35,7 +35,7 @@ void main() {
         vec3 P = viewPositionFromDepth(uv, d, tanHalf, aspect);
         vec3 n = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
         vec4 bn = blueNoise(uNoise, p, frameIndex());
-        float a = 6.2831853 * bn.x;
+        float a = TWO_PI * bn.x;
         mat3 basis = aoBasis(n, vec3(cos(a), sin(a), 0.0));
         vec3 rho = diffuseAlbedo(texelFetch(uAlbedo, p, 0).rgb, texelFetch(uMaterial, p, 0).g);
         float R = ao.radius.x;

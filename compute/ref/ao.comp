@@ -6,6 +6,7 @@
 #include "lib/bvh_shared.h"
 #include "lib/depth.glsl"
 #include "lib/random.glsl"
+#include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;

@@ -14,6 +14,7 @@
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 #include "lib/random.glsl"
+#include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
 #include "lib/ref_scene.glsl"
 
