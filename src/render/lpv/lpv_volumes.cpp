@@ -188,7 +188,8 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     // Producers: lpv.rsm and gbuffer (framebuffer writes); the zeroing of the accumulation by
     // the previous geometry pack (image stores) or its clear at allocation.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindImageTexture(RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
+                       GL_R32F);
     const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
     glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
     glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());

@@ -157,7 +157,8 @@ public:
         glBindImageTexture(RTGI_SSR_IMG_HIT_DISTANCE, st_->hitDistance.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
         if (half) {
             glBindImageTexture(RTGI_SSR_IMG_TRACE_DEPTH, st_->traceDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-            glBindImageTexture(RTGI_SSR_IMG_TRACE_NORMAL, st_->traceNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+            glBindImageTexture(RTGI_SSR_IMG_TRACE_NORMAL, st_->traceNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                               GL_RGBA16F);
         }
         gl::dispatch(prog, t.x, t.y);
     }
