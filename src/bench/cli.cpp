@@ -54,6 +54,7 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
         else if (a == "--no-images") c.run.writeImages = false;
         else if (a == "--reference") c.run.reference = true;
         else if (a == "--list-devices") c.listDevices = true;
+        else if (a == "--print-frame") c.printFrame = true;
         else {
             bool handled = false;
             for (auto& [name, takesValue] : hostOptions)
@@ -112,6 +113,8 @@ std::string commonHelp() {
   --compare IMAGE REF      error metrics and heat map of an image file against a reference (PNG/PFM)
   --debug                  KHR_debug output
   --list-devices           list EGL devices and exit
+  --print-frame            print the frame for the scene + settings (passes, what each reads and writes,
+                           skipped passes with why) and exit without rendering
   --help                   this text
 )";
 }

@@ -14,6 +14,7 @@ struct CommandLine {
     bool debug = false;
     bool help = false;
     bool listDevices = false;
+    bool printFrame = false;  // --print-frame: print the pruned frame and exit
     std::string sweep;    // --sweep FILE.json
     int shardIndex = 0, shardCount = 1;
     bool scenesGiven = false;

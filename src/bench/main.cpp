@@ -5,6 +5,7 @@
 #include "gl/context.h"
 #include "gl/program.h"
 #include "render/reference/reference_runner.h"
+#include "render/renderer.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -63,6 +64,10 @@ int main(int argc, char** argv) {
         if (!cl.sweep.empty()) return runSweepCommand(cl);
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        if (cl.printFrame) {  // the declared frame; no GL context needed
+            std::cout << FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl)).table();
+            return 0;
+        }
         auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
         nlohmann::json r = runBenchmark(ctx->info(), scene, settingsFor(scene, cl), cl.run);
         std::filesystem::create_directories(cl.run.outDir);

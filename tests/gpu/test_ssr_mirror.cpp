@@ -83,7 +83,7 @@ MirrorRay castMirror(const Camera& c, glm::ivec2 size, double px, double py, dou
     return m;
 }
 
-const Pass::DebugImage* findDebug(const std::vector<Pass::DebugImage>& v, const std::string& n) {
+const DebugImage* findDebug(const std::vector<DebugImage>& v, const std::string& n) {
     for (auto& d : v)
         if (d.name == n) return &d;
     return nullptr;
@@ -103,7 +103,7 @@ TraceResult runMirror(SsrSettings::Tracer tracer, glm::ivec2 size, int steps) {
     auto r = renderFrames(s, st, size, prof, 3);
     Pass* trace = r->findPass("ssr.trace");
     REQUIRE(trace);
-    auto dbg = trace->debugImages();
+    auto dbg = r->debugImages(*trace);
     TraceResult out;
     out.hit = readTexture(*findDebug(dbg, "ssr.trace.hit_offset")->tex);
     out.confidence = readTexture(*findDebug(dbg, "ssr.trace.hit_mask")->tex);
@@ -213,7 +213,7 @@ TEST_CASE("SSR Hi-Z pyramid equals a CPU min over each cell's footprint (odd siz
         FloatImage depth = readTexture(r->resources().gbuffer.linearDepth);
         const Pass* hizPass = r->findPass("ssr.hiz");
         REQUIRE(hizPass);
-        const gl::Texture& hiz = *hizPass->debugImages().front().tex;
+        const gl::Texture& hiz = *r->debugImages(*hizPass).front().tex;
         const double far = resolveCamera(s, st).far;
         int levels = hizLevelCount(size);
         CHECK(levels == int(std::floor(std::log2(std::max(size.x, size.y)))) + 1);

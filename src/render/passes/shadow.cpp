@@ -33,16 +33,15 @@ namespace {
 class ShadowPass final : public Pass {
 public:
     std::string name() const override { return "shadow"; }
-    Need needed(const Scene& scene, const Settings& settings) const override {
-        if (!resolveSun(scene, settings)) return Need::no("the scene has no directional light");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
+        if (!resolveSun(scene, settings)) return d.skip("the scene has no directional light");
+        d.write(R::shadowMap);
     }
-    std::vector<std::string> writes() const override { return {"shadowMap"}; }
 
     void execute(FrameContext& ctx) override {
         int n = ctx.settings.light.shadowSize;
-        if (ctx.res.shadowMap.ensure(ctx.ledger, "shadow.map", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}) || !fbo_) {
-            ctx.res.shadowMap.setSampling(GL_LINEAR, GL_LINEAR);
+        if (epoch_ != ctx.res.allocationEpoch || !fbo_) {
+            epoch_ = ctx.res.allocationEpoch;
             glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
             glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
             GLuint f = 0;
@@ -60,6 +59,7 @@ public:
 
 private:
     gl::FramebufferHandle fbo_;
+    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffer was made for
 };
 
 }  // namespace

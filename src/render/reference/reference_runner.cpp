@@ -116,7 +116,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         writePng(outDir + "/error.heatmap.png", errorHeatmap(test, mean, channels, heatMax));
         writePfm(outDir + "/reference.pfm", mean);
         writePfm(outDir + "/reference.stderr.pfm", se);
-        for (auto& d : ref.findPass(passName)->debugImages())
+        for (auto& d : ref.debugImages(*ref.findPass(passName)))
             if (d.tex && *d.tex) writePng(outDir + "/" + d.name + ".png", readTexture(*d.tex), d.scale, false);
         e["images"] = {"error.heatmap.png", "reference.pfm", "reference.stderr.pfm"};
     }
