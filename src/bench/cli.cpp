@@ -124,7 +124,7 @@ std::string settingsHelp() {
     for (auto& k : settingKeys()) {
         std::string line = "  " + k.key;
         if (line.size() < 26) line.resize(26, ' ');
-        s += line + " " + k.values + "  " + k.doc + "\n";
+        s += line + " " + k.values + "  " + k.doc + " (default: " + settingDefault(k) + ")\n";
     }
     return s;
 }
