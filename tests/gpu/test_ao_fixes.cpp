@@ -1,6 +1,7 @@
 // Regression tests of two AO bugs (issue 15): the light's depth map read
 // through its compare-mode state (AO 1 everywhere), and ao.nearfield
 // overwriting the LPV's indirect light instead of adding to it.
+#include "ao_test_util.h"
 #include "gpu_fixture.h"
 
 #include "scene/builtin.h"
@@ -20,34 +21,20 @@ namespace {
 using V = AoSettings::Variant;
 using Src = AoSettings::DepthSource;
 
-// Point-sampling AO without the filter chain, averaged per pixel over
-// `frames` blue-noise variants.
-std::vector<double> meanAo(const Scene& s, Settings st, glm::ivec2 size, gl::Profiler& prof, int frames) {
-    Renderer r(s, st, prof);
-    Camera cam = resolveCamera(s, st);
+// AO averaged per pixel over `frames` blue-noise variants.
+std::vector<double> meanAo(const Scene& s, const Settings& st, glm::ivec2 size, gl::Profiler& prof, int frames) {
+    auto ao = frameReadbacks(s, st, size, prof, [](const FrameResources& r) -> const gl::Texture& { return r.ao; },
+                             frames);
     std::vector<double> mean(std::size_t(size.x) * size.y, 0.0);
-    View prev;
-    for (int f = 0; f < frames; ++f) {
-        View v = makeView(cam, size, f == 0 ? nullptr : &prev, unsigned(f));
-        r.render(v);
-        prev = v;
-        FloatImage ao = readTexture(r.resources().ao);
+    for (auto& im : ao)
         for (int y = 0; y < size.y; ++y)
-            for (int x = 0; x < size.x; ++x) mean[std::size_t(y * size.x + x)] += ao.at(x, y, 0) / frames;
-    }
+            for (int x = 0; x < size.x; ++x) mean[std::size_t(y * size.x + x)] += im.at(x, y, 0) / frames;
     return mean;
 }
 
+// Point-sampling AO from the camera's or the light's depth.
 Settings pointAo(Src src) {
-    Settings st;
-    st.lpv.mode = Toggle::Off;
-    st.ssr.tracer = SsrSettings::Tracer::Off;
-    st.ao.variant = V::SsaoHemisphere;
-    st.ao.samples = 32;
-    st.ao.radius = 0.5f;
-    st.ao.halfResolution = false;
-    st.ao.blur = false;
-    st.ao.temporal = false;
+    Settings st = rawAoSettings(V::SsaoHemisphere, 32, 0.5f);
     st.ao.depthSource = src;
     return st;
 }

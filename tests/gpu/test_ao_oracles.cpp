@@ -3,6 +3,7 @@
 // same estimator over its noise with exact ray-cast geometry; eq. 5.3 against
 // a CPU projection; dynamic radius algorithm 6 against a CPU run of the same
 // rule; near-field light (seed 000 eq. 16) against its CPU expectation.
+#include "ao_test_util.h"
 #include "gpu_fixture.h"
 
 #include "gl/program.h"
@@ -672,34 +673,10 @@ TEST_CASE("GTAO and hemisphere SSAO on sphere-on-plane match the analytic floor 
 
 namespace {
 
-// Renders the corner with `st` (filter chain off) for 8 frames and returns
-// the per-frame read-backs of `tex` (res.ao, res.bentNormal, ...).
 std::vector<FloatImage> cornerFrames(const Scene& s, const Settings& st, glm::ivec2 size, gl::Profiler& prof,
                                      const std::function<const gl::Texture&(const FrameResources&)>& tex,
                                      int frames = 8) {
-    Renderer r(s, st, prof);
-    std::vector<FloatImage> out;
-    View prev;
-    for (int f = 0; f < frames; ++f) {
-        View view = makeView(s.cameras[0], size, f == 0 ? nullptr : &prev, unsigned(f));
-        r.render(view);
-        prev = view;
-        out.push_back(readTexture(tex(r.resources())));
-    }
-    return out;
-}
-
-Settings plainAo(V v, int samples, float R) {
-    Settings st;
-    st.lpv.mode = Toggle::Off;
-    st.ssr.tracer = SsrSettings::Tracer::Off;
-    st.ao.variant = v;
-    st.ao.samples = samples;
-    st.ao.radius = R;
-    st.ao.halfResolution = false;
-    st.ao.blur = false;
-    st.ao.temporal = false;
-    return st;
+    return frameReadbacks(s, st, size, prof, tex, frames);
 }
 
 }  // namespace
@@ -753,7 +730,7 @@ TEST_CASE("bent normals and S3HO on the corner match a CPU integral of the visib
     REQUIRE(rows.size() >= 3);
     const glm::dvec3 n = g.floorNormal();
 
-    Settings st = plainAo(V::SsaoHemisphere, samples, R);
+    Settings st = rawAoSettings(V::SsaoHemisphere, samples, R);
     st.ao.directional = AoSettings::Directional::BentNormals;
     auto bentFrames = cornerFrames(s, st, {w, h}, prof, [](const FrameResources& r) -> const gl::Texture& { return r.bentNormal; });
     st.ao.directional = AoSettings::Directional::S3ho;
@@ -872,7 +849,7 @@ TEST_CASE("dynamic radius algorithms 1-5 match a CPU run of seed 003's listings 
     for (int alg = 1; alg <= 5; ++alg) {
         int compared = 0, unclamped = 0;
         for (float R : {0.5f, 3.0f}) {  // 3: the probe spans the wall and the floor (algorithm 3's spread)
-            Settings st = plainAo(V::Hbao, 16, R);
+            Settings st = rawAoSettings(V::Hbao, 16, R);
             st.ao.radiusMode = M(int(M::Dynamic1) + alg - 1);
             st.ao.dynamicProbe = K;
             auto r = renderFrames(s, st, {w, h}, prof, 1);
@@ -906,7 +883,7 @@ TEST_CASE("dual radii (Loos & Sloan, seed 003 4.2.1): AO(R, R/4) is the product 
     const float R = 1.0f;
     auto ao = [](const FrameResources& r) -> const gl::Texture& { return r.ao; };
     for (V v : {V::Vo, V::Hbao, V::SsaoHemisphere}) {
-        Settings st = plainAo(v, 16, R);
+        Settings st = rawAoSettings(v, 16, R);
         auto big = cornerFrames(s, st, {w, h}, prof, ao, 2);
         st.ao.radius = 0.25f * R;
         auto small = cornerFrames(s, st, {w, h}, prof, ao, 2);
