@@ -117,6 +117,10 @@ struct SettingKey {
 };
 
 const std::vector<SettingKey>& settingKeys();
+// nlohmann's exception text without its "[json.exception.parse_error.101] "
+// prefix (messages name the file; the library's ids mean nothing to a user).
+std::string jsonErrorText(const std::exception& e);
+
 // Applies key=value; throws ConfigError("--set KEY: ...") for unknown keys / bad values.
 void applySetting(Settings& s, const std::string& key, const std::string& value);
 // "key=value" form.
