@@ -84,6 +84,7 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
         else if (a == "--no-images") c.run.writeImages = false;
         else if (a == "--reference") c.run.reference = true;
         else if (a == "--list-devices") c.listDevices = true;
+        else if (a == "--validate-only") c.validateOnly = true;
         else {
             bool handled = false;
             for (auto& [name, takesValue] : hostOptions)
@@ -143,6 +144,8 @@ std::string commonHelp() {
   --reference              compare the output with the matching ray-traced reference (ao -> AO rays,
                            indirect light -> path-traced indirect, else the full image; cached on disk)
   --compare IMAGE REF      error metrics and heat map of an image file against a reference (PNG/PFM)
+  --validate-only          load and validate the scene(s) and the configuration, render nothing (exit 0
+                           when both are valid; no GL context is created)
   --debug                  KHR_debug output
   --list-devices           list EGL devices and exit
   --help                   this text

@@ -14,6 +14,7 @@ struct CommandLine {
     bool debug = false;
     bool help = false;
     bool listDevices = false;
+    bool validateOnly = false;  // --validate-only: load scenes and settings, no GL, exit 0
     std::string sweep;    // --sweep FILE.json
     int shardIndex = 0, shardCount = 1;
     bool scenesGiven = false;

@@ -84,9 +84,14 @@ int main(int argc, char** argv) {
     }
     try {
         if (!cl.sweep.empty()) return runSweepCommand(cl);
-        prepareOutputDirectory(cl.run.outDir);  // an unwritable --out fails before any work
+        if (!cl.validateOnly) prepareOutputDirectory(cl.run.outDir);  // an unwritable --out fails before any work
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        if (cl.validateOnly) {
+            (void)settingsFor(scene, cl);  // the scene's suggested settings must be valid too
+            std::printf("rtgi-bench: %s: valid (%zu triangles)\n", scene.name.c_str(), scene.triangleCount());
+            return 0;
+        }
         auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
         nlohmann::json r = runBenchmark(ctx->info(), scene, settingsFor(scene, cl), cl.run);
         writeFileAtomic(cl.run.outDir + "/results.json", r.dump(2) + "\n");
