@@ -84,7 +84,11 @@ int main(int argc, char** argv) {
     }
     try {
         if (!cl.sweep.empty()) return runSweepCommand(cl);
-        if (!cl.validateOnly) prepareOutputDirectory(cl.run.outDir);  // an unwritable --out fails before any work
+        if (!cl.validateOnly) {  // an unwritable --out fails before any work
+            prepareOutputDirectory(cl.run.outDir);
+            checkOutputTarget(cl.run.outDir + "/results.json");
+            checkOutputTarget(cl.run.outDir + "/results.csv");
+        }
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
         if (cl.validateOnly) {
