@@ -20,18 +20,9 @@ constexpr const char* kResolutionKey = "resolution";
 
 std::string fail(const std::string& source, const std::string& what) { return source + ": " + what; }
 
-// JSON type in words, for "expected a number, found a string".
-std::string typeWord(const nlohmann::json& v) {
-    if (v.is_string()) return "a string";
-    if (v.is_boolean()) return "a boolean";
-    if (v.is_number()) return "a number";
-    if (v.is_array()) return "an array";
-    if (v.is_object()) return "an object";
-    return "null";
-}
 [[noreturn]] void wrongType(const std::string& source, const std::string& key, const char* expected,
                             const nlohmann::json& v) {
-    throw ConfigError(fail(source, "'" + key + "': expected " + expected + ", found " + typeWord(v)));
+    throw ConfigError(fail(source, "'" + key + "': expected " + expected + ", found " + jsonTypeWord(v)));
 }
 // Typed members with the file and key named on a wrong type (no raw
 // nlohmann type_error text reaches the user).

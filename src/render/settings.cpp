@@ -315,6 +315,15 @@ std::string jsonErrorText(const std::exception& e) {
     return w;
 }
 
+std::string jsonTypeWord(const nlohmann::json& v) {
+    if (v.is_string()) return "a string";
+    if (v.is_boolean()) return "a boolean";
+    if (v.is_number()) return "a number";
+    if (v.is_array()) return "an array";
+    if (v.is_object()) return "an object";
+    return "null";
+}
+
 Assignments flattenJsonConfig(const std::string& text, const std::string& source) {
     nlohmann::json j;
     try {

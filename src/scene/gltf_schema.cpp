@@ -1,5 +1,6 @@
 #include "scene/gltf_schema.h"
 
+#include "render/settings.h"
 #include "scene/scene.h"
 
 #include <cmath>
@@ -100,14 +101,7 @@ private:
     static std::string at(const std::string& p, std::size_t i) { return p + "[" + std::to_string(i) + "]"; }
     static std::string sub(const std::string& p, const std::string& k) { return p.empty() ? k : p + "." + k; }
 
-    static std::string typeWord(const json& v) {
-        if (v.is_string()) return "a string";
-        if (v.is_boolean()) return "a boolean";
-        if (v.is_number()) return "a number";
-        if (v.is_array()) return "an array";
-        if (v.is_object()) return "an object";
-        return "null";
-    }
+    static std::string typeWord(const json& v) { return jsonTypeWord(v); }
     // A value for the message: numbers as written, strings quoted and short.
     static std::string text(const json& v) {
         if (v.is_number()) {
