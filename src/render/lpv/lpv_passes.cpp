@@ -28,7 +28,7 @@ struct LpvState {
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
-    // Debug slices (made in debugImages(), outside the measured frame).
+    // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
 };
