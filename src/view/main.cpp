@@ -1,6 +1,5 @@
 // rtgi-view: a window on the same renderer as rtgi-bench (GLFW; docs/viewer.md).
-#include "bench/cli.h"
-#include "bench/run.h"
+#include "app/cli.h"
 #include "gl/program.h"
 #include "gl/window_host.h"
 #include "render/renderer.h"
@@ -38,26 +37,22 @@ std::vector<std::string> configLines(const Settings& s) {
 }
 
 int run(int argc, char** argv) {
-    CommandLine cl = parseCommandLine(argc, argv, {{"--screenshot", true}, {"--no-vsync", false}});
+    CommandLine cl = parseCommandLine(Host::View, argc, argv);
     if (cl.help) {
-        std::printf("rtgi-view: a window on the rtgi renderer\n\n%s"
-                    "  --screenshot FILE        write the displayed image (PNG) after the last frame\n"
-                    "  --no-vsync               start with vsync off (Y toggles)\n"
+        std::printf("rtgi-view: a window on the rtgi renderer\n%s\n\n%s"
                     "  With --frames N (or --screenshot) rtgi-view renders N frames and exits.\n\nKeys:\n",
-                    commonHelp().c_str());
+                    versionString().c_str(), optionsHelp(Host::View).c_str());
         for (auto& l : view::keyHelp()) std::printf("  %s\n", l.c_str());
         std::printf("\n%s", settingsHelp().c_str());
         return 0;
     }
-    std::string screenshotPath;
-    bool vsync = true;
-    for (std::size_t i = 0; i < cl.extra.size(); ++i) {
-        if (cl.extra[i] == "--screenshot") screenshotPath = cl.extra[++i];
-        else if (cl.extra[i] == "--no-vsync") vsync = false;
+    if (cl.version) {
+        std::printf("rtgi-view %s\n", versionString().c_str());
+        return 0;
     }
-    bool framesGiven = false;
-    for (int i = 1; i < argc; ++i) framesGiven |= std::strcmp(argv[i], "--frames") == 0;
-    const bool automate = framesGiven || !screenshotPath.empty();
+    const std::string screenshotPath = cl.screenshot;
+    bool vsync = cl.vsync;
+    const bool automate = cl.framesGiven || !screenshotPath.empty();
 
     Scene scene = loadScenes(cl.run.scenes);
     for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", w.c_str());
