@@ -27,7 +27,7 @@ const char* kCompareUsage =
     "                     ao: channel 0 in [0,1] (no relative RMSE); ldr: rgb in [0,1];\n"
     "                     radiance: HDR rgb, PSNR/SSIM peak = the reference's largest luminance, relative RMSE\n"
     "  --mask FILE        compare only where FILE's channel 0 > 0.5 (e.g. a geometry mask)\n"
-    "  --background V     compare only where the reference is not V (e.g. 1 for AO sky)\n"
+    "  --background V     compare only where the reference is not V (e.g. 0 for a black sky)\n"
     "  --out DIR          where compare.json and error.heatmap.png go (default out)\n";
 
 // rtgi-bench --compare IMAGE REFERENCE [...]: no GL context needed.

@@ -128,9 +128,15 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         writeExr(outDir + "/reference.exr", mean, channels, ExrPixel::Float);
         writeExr(outDir + "/reference.stderr.exr", se, channels, ExrPixel::Float);
         writeExr(outDir + "/compared.exr", test, channels, ExrPixel::Float);
+        {  // The compared pixels, for `rtgi-bench --compare ... --mask compared.mask.png`.
+            FloatImage mk = depth;
+            for (std::size_t i = 0; i < mask.size(); ++i)
+                for (int c = 0; c < 3; ++c) mk.data[i * 4 + std::size_t(c)] = mask[i] ? 1.0f : 0.0f;
+            writePng(outDir + "/compared.mask.png", mk);
+        }
         for (auto& d : ref.findPass(passName)->debugImages())
             if (d.tex && *d.tex) writePng(outDir + "/" + d.name + ".png", readTexture(*d.tex), d.scale, false);
-        e["images"] = {"error.heatmap.png", "reference.exr", "reference.stderr.exr", "compared.exr", "reference.pfm",
+        e["images"] = {"error.heatmap.png", "reference.exr", "reference.stderr.exr", "compared.exr", "compared.mask.png", "reference.pfm",
                        "reference.stderr.pfm"};
     }
     return e;
