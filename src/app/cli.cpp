@@ -42,7 +42,7 @@ const OptionSpec kOptions[] = {
     {"--reference", nullptr, kBench,
      "compare the output with the matching ray-traced reference (ao -> AO rays,\n"
      "indirect light -> path-traced indirect, else the full image; cached on disk)"},
-    {"--reference", nullptr, kView, "start with the live reference comparison on (R toggles; docs/viewer.md)"},
+    {"--reference", nullptr, kView, "start with the live reference comparison on (the panel toggles it; docs/viewer.md)"},
     {"--compare", "IMAGE REF", kBench,
      "error metrics and heat map of an image file against a reference (PNG/PFM/EXR);\n"
      "with --quantity ao|ldr|radiance, --mask FILE or --background V (rtgi-bench --compare --help)"},

@@ -14,14 +14,6 @@
 
 namespace rtgi {
 
-ReferenceSettings::Kind referenceKindFor(const Settings& s, const FrameResources& res) {
-    using K = ReferenceSettings::Kind;
-    if (s.reference.kind != K::Off) return s.reference.kind;
-    if (s.ao.variant != AoSettings::Variant::Off && res.ao) return K::Ao;
-    if (res.indirectDiffuse) return K::Indirect;
-    return K::Full;
-}
-
 namespace {
 
 nlohmann::json metricsJson(const ErrorMetrics& m, bool radiance) {
@@ -46,7 +38,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     using K = ReferenceSettings::Kind;
     FrameResources& res = run.resources();
     K kind = referenceKindFor(run.settings(), res);
-    const gl::Texture& tested = kind == K::Ao ? res.ao : kind == K::Indirect ? res.indirectDiffuse : res.hdr;
+    const gl::Texture& tested = comparedTexture(kind, res);
     if (!tested)
         throw ConfigError(std::string("--reference: this run produced no ") +
                           (kind == K::Ao ? "AO (set ao=VARIANT)" : kind == K::Indirect ? "indirect light" : "image") +
@@ -56,11 +48,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
 
     // The reference renderer: the same scene, camera and lights, with the
     // real-time techniques off (they would only cost time).
-    Settings rs = run.settings();
-    rs.reference.kind = kind;
-    rs.ao.variant = AoSettings::Variant::Off;
-    rs.lpv.mode = Toggle::Off;
-    rs.ssr.tracer = SsrSettings::Tracer::Off;
+    Settings rs = referenceRunSettings(run.settings(), kind);
     gl::Profiler profiler(false);
     Renderer ref(run.scene(), rs, profiler);
     View v = makeView(camera, resolution, nullptr, 0);
@@ -152,21 +140,6 @@ CompareOptions::Quantity parseCompareQuantity(const std::string& s) {
     for (Q q : {Q::Auto, Q::Ao, Q::Ldr, Q::Radiance})
         if (s == toString(q)) return q;
     throw ConfigError("--quantity '" + s + "': expected auto|ao|ldr|radiance");
-}
-
-double rmsStandardError(const FloatImage& se, int channels, const std::vector<std::uint8_t>& mask) {
-    const std::size_t n = std::size_t(se.width) * std::size_t(se.height);
-    double sum = 0;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!mask.empty() && !mask[i]) continue;
-        for (int c = 0; c < channels; ++c) {
-            double v = se.data[i * std::size_t(se.channels) + std::size_t(c)];
-            sum += v * v;
-            ++count;
-        }
-    }
-    return count > 0 ? std::sqrt(sum / double(count)) : 0.0;
 }
 
 nlohmann::json compareImageFiles(const std::string& image, const std::string& reference, const CompareOptions& opts) {

@@ -3,6 +3,7 @@
 // a finished run's output and measures the error (results.json "error");
 // --compare: the same metrics for two image files.
 #include "gl/image_io.h"
+#include "render/reference/reference_kind.h"
 #include "render/renderer.h"
 
 #include <nlohmann/json.hpp>
@@ -12,12 +13,6 @@
 #include <vector>
 
 namespace rtgi {
-
-// What a run's output is compared with: res.ao with ray-traced AO (the run
-// has an AO variant), res.indirectDiffuse with path-traced indirect light
-// (an indirect technique wrote it), else res.hdr with the full path-traced
-// image. An explicit `reference=KIND` in the settings wins.
-ReferenceSettings::Kind referenceKindFor(const Settings& settings, const FrameResources& res);
 
 // Compares `run`'s current output with the matching reference; writes
 // reference images and the error heat map into outDir when writeImages.
@@ -43,11 +38,5 @@ CompareOptions::Quantity parseCompareQuantity(const std::string& s);  // throws 
 // which quantity and pixels were compared ("compared"); writes
 // error.heatmap.png and compare.json into opts.outDir.
 nlohmann::json compareImageFiles(const std::string& image, const std::string& reference, const CompareOptions& opts);
-
-// Root mean square of the reference's per-pixel standard error over the
-// masked pixels and the first `channels` channels: the reference's own noise
-// on the scale of the RMSE it is compared with (results.json
-// error.reference.mean_stderr).
-double rmsStandardError(const FloatImage& se, int channels, const std::vector<std::uint8_t>& mask);
 
 }  // namespace rtgi

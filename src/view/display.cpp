@@ -1,5 +1,7 @@
 #include "view/display.h"
 
+#include "compute/lib/view_shared.h"
+
 #include <stb_easy_font.h>
 
 #include <algorithm>
@@ -63,8 +65,9 @@ ScreenPainter::ScreenPainter() {
     vao_.label("view.vao");
 }
 
-void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane) {
-    const gl::Program& prog = programs.raster("view/fullscreen.vert", "view/display.frag");
+void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane,
+                              const PresentOptions& opts) {
+    const gl::Program& prog = programs.raster("view/fullscreen.vert", "view/present.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, viewport.x, viewport.y);
     glDisable(GL_DEPTH_TEST);
@@ -73,13 +76,23 @@ void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& im
     glDisable(GL_SCISSOR_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glUseProgram(prog.id());
-    prog.set(0, img.mode);
-    prog.set(1, img.scale);
-    prog.set(2, farPlane);
-    // Producer: the renderer's passes wrote this texture with imageStore or as a render target.
+    const bool compare = opts.compare != RTGI_VIEW_COMPARE_OFF && opts.reference && *opts.reference;
+    prog.set(RTGI_VIEW_LOC_MODE, img.mode);
+    prog.set(RTGI_VIEW_LOC_SCALE, img.scale * opts.exposure);
+    prog.set(RTGI_VIEW_LOC_FAR, farPlane);
+    prog.set(RTGI_VIEW_LOC_CHANNEL, opts.channel);
+    prog.set(RTGI_VIEW_LOC_COMPARE, compare ? opts.compare : RTGI_VIEW_COMPARE_OFF);
+    prog.set(RTGI_VIEW_LOC_SPLIT, opts.split);
+    prog.set(RTGI_VIEW_LOC_REF_MODE, opts.referenceMode);
+    prog.set(RTGI_VIEW_LOC_HEAT_MAX, opts.heatMax);
+    // Producer: the renderer's passes wrote these textures with imageStore or as render targets.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     img.tex->setSampling(GL_LINEAR, GL_LINEAR);
-    glBindTextureUnit(0, img.tex->id());
+    glBindTextureUnit(RTGI_VIEW_TEX_IMAGE, img.tex->id());
+    // The reference unit always holds a texture (the image itself when there is none).
+    const gl::Texture& ref = compare ? *opts.reference : *img.tex;
+    ref.setSampling(GL_LINEAR, GL_LINEAR);
+    glBindTextureUnit(RTGI_VIEW_TEX_REFERENCE, ref.id());
     glBindVertexArray(vao_.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }

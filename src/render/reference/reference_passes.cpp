@@ -102,6 +102,10 @@ public:
 
     void execute(FrameContext& ctx) override {
         const View& v = ctx.view;
+        if (progressive_ > 0) {
+            executeProgressive(ctx);
+            return;
+        }
         if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_) return;  // still valid
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
         key_ = referenceCacheKey(ctx.scene, ctx.settings, c, v);
@@ -147,6 +151,9 @@ public:
                 {"from_cache", fromCache_ ? 1.0 : 0.0}, {"mean_stderr", meanStdErr_}};
     }
 
+    void setProgressive(int samplesPerFrame) override { progressive_ = std::max(samplesPerFrame, 0); }
+    int samplesDone() const override { return progressive_ > 0 ? samplesDone_ : spp_; }
+
     const gl::Texture& mean() const override { return mean_; }
     const gl::Texture& standardError() const override { return se_; }
     bool fromCache() const override { return fromCache_; }
@@ -158,12 +165,49 @@ private:
                             img.data.data());
     }
 
-    void trace(FrameContext& ctx, const ReferenceConstants& c) {
+    // The live comparison: samples [samplesDone_, samplesDone_ + progressive_)
+    // on top of the accumulation, then resolve. The sample sequence is the
+    // one the all-at-once trace uses (a pure function of pixel, sample index
+    // and seed), so a converged progressive reference equals the normal one
+    // up to float summation order.
+    void executeProgressive(FrameContext& ctx) {
+        const View& v = ctx.view;
+        ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
+        const glm::ivec2 s = v.size;
+        const bool restart = !mean_ || v.size != doneSize_ || v.view != doneView_ || v.proj != doneProj_;
+        if (restart) {
+            mean_.ensure(ctx.ledger, name() + ".mean", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            se_.ensure(ctx.ledger, name() + ".stderr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            if (!ao_) ldr_.ensure(ctx.ledger, name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
+            doneSize_ = v.size;
+            doneView_ = v.view;
+            doneProj_ = v.proj;
+            samplesDone_ = 0;
+            fromCache_ = false;
+            seconds_ = rays_ = 0;
+        }
+        if (samplesDone_ >= c.spp) return;  // converged to reference.spp
+        const int n = std::min(progressive_, c.spp - samplesDone_);
+        const double before = seconds_, raysBefore = rays_;
+        trace(ctx, c, samplesDone_, n, restart);
+        seconds_ += before;
+        rays_ += raysBefore;
+        samplesDone_ += n;
+        spp_ = samplesDone_;
+    }
+
+    void trace(FrameContext& ctx, const ReferenceConstants& c) { trace(ctx, c, 0, c.spp, true); }
+
+    // Samples [begin, begin + count) into the accumulation (cleared first when
+    // `clear`), then resolve.
+    void trace(FrameContext& ctx, const ReferenceConstants& c, int begin, int count, bool clear) {
         const glm::ivec2 s = ctx.view.size;
         accum_.ensure(ctx.ledger, name() + ".accum", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
         accumSq_.ensure(ctx.ledger, name() + ".accum_sq", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        accum_.clear();
-        accumSq_.clear();
+        if (clear) {
+            accum_.clear();
+            accumSq_.clear();
+        }
         // One counter per dispatch, indexed by the dispatch's first sample.
         rayCounter_.ensure(ctx.ledger, "ref.ray_counters", std::int64_t(c.spp) * 4);
         rayCounter_.clearZero();
@@ -194,9 +238,10 @@ private:
         glFinish();  // the clock below times the tracing alone
         auto t0 = std::chrono::steady_clock::now();
         rays_ = 0;
-        progress::report(ao_ ? "reference AO rays" : "reference paths", 0, c.spp);
-        for (int first = 0; first < c.spp; first += c.samplesPerDispatch) {
-            int n = std::min(c.samplesPerDispatch, c.spp - first);
+        const int end = begin + count;
+        progress::report(ao_ ? "reference AO rays" : "reference paths", begin, c.spp);
+        for (int first = begin; first < end; first += c.samplesPerDispatch) {
+            int n = std::min(c.samplesPerDispatch, end - first);
             // uvec4 uSamples (Program has no uvec4 setter).
             glProgramUniform4ui(prog.id(), 0, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
             // Producer: the previous dispatch of this loop (accumulation images).
@@ -212,7 +257,7 @@ private:
         std::vector<std::uint32_t> counts(std::size_t(c.spp));
         rayCounter_.download(counts.data(), std::int64_t(counts.size() * 4));
         for (auto n : counts) rays_ += double(n);
-        spp_ = c.spp;
+        spp_ = end;
         resolve(ctx, false);
     }
 
@@ -267,6 +312,7 @@ private:
     std::string key_;
     bool fromCache_ = false;
     int spp_ = 0;
+    int progressive_ = 0, samplesDone_ = 0;
     double seconds_ = 0, rays_ = 0, meanStdErr_ = 0;
 };
 
