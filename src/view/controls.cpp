@@ -139,19 +139,4 @@ std::string dumpConfig(const Settings& settings, const Camera& c) {
     return j.dump(2) + "\n";
 }
 
-void SmoothedTimings::add(const std::vector<std::pair<std::string, double>>& latest) {
-    for (auto& [name, ms] : latest) {
-        auto it = std::find_if(values_.begin(), values_.end(), [&](auto& p) { return p.first == name; });
-        if (it == values_.end()) values_.emplace_back(name, ms);
-        else it->second += alpha_ * (ms - it->second);
-    }
-    // Passes that left the frame (a technique switched off) leave the overlay.
-    values_.erase(std::remove_if(values_.begin(), values_.end(),
-                                 [&](auto& p) {
-                                     return std::none_of(latest.begin(), latest.end(),
-                                                         [&](auto& q) { return q.first == p.first; });
-                                 }),
-                  values_.end());
-}
-
 }  // namespace rtgi::view

@@ -1,7 +1,7 @@
 #pragma once
 // What rtgi-view can show: the final image, every 2D texture of
 // FrameResources and every pass's debugImages(), each with the mapping that
-// makes it visible (present.frag modes, compute/lib/view_shared.h); and the overlay text.
+// makes it visible (present.frag modes, compute/lib/view_shared.h).
 #include "gl/handles.h"
 #include "gl/image_io.h"
 #include "gl/program.h"
@@ -47,12 +47,8 @@ public:
     // `img` over the whole viewport.
     void drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane,
                    const PresentOptions& opts = {});
-    // Text lines in a dark panel at the top left (stb_easy_font), x scale.
-    void drawText(gl::ProgramCache& programs, glm::ivec2 viewport, const std::vector<std::string>& lines, float scale);
 
 private:
-    gl::MemoryLedger ledger_;
-    gl::Buffer positions_;
     gl::VertexArrayHandle vao_;
 };
 

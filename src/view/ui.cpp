@@ -160,7 +160,7 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
     if (!state.showPanel) return false;
     bool changed = false;
     const ImGuiViewport* vp = ImGui::GetMainViewport();
-    const float w = std::min(380.0f, vp->WorkSize.x * 0.45f);
+    const float w = std::min(340.0f, vp->WorkSize.x * 0.4f);
     ImGui::SetNextWindowPos(ImVec2(vp->WorkPos.x + vp->WorkSize.x - w, vp->WorkPos.y), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(w, vp->WorkSize.y), ImGuiCond_Always);
     ImGui::Begin("rtgi", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
@@ -192,7 +192,10 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
             ImGui::Text("%s reference: %d / %d samples%s", e.compared.c_str(), e.samples, e.targetSamples,
                         reference.converged() ? " (converged)" : "");
             if (e.valid) {
-                ImGui::Text("RMSE %.4g   relative RMSE %.4g", e.metrics.rmse, e.metrics.relRmse);
+                if (e.compared == "ao")  // relative RMSE divides by the reference: meaningless for AO
+                    ImGui::Text("RMSE %.4g   bias %.3g", e.metrics.rmse, e.metrics.bias);
+                else
+                    ImGui::Text("RMSE %.4g   relative RMSE %.4g", e.metrics.rmse, e.metrics.relRmse);
                 ImGui::Text("SSIM %.4f   PSNR %.2f dB", e.metrics.ssim, e.metrics.psnr);
                 ImGui::Text("reference noise (RMS SE) %.4g", e.referenceNoise);
                 if (e.referenceNoise > 0.5 * e.metrics.rmse)
