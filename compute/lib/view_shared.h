@@ -1,5 +1,7 @@
-// rtgi-view's presentation shader (compute/view/present.frag) and its C++
-// side (src/view/display.cpp): texture units, uniform locations, modes.
+// VIEW family: texture units, uniform locations and modes of rtgi-view's
+// presentation shader (compute/view/present.frag) and its C++ side
+// (src/view/display.cpp), so neither side holds a literal
+// (docs/architecture.md, "Binding slots").
 #ifndef RTGI_VIEW_SHARED_H
 #define RTGI_VIEW_SHARED_H
 
