@@ -110,12 +110,7 @@ public:
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
         key_ = referenceCacheKey(ctx.scene, ctx.settings, c, v);
         const glm::ivec2 s = v.size;
-        mean_.ensure(ctx.ledger, name() + ".mean", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        se_.ensure(ctx.ledger, name() + ".stderr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        if (!ao_) ldr_.ensure(ctx.ledger, name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-        doneSize_ = v.size;
-        doneView_ = v.view;
-        doneProj_ = v.proj;
+        beginView(ctx);
         if (auto cached = loadCachedReference(ctx.settings.reference.cacheDir, key_);
             cached && cached->mean.width == s.x && cached->mean.height == s.y) {
             upload(mean_, cached->mean);
@@ -173,15 +168,9 @@ private:
     void executeProgressive(FrameContext& ctx) {
         const View& v = ctx.view;
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
-        const glm::ivec2 s = v.size;
         const bool restart = !mean_ || v.size != doneSize_ || v.view != doneView_ || v.proj != doneProj_;
         if (restart) {
-            mean_.ensure(ctx.ledger, name() + ".mean", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-            se_.ensure(ctx.ledger, name() + ".stderr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-            if (!ao_) ldr_.ensure(ctx.ledger, name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-            doneSize_ = v.size;
-            doneView_ = v.view;
-            doneProj_ = v.proj;
+            beginView(ctx);
             samplesDone_ = 0;
             fromCache_ = false;
             seconds_ = rays_ = 0;
@@ -194,6 +183,18 @@ private:
         rays_ += raysBefore;
         samplesDone_ += n;
         spp_ = samplesDone_;
+    }
+
+    // Outputs for the frame's view and size, and that view remembered.
+    void beginView(FrameContext& ctx) {
+        const View& v = ctx.view;
+        const glm::ivec2 s = v.size;
+        mean_.ensure(ctx.ledger, name() + ".mean", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        se_.ensure(ctx.ledger, name() + ".stderr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        if (!ao_) ldr_.ensure(ctx.ledger, name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
+        doneSize_ = v.size;
+        doneView_ = v.view;
+        doneProj_ = v.proj;
     }
 
     void trace(FrameContext& ctx, const ReferenceConstants& c) { trace(ctx, c, 0, c.spp, true); }
