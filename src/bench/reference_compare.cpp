@@ -1,5 +1,7 @@
 #include "bench/reference_compare.h"
 
+#include "app/cli.h"
+
 #include "gl/image_files.h"
 #include "gl/image_io.h"
 #include "render/reference/metrics.h"
@@ -185,6 +187,7 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
     nlohmann::json j = metricsJson(m, q == Q::Radiance);
     j["image"] = image;
     j["reference"] = reference;
+    j["version"] = versionString();
     j["compared"] = {{"quantity", toString(q)},
                      {"quantity_from", opts.quantity == Q::Auto ? "reference file type" : "--quantity"},
                      {"channels", channels == 1 ? "channel 0" : "rgb"},
