@@ -1,6 +1,7 @@
 #include "view/live_reference.h"
 
 #include "gl/image_io.h"
+#include "render/reference/reference_cache.h"
 #include "render/reference/reference_kind.h"
 #include "render/reference/reference_passes.h"
 
@@ -19,7 +20,15 @@ void LiveReference::update(Renderer& run, const View& view, double metricsEvery)
     const K kind = referenceKindFor(run.settings(), run.resources());
     Settings rs = referenceRunSettings(run.settings(), kind);
     rs.reference.cacheDir = "off";  // progressive samples are not cached
-    const std::string k = key(rs);
+    // Restart only when the reference image changes: the reference cache's key
+    // over everything but the view (the trace pass restarts itself on a new
+    // view). post.exposure or lpv.grid do not restart an AO reference.
+    const std::string runKey = key(run.settings());
+    if (runKey != runKey_) {
+        runKey_ = runKey;
+        imageKey_ = std::to_string(int(kind)) + referenceCacheKey(run.scene(), rs, referenceConstants(rs, run.scene().bounds()), View{});
+    }
+    const std::string k = imageKey_;
     if (!ref_ || k != settingsKey_) {
         if (!profiler_) profiler_ = std::make_unique<gl::Profiler>(false);
         if (ref_) ref_->configure(rs);

@@ -31,7 +31,10 @@ public:
     // the next samples for `view`, and refreshes the errors at most every
     // `metricsEvery` seconds (always when the reference just converged).
     void update(Renderer& run, const View& view, double metricsEvery = 0.25);
-    void reset() { ref_.reset(); }
+    void reset() {
+        ref_.reset();
+        runKey_.clear();
+    }
     bool active() const { return ref_ != nullptr; }
     // The reference mean (RGBA32F; AO in rgb, or radiance), null before the first update.
     const gl::Texture* mean() const;
@@ -47,7 +50,7 @@ private:
     int perFrame_;
     std::unique_ptr<gl::Profiler> profiler_;
     std::unique_ptr<Renderer> ref_;
-    std::string settingsKey_;
+    std::string settingsKey_, runKey_, imageKey_;
     ReferenceSettings::Kind kind_ = ReferenceSettings::Kind::Off;
     LiveErrors errors_;
     int measuredAt_ = -1;
