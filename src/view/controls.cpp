@@ -122,7 +122,7 @@ std::vector<std::string> keyHelp() {
         "P or F12        screenshot (PNG)",
         "J               dump camera+config JSON",
         "Y               vsync on/off",
-        "H or F1         this help",
+        "H or F1         hide / show the panel",
         "Esc             quit",
     };
 }

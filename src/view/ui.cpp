@@ -1,6 +1,7 @@
 #include "view/ui.h"
 
 #include "compute/lib/view_shared.h"
+#include "view/controls.h"
 
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
@@ -224,6 +225,8 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
     }
 
     if (ImGui::CollapsingHeader("settings", ImGuiTreeNodeFlags_DefaultOpen)) changed = settingsPanel(settings, defaults, state);
+    if (ImGui::CollapsingHeader("keys"))
+        for (auto& line : keyHelp()) ImGui::TextUnformatted(line.c_str());
     ImGui::PopItemWidth();
     ImGui::End();
     return changed;
