@@ -76,7 +76,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["scene"] = scene.name;
     if (!scene.suggestedSettings.empty()) {
         nlohmann::json ss = nlohmann::json::object();
-        for (auto& [k, v] : scene.suggestedSettings) ss[k] = v;
+        for (auto& [k, v] : scene.suggestedSettings) ss[k] = typedValue(v);
         r["scene_settings"] = ss;  // the scene's suggestions; "config" holds what took effect
     }
     r["triangles"] = scene.triangleCount();
