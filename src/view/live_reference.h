@@ -9,6 +9,7 @@
 #include "render/reference/metrics.h"
 #include "render/renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <string>
@@ -36,6 +37,8 @@ public:
         runKey_.clear();
     }
     bool active() const { return ref_ != nullptr; }
+    void setSamplesPerFrame(int n) { perFrame_ = std::max(n, 1); }
+    int samplesPerFrame() const { return perFrame_; }
     // The reference mean (RGBA32F; AO in rgb, or radiance), null before the first update.
     const gl::Texture* mean() const;
     // The run's texture it is compared with.

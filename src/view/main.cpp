@@ -220,6 +220,7 @@ int run(int argc, char** argv) {
         // Live reference: a few more samples of the matching reference.
         if (state.liveReference) {
             try {
+                live.setSamplesPerFrame(state.samplesPerFrame);
                 live.update(renderer, v);
             } catch (const std::exception& e) {
                 state.liveReference = false;

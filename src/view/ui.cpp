@@ -183,6 +183,7 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
 
     if (ImGui::CollapsingHeader("reference", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::Checkbox("live reference", &state.liveReference);
+        ImGui::SliderInt("samples / frame", &state.samplesPerFrame, 1, 64, "%d", ImGuiSliderFlags_Logarithmic);
         const char* layouts[] = {"off", "split", "reference (toggle)", "heat map", "side by side"};
         ImGui::Combo("layout", &state.compare, layouts, 5);
         if (state.compare == RTGI_VIEW_COMPARE_SPLIT) ImGui::SliderFloat("split", &state.present.split, 0.0f, 1.0f);
