@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
                       << e["rmse"] << ", mae " << e["mae"] << ", psnr " << e["psnr"] << ", ssim " << e["ssim"] << "\n";
         }
         std::cout << "  wrote " << cl.run.outDir << "/results.json, results.csv"
-                  << (cl.run.writeImages ? ", final.png, final.pfm and debug images" : "") << "\n";
+                  << (cl.run.writeImages ? ", final.png, final.pfm, final.exr and debug images" : "") << "\n";
         if (cl.run.check && r["check"]["non_finite"].get<std::uint64_t>() > 0) {
             std::fprintf(stderr, "rtgi-bench: --check found non-finite values (see results.json \"check\")\n");
             return 5;
