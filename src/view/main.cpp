@@ -235,6 +235,8 @@ int run(int argc, char** argv) {
         const view::DisplayImage* shown = imgs.empty() ? nullptr : &imgs.front();
         for (auto& im : imgs)
             if (im.name == state.imageName) shown = &im;
+        if (state.autoHeat && live.errors().valid && live.errors().heatMax > 0)
+            state.present.heatMax = float(live.errors().heatMax);
         view::PresentOptions opts = state.present;
         view::DisplayImage comparedImage;
         const gl::Texture* refTex = state.liveReference ? live.mean() : nullptr;

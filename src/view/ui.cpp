@@ -187,8 +187,11 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
         const char* layouts[] = {"off", "split", "reference (toggle)", "heat map", "side by side"};
         ImGui::Combo("layout", &state.compare, layouts, 5);
         if (state.compare == RTGI_VIEW_COMPARE_SPLIT) ImGui::SliderFloat("split", &state.present.split, 0.0f, 1.0f);
-        if (state.compare == RTGI_VIEW_COMPARE_HEATMAP)
-            ImGui::SliderFloat("heat max", &state.present.heatMax, 1e-3f, 1.0f, "%.3g", ImGuiSliderFlags_Logarithmic);
+        if (state.compare == RTGI_VIEW_COMPARE_HEATMAP) {
+            ImGui::Checkbox("auto scale (99th percentile)", &state.autoHeat);
+            if (state.autoHeat) ImGui::Text("heat max %.4g", double(state.present.heatMax));
+            else ImGui::SliderFloat("heat max", &state.present.heatMax, 1e-4f, 10.0f, "%.3g", ImGuiSliderFlags_Logarithmic);
+        }
         const LiveErrors& e = reference.errors();
         if (state.liveReference) {
             ImGui::Text("%s reference: %d / %d samples%s", e.compared.c_str(), e.samples, e.targetSamples,

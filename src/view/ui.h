@@ -18,6 +18,7 @@ struct ViewState {
     PresentOptions present;
     bool liveReference = false;
     int compare = 1;  // RTGI_VIEW_COMPARE_* while the live reference is on
+    bool autoHeat = true;     // heat map scale = the live 99th percentile of the error
     int samplesPerFrame = 4;  // of the live reference (more: faster convergence, slower frames)
     bool showPanel = true;
     std::string message;
