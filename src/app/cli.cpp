@@ -37,6 +37,9 @@ const OptionSpec kOptions[] = {
     {"--config", "FILE.json", kBoth, "configuration file (keys as below, nested objects allowed)"},
     {"--sweep", "FILE.json", kBench, "run every configuration of a sweep"},
     {"--shard", "i/n", kBench, "run only the i-th of n parts of a sweep"},
+    {"--max-memory", "SIZE", kBench,
+     "GPU memory budget, e.g. 8G (default: what the driver reports as available,\n"
+     "else 4 GiB; see docs/STABILITY.md \"Bad input\")"},
     {"--check", nullptr, kBench, "count NaN/Inf/negative/fp16-saturated values in every pass output"},
     {"--no-images", nullptr, kBench, "do not write images"},
     {"--reference", nullptr, kBench,
@@ -46,6 +49,9 @@ const OptionSpec kOptions[] = {
     {"--compare", "IMAGE REF", kBench,
      "error metrics and heat map of an image file against a reference (PNG/PFM/EXR);\n"
      "with --quantity ao|ldr|radiance, --mask FILE or --background V (rtgi-bench --compare --help)"},
+    {"--validate-only", nullptr, kBench,
+     "load and validate the scene(s) and the configuration, render nothing (exit 0\n"
+     "when both are valid; no GL context is created)"},
     {"--screenshot", "FILE", kView, "write the displayed image (PNG) after the last frame"},
     {"--no-vsync", nullptr, kView, "start with vsync off (Y toggles)"},
     {"--script", "FILE", kView, "replay panel actions (one per line: FRAME set KEY VALUE | FRAME split X | ...)"},
@@ -76,6 +82,33 @@ int toInt(const std::string& opt, const std::string& v, int lo, int hi) {
 }
 
 }  // namespace
+
+std::int64_t parseByteSize(const std::string& opt, const std::string& v) {
+    // "4G", "512M", "1.5GiB", "1000000" (bytes); binary multiples.
+    char* end = nullptr;
+    double x = std::strtod(v.c_str(), &end);
+    std::string unit = end ? std::string(end) : std::string();
+    double mul = 1.0;
+    if (unit.empty() || unit == "B") mul = 1.0;
+    else if (unit == "K" || unit == "KiB") mul = 1024.0;
+    else if (unit == "M" || unit == "MiB") mul = 1024.0 * 1024.0;
+    else if (unit == "G" || unit == "GiB") mul = 1024.0 * 1024.0 * 1024.0;
+    else if (unit == "T" || unit == "TiB") mul = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+    else x = -1.0;
+    double bytes = x * mul;
+    if (v.empty() || end == v.c_str() || !(bytes >= 1.0) || !(bytes <= 9.0e18))
+        throw ConfigError(opt + " '" + v + "': expected a size such as 8G, 512M or 1048576 (bytes), at least 1 byte");
+    return std::int64_t(bytes);
+}
+
+void checkCommandLine(const CommandLine& c) {
+    for (auto& s : c.run.scenes)
+        if (s.empty()) throw ConfigError("--scene: the scene path is empty");
+    if (c.sweep.empty() && (c.shardIndex != 0 || c.shardCount != 1))
+        throw ConfigError("--shard applies only to --sweep (no sweep file given)");
+    if (!c.sweep.empty() && c.scenesGiven)
+        throw ConfigError("--scene does not apply to --sweep; the sweep file lists its scenes");
+}
 
 const char* hostName(Host h) { return h == Host::Bench ? "rtgi-bench" : "rtgi-view"; }
 
@@ -115,7 +148,11 @@ CommandLine parseCommandLine(Host host, int argc, char** argv) {
             c.framesGiven = true;
         } else if (a == "--warmup") c.run.warmup = toInt(a, value(), 0, 1000000);
         else if (a == "--device") c.device = toInt(a, value(), 0, 64);
-        else if (a == "--out") c.run.outDir = value();
+        else if (a == "--out") {
+            c.run.outDir = value();
+            if (c.run.outDir.empty()) throw ConfigError("--out: the output directory is empty");
+        } else if (a == "--max-memory") c.run.maxMemory = parseByteSize(a, value());
+        else if (a == "--validate-only") c.validateOnly = true;
         else if (a == "--set") sets.push_back(value());
         else if (a == "--config") configs.push_back(value());
         else if (a == "--sweep") c.sweep = value();
@@ -138,6 +175,7 @@ CommandLine parseCommandLine(Host host, int argc, char** argv) {
             throw ConfigError("--compare must be the first option: rtgi-bench --compare IMAGE REF [--out DIR] ...");
         else throw ConfigError("option '" + a + "' is in the table but not handled (a bug)");
     }
+    checkCommandLine(c);
     // --config files first, then --set in order: the command line wins.
     for (auto& f : configs) {
         std::ifstream in(f);

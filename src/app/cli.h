@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct RunOptions {
     bool check = false;
     bool quiet = false;      // no progress output (sweeps print one line per configuration instead)
     bool reference = false;  // --reference: compare the output with the matching ray-traced reference
+    std::int64_t maxMemory = 0;  // --max-memory: GPU memory budget in bytes (0 = what the device reports)
     // Provenance recorded in results.json (SPEC 12: any figure can be reproduced).
     std::string commandLine;  // the exact argv, shell-quoted
 };
@@ -41,6 +43,7 @@ struct CommandLine {
     bool help = false;
     bool version = false;
     bool listDevices = false;
+    bool validateOnly = false;  // --validate-only: load scenes and settings, no GL, exit 0
     bool framesGiven = false;
     std::string sweep;    // --sweep FILE.json
     int shardIndex = 0, shardCount = 1;
@@ -58,6 +61,11 @@ struct CommandLine {
 // Parses argv for `host`; throws ConfigError naming the option on bad input,
 // on unknown options and on options of the other binary.
 CommandLine parseCommandLine(Host host, int argc, char** argv);
+// Consistency of options that parse alone (empty --scene, --shard without
+// --sweep); throws ConfigError. Called by parseCommandLine.
+void checkCommandLine(const CommandLine& c);
+// "8G", "512M", "1048576" -> bytes (binary multiples); throws ConfigError naming `opt`.
+std::int64_t parseByteSize(const std::string& opt, const std::string& v);
 // The settings of a run of `scene`: defaults, the scene's suggestions, then
 // the command line's --config / --set.
 Settings settingsFor(const Scene& scene, const CommandLine& cl);

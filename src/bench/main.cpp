@@ -6,6 +6,7 @@
 #include "bench/run.h"
 #include "bench/sweep.h"
 #include "gl/context.h"
+#include "gl/output_files.h"
 #include "gl/program.h"
 
 #include <cmath>
@@ -19,6 +20,11 @@ using namespace rtgi;
 
 namespace {
 
+// Exit codes (README "Exit codes"): 0 ok, 1 some sweep configurations failed,
+// 2 configuration / command line / memory budget, 3 scene or image input,
+// 4 GL, 5 --check found NaN/Inf, 6 a result file could not be written.
+constexpr int kExitOutput = 6;
+
 const char* kCompareUsage =
     "usage: rtgi-bench --compare IMAGE REFERENCE [--out DIR] [--quantity auto|ao|ldr|radiance]\n"
     "                  [--mask FILE | --background VALUE]\n"
@@ -30,22 +36,25 @@ const char* kCompareUsage =
     "  --background V     compare only where the reference is not V (e.g. 0 for a black sky)\n"
     "  --out DIR          where compare.json and error.heatmap.png go (default out)\n";
 
-// rtgi-bench --compare IMAGE REFERENCE [...]: no GL context needed.
+// rtgi-bench --compare IMAGE REFERENCE [...], in any argument order: no GL context needed.
 int compareCommand(int argc, char** argv) {
     CompareOptions opts;
     std::vector<std::string> files;
     try {
-        for (int i = 2; i < argc; ++i) {
+        for (int i = 1; i < argc; ++i) {
             std::string a = argv[i];
             auto value = [&]() -> std::string {
                 if (i + 1 >= argc) throw ConfigError("--compare: " + a + ": missing value");
                 return argv[++i];
             };
+            if (a == "--compare") continue;
             if (a == "--help" || a == "-h") {
                 std::printf("%s", kCompareUsage);
                 return 0;
-            } else if (a == "--out") opts.outDir = value();
-            else if (a == "--quantity") opts.quantity = parseCompareQuantity(value());
+            } else if (a == "--out") {
+                opts.outDir = value();
+                if (opts.outDir.empty()) throw ConfigError("--out: the output directory is empty");
+            } else if (a == "--quantity") opts.quantity = parseCompareQuantity(value());
             else if (a == "--mask") opts.maskFile = value();
             else if (a == "--background") {
                 std::string v = value();
@@ -53,8 +62,9 @@ int compareCommand(int argc, char** argv) {
                 double x = std::strtod(v.c_str(), &end);
                 if (v.empty() || *end || !std::isfinite(x)) throw ConfigError("--background '" + v + "': expected a number");
                 opts.background = x;
-            } else if (a.rfind("--", 0) == 0) throw ConfigError("--compare: unknown option '" + a + "'");
-            else files.push_back(a);
+            } else if (a.rfind("--", 0) == 0) {
+                throw ConfigError("--compare: option '" + a + "' does not apply (--out, --quantity, --mask, --background)");
+            } else files.push_back(a);
         }
         if (files.size() != 2) throw ConfigError("--compare: expected two image files (IMAGE REFERENCE)");
         if (!opts.maskFile.empty() && opts.background)
@@ -64,6 +74,7 @@ int compareCommand(int argc, char** argv) {
         return 2;
     }
     try {
+        prepareOutputDirectory(opts.outDir);
         nlohmann::json j = compareImageFiles(files[0], files[1], opts);
         std::cout << j.dump(2) << "\n";
         const auto& c = j["compared"];
@@ -72,6 +83,9 @@ int compareCommand(int argc, char** argv) {
                   << c["total_pixels"] << " pixels: " << c["pixels"].get<std::string>() << "\n";
         std::cout << "  wrote " << opts.outDir << "/compare.json, error.heatmap.png\n";
         return 0;
+    } catch (const OutputError& e) {
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        return kExitOutput;
     } catch (const ConfigError& e) {
         std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
         return 2;
@@ -84,7 +98,8 @@ int compareCommand(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc > 1 && std::string(argv[1]) == "--compare") return compareCommand(argc, argv);
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--compare") return compareCommand(argc, argv);
     CommandLine cl;
     try {
         cl = parseCommandLine(Host::Bench, argc, argv);
@@ -108,16 +123,25 @@ int main(int argc, char** argv) {
     }
     try {
         if (!cl.sweep.empty()) return runSweepCommand(cl);
+        if (!cl.validateOnly) {  // an unwritable --out fails before any work
+            prepareOutputDirectory(cl.run.outDir);
+            checkOutputTarget(cl.run.outDir + "/results.json");
+            checkOutputTarget(cl.run.outDir + "/results.csv");
+        }
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        if (cl.validateOnly) {
+            (void)settingsFor(scene, cl);  // the scene's suggested settings must be valid too
+            std::printf("rtgi-bench: %s: valid (%zu triangles)\n", scene.name.c_str(), scene.triangleCount());
+            return 0;
+        }
         auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
         ProgressPrinter progressPrinter("rtgi-bench");  // warm-up, measured frames, reference samples on stderr
         nlohmann::json r = runBenchmark(ctx->info(), scene, settingsFor(scene, cl), cl.run);
-        std::filesystem::create_directories(cl.run.outDir);
-        std::ofstream(cl.run.outDir + "/results.json") << r.dump(2) << "\n";
-        std::ofstream csv(cl.run.outDir + "/results.csv");
-        csv << resultsCsvHeader() << "\n";
-        for (auto& row : resultsCsvRows(r)) csv << row << "\n";
+        writeFileAtomic(cl.run.outDir + "/results.json", r.dump(2) + "\n");
+        std::string csv = resultsCsvHeader() + "\n";
+        for (auto& row : resultsCsvRows(r)) csv += row + "\n";
+        writeFileAtomic(cl.run.outDir + "/results.csv", csv);
         std::cout << formatTimingTable(r);
         if (r.contains("error")) {
             const auto& e = r["error"];
@@ -132,6 +156,9 @@ int main(int argc, char** argv) {
             return 5;
         }
         return 0;
+    } catch (const OutputError& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return kExitOutput;
     } catch (const SceneError& e) {
         std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
         return 3;

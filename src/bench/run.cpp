@@ -4,6 +4,7 @@
 #include "gl/image_io.h"
 #include "bench/reference_compare.h"
 #include "bench/results_csv.h"
+#include "render/memory_budget.h"
 #include "render/progress.h"
 #include "render/renderer.h"
 
@@ -42,6 +43,8 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, con
 }
 
 nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, const RunOptions& opts) {
+    // Before the first frame allocates anything (render/memory_budget.h).
+    checkMemoryBudget(renderer, opts.resolution, opts.maxMemory);
     gl::Profiler& profiler = renderer.profiler();
     profiler.reset();
     const Scene& scene = renderer.scene();
