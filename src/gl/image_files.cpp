@@ -1,10 +1,14 @@
 #include "gl/image_files.h"
 
+#include "gl/output_files.h"
+
 #include <tinyexr.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
+#include <string_view>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -102,9 +106,14 @@ void writeExr(const std::string& path, const FloatImage& img, int channels, ExrP
     header.pixel_types = types.data();            // what the planes hold
     header.requested_pixel_types = types.data();  // what the file stores
     header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+    // Encoded in memory, then written like every result file: temporary file,
+    // fsync, rename (gl/output_files.h), so a kill never leaves half an EXR.
     const char* err = nullptr;
-    if (SaveEXRImageToFile(&image, &header, path.c_str(), &err) != TINYEXR_SUCCESS)
-        throw std::runtime_error(exrError(path, "could not write EXR", err));
+    unsigned char* mem = nullptr;
+    const std::size_t size = SaveEXRImageToMemory(&image, &header, &mem, &err);
+    if (size == 0 || !mem) throw std::runtime_error(exrError(path, "could not encode EXR", err));
+    std::unique_ptr<unsigned char, void (*)(void*)> memGuard(mem, std::free);
+    writeFileAtomic(path, std::string_view(reinterpret_cast<const char*>(mem), size));
 }
 
 FloatImage readExr(const std::string& path) {
