@@ -26,7 +26,44 @@ layout(binding = 8) uniform sampler2D uDirectional;  // bent normal (xyz, view) 
 layout(rgba16f, binding = 0) uniform writeonly image2D uIndirect;
 layout(rgba16f, binding = 1) uniform writeonly image2D uSpecular;
 
-// Trilinear lookup; outside the grid there is no LPV light.
+#ifdef RTGI_LPV_CASCADED
+// Cascades (docs/lpv.md, "Cascades"): one dispatch per cascade, finest first;
+// each adds its weighted irradiance and specular radiance to running sums,
+// the last one writes the outputs.
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_R) uniform sampler3D uNearR;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_G) uniform sampler3D uNearG;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_B) uniform sampler3D uNearB;
+layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_SUM_E) uniform image2D uSumE;
+layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_SUM_S) uniform image2D uSumS;
+layout(location = RTGI_LPV_LOC_APPLY_LAST) uniform int uLast;
+
+// How far inside cascade j the point lies: 1 from kCascadeBlendCells + 1/2
+// cells inside its border on, falling linearly to 0 half a cell inside it
+// (where the trilinear lookup still reads only the cascade's own cells). The
+// coarsest cascade: 1 wherever inside.
+float lpvCascadeInside(int j, vec3 world) {
+    vec4 o = lpv.cascadeOrigin[j];
+    vec3 q = (world - o.xyz) / o.w;
+    vec3 g = vec3(lpv.grid.xyz);
+    float d = min(min(min(q.x, q.y), q.z), min(min(g.x - q.x, g.y - q.y), g.z - q.z));
+    if (j == lpv.cascade.y - 1) return d >= 0.0 ? 1.0 : 0.0;
+    return clamp((d - 0.5) / lpv.cascadeParams.x, 0.0, 1.0);
+}
+
+// Weights of this cascade i at a point (docs/lpv.md): u_i = w_i prod_{j<i}(1 - w_j)
+// (cascade i is the finest one used there) for the near part, U_i = 1 -
+// prod_{j<=i}(1 - w_j) (cascade i or a finer one is) for the far part.
+vec2 lpvCascadeWeights(vec3 world) {
+    float outside = 1.0;  // prod_{j<i} (1 - w_j)
+    int i = lpv.cascade.x;
+    for (int j = 0; j < i; ++j) outside *= 1.0 - lpvCascadeInside(j, world);
+    float w = lpvCascadeInside(i, world);
+    return vec2(w * outside, 1.0 - outside * (1.0 - w));
+}
+#endif
+
+// Trilinear lookup; outside the grid there is no LPV light. Cascade i > 0:
+// u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md).
 bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
     vec3 uvw = lpvCellCoord(world) / vec3(lpv.grid.xyz);
     r = g = b = vec4(0.0);
@@ -34,6 +71,19 @@ bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
     r = texture(uLightR, uvw);
     g = texture(uLightG, uvw);
     b = texture(uLightB, uvw);
+#ifdef RTGI_LPV_CASCADED
+    vec2 w = lpvCascadeWeights(world);
+    if (lpv.cascade.x == 0) {
+        r *= w.x;
+        g *= w.x;
+        b *= w.x;
+    } else {
+        vec4 nr = texture(uNearR, uvw), ng = texture(uNearG, uvw), nb = texture(uNearB, uvw);
+        r = w.x * nr + w.y * (r - nr);
+        g = w.x * ng + w.y * (g - ng);
+        b = w.x * nb + w.y * (b - nb);
+    }
+#endif
     return true;
 }
 
@@ -49,7 +99,7 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
     float d = texelFetch(uLinearDepth, p, 0).r;
-    vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+    vec3 diffuse = vec3(0.0), specular = vec3(0.0), irradiance = vec3(0.0);
     if (!isSky(d)) {
         vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
         vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
@@ -74,8 +124,17 @@ void main() {
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));
 #endif
+#ifdef RTGI_LPV_CASCADED
+            irradiance = e * invArea;
+#else
             diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e, vec3(0.0)) * invArea;
+#endif
         }
+#ifdef RTGI_LPV_CASCADED
+        if (lpv.cascade.x > 0) irradiance += imageLoad(uSumE, p).rgb;
+        if (uLast == 0) imageStore(uSumE, p, vec4(irradiance, 0.0));
+        diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(irradiance, vec3(0.0));
+#endif
 #ifdef RTGI_LPV_SPECULAR
         vec3 v = normalize(frame.cameraPos.xyz - wp);
         vec3 R = reflect(-v, n);
@@ -91,9 +150,17 @@ void main() {
 #else
         vec3 brdf = f0;
 #endif
-        specular = brdf * (sum / 3.0) * invArea * lpv.rsm.z;
+        vec3 radiance = sum * invArea;  // each cascade with its own 1/s^2
+#ifdef RTGI_LPV_CASCADED
+        if (lpv.cascade.x > 0) radiance += imageLoad(uSumS, p).rgb;
+        if (uLast == 0) imageStore(uSumS, p, vec4(radiance, 0.0));
+#endif
+        specular = brdf * (radiance / 3.0) * lpv.rsm.z;
 #endif
     }
+#ifdef RTGI_LPV_CASCADED
+    if (uLast == 0) return;
+#endif
     imageStore(uIndirect, p, vec4(diffuse * lpv.rsm.z, 1.0));
 #ifdef RTGI_LPV_SPECULAR
     imageStore(uSpecular, p, vec4(specular, 1.0));

@@ -54,6 +54,10 @@ struct LpvSettings {
     float temporal = 0.0f;               // blend factor with the previous volume, 0 = off
     bool energyConserving = false;
     float strength = 1.0f;               // global multiplier on LPV indirect light (1 = physical)
+    // Side faces of a propagation step re-emit around their normal (KD10) or
+    // around the mean direction of the flux crossing them (docs/lpv.md).
+    enum class Reemit { Face, Flow } reemit = Reemit::Flow;
+    int cascades = 1;                    // nested camera-following volumes, cell doubling per cascade (docs/lpv.md)
 };
 
 struct AoSettings {

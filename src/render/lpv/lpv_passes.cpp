@@ -16,23 +16,35 @@
 namespace rtgi {
 namespace {
 
-struct LpvState {
+// One volume: the single LPV, or one cascade (docs/lpv.md, "Cascades").
+struct LpvCascade {
     lpv::Volumes volumes;
-    lpv::Rsm rsm;
-    gl::FramebufferHandle rsmFbo;
-    gl::Buffer ubo, stats;
+    gl::Buffer ubo;
     lpv::Placement placement, previous;
     bool havePrevious = false;
     int historyTarget = 0;
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
+};
+
+struct LpvState {
+    std::vector<LpvCascade> cascades;  // finest first; cascades[0] is the single volume when C = 1
+    lpv::Rsm rsm;
+    gl::FramebufferHandle rsmFbo;
+    gl::Buffer stats;
+    gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made in debugImages(), outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
+    LpvCascade& first() { return cascades.front(); }
+    const LpvCascade& first() const { return cascades.front(); }
 };
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
+
+// Cascades in use: the raster baseline is the seed's single volume.
+int cascadeCount(const LpvSettings& s) { return s.path == LpvSettings::Path::Raster ? 1 : s.cascades; }
 
 // --check entries of one R, G, B volume triple (SH coefficients: signed).
 void addRgb(std::vector<Pass::Output>& o, const std::string& pass, const lpv::Rgb& v) {
@@ -64,20 +76,34 @@ public:
         st.programs = &ctx.programs;
         st.ledger = &ctx.ledger;
         const LpvSettings& ls = ctx.settings.lpv;
-        st.placement = lpv::placeVolume(ls, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        const int count = cascadeCount(ls);
+        std::vector<lpv::Placement> placements =
+            lpv::placeCascades(ls, count, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        st.cascades.resize(std::size_t(count));
         auto sun = resolveSun(ctx.scene, ctx.settings);
-        lpv::UniformInputs in;
-        in.placement = st.placement;
-        in.rsmViewProj = orthoLightViewProj(st.placement.box(), sun->towardSun);
-        in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
-        bool compatible = st.havePrevious && lpv::historyCompatible(st.placement, st.previous);
-        in.historyValid = compatible && !ctx.view.cut;
-        in.shift = compatible ? lpv::temporalShift(st.placement, st.previous) : glm::ivec3(0);
-        gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
-        if (!st.ubo) st.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms", sizeof(u));
-        st.ubo.upload(&u, sizeof(u));
-        st.previous = st.placement;
-        st.havePrevious = true;
+        // One RSM for every cascade, fitted to the coarsest (it holds the others).
+        rsmViewProj_ = orthoLightViewProj(placements.back().box(), sun->towardSun);
+        for (int i = 0; i < count; ++i) {
+            LpvCascade& c = st.cascades[std::size_t(i)];
+            c.placement = placements[std::size_t(i)];
+            lpv::UniformInputs in;
+            in.placement = c.placement;
+            in.rsmViewProj = rsmViewProj_;
+            in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
+            in.cascade = i;
+            if (count > 1) in.cascades = placements;
+            bool compatible = c.havePrevious && lpv::historyCompatible(c.placement, c.previous);
+            in.historyValid = compatible && !ctx.view.cut;
+            in.shift = compatible ? lpv::temporalShift(c.placement, c.previous) : glm::ivec3(0);
+            gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
+            if (!c.ubo)
+                c.ubo = gl::Buffer(ctx.ledger, i == 0 ? std::string("lpv.uniforms")
+                                                      : "lpv.uniforms.cascade" + std::to_string(i),
+                                   sizeof(u));
+            c.ubo.upload(&u, sizeof(u));
+            c.previous = c.placement;
+            c.havePrevious = true;
+        }
 
         int n = ls.rsm;
         bool changed = st.rsm.flux.ensure(ctx.ledger, "lpv.rsm.flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
@@ -98,8 +124,8 @@ public:
         }
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(0, in.rsmViewProj);
-        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        prog.set(0, rsmViewProj_);
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
         rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
@@ -111,6 +137,7 @@ public:
     }
 
 private:
+    glm::mat4 rsmViewProj_{1.0f};
     float maxFlux() const {
         FloatImage img = readTexture(st_->rsm.flux);
         float m = 0;
@@ -128,15 +155,16 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        st.volumes.ensureLight(ctx.ledger, st.placement.grid,
-                               ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
         path_ = ls.path;
-        if (ls.path == LpvSettings::Path::Raster) {
-            lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes);
-        } else {
-            st.stats.clearZero();
-            lpv::injectCompute(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, st.stats);
+        if (ls.path == LpvSettings::Path::Compute) st.stats.clearZero();
+        for (LpvCascade& c : st.cascades) {
+            c.volumes.ensureLight(ctx.ledger, c.placement.grid,
+                                  ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
+            if (ls.path == LpvSettings::Path::Raster)
+                lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes);
+            else
+                lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
         }
     }
     std::vector<std::pair<std::string, double>> stats() override {
@@ -149,11 +177,13 @@ public:
     // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
-        if (path_ == LpvSettings::Path::Raster) {
-            addRgb(o, name(), st_->volumes.step[0]);
-            addRgb(o, name(), st_->volumes.accum);
-        } else {
-            addRgb(o, name(), st_->volumes.inject);
+        for (const LpvCascade& c : st_->cascades) {
+            if (path_ == LpvSettings::Path::Raster) {
+                addRgb(o, name(), c.volumes.step[0]);
+                addRgb(o, name(), c.volumes.accum);
+            } else {
+                addRgb(o, name(), c.volumes.inject);
+            }
         }
         return o;
     }
@@ -172,11 +202,13 @@ public:
             return Need::no("lpv.path=raster injects straight into the propagation format");
         return Need::yes();
     }
-    void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
+    void execute(FrameContext& ctx) override {
+        for (LpvCascade& c : st_->cascades) lpv::packLight(ctx.programs, c.ubo, c.volumes);
+    }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
         // pack writes step 0 only; accum is first written by lpv.propagate.
-        addRgb(o, name(), st_->volumes.step[0]);
+        for (const LpvCascade& c : st_->cascades) addRgb(o, name(), c.volumes.step[0]);
         return o;
     }
 };
@@ -195,13 +227,16 @@ public:
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
-        st.volumes.ensureGeometry(ctx.ledger);
         const GBuffer& g = ctx.res.gbuffer;
         lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
-        lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, ctx.settings.lpv.rsm, gb, st.volumes);
+        for (LpvCascade& c : st.cascades) {
+            c.volumes.ensureGeometry(ctx.ledger);
+            lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, ctx.settings.lpv.rsm, gb, c.volumes);
+        }
     }
     std::vector<DebugImage> debugImages() const override {
-        const lpv::Volumes& v = st_->volumes;
+        if (st_->cascades.empty()) return {};
+        const lpv::Volumes& v = st_->first().volumes;
         if (!v.geometry || !st_->programs) return {};
         glm::ivec3 d = v.grid + 1;
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
@@ -215,9 +250,13 @@ public:
         return {{"lpv.geometry.slice", &st_->geometrySlice, 1.0f}};
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        if (!st_->volumes.geometry) return {};
-        return {{name() + ":lpv.geometry", &st_->volumes.geometry, true},
-                {name() + ":lpv.geometry_albedo", &st_->volumes.geometryAlbedo}};
+        std::vector<Output> o;
+        for (const LpvCascade& c : st_->cascades)
+            if (c.volumes.geometry) {
+                o.push_back({name() + ":lpv.geometry", &c.volumes.geometry, true});
+                o.push_back({name() + ":lpv.geometry_albedo", &c.volumes.geometryAlbedo});
+            }
+        return o;
     }
 };
 
@@ -229,19 +268,26 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        if (ls.path == LpvSettings::Path::Raster)
-            st.lastStep = lpv::propagateRaster(ctx.programs, st.ubo, st.volumes, ls.iterations);
-        else
-            st.lastStep = lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
-        st.result = &st.volumes.accum;
+        for (std::size_t i = 0; i < st.cascades.size(); ++i) {
+            LpvCascade& c = st.cascades[i];
+            if (ls.path == LpvSettings::Path::Raster) {
+                c.lastStep = lpv::propagateRaster(ctx.programs, c.ubo, c.volumes, ls.iterations);
+            } else {
+                // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
+                if (i > 0) c.volumes.ensureNear(ctx.ledger);
+                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
+            }
+            c.result = &c.volumes.accum;
+        }
     }
     std::vector<DebugImage> debugImages() const override {
-        const lpv::Volumes& v = st_->volumes;
-        if (!st_->result || !st_->programs) return {};
+        if (st_->cascades.empty()) return {};
+        const lpv::Volumes& v = st_->first().volumes;
+        if (!st_->first().result || !st_->programs) return {};
         st_->lightSlice.ensure(*st_->ledger, "lpv.debug.light_slice", {GL_TEXTURE_2D, GL_RGBA32F, v.grid.x, v.grid.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
-        const lpv::Rgb& r = *st_->result;
+        const lpv::Rgb& r = *st_->first().result;
         for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(c, r[c].id());
         glBindImageTexture(0, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         prog.set(0, v.grid.z / 2);
@@ -254,8 +300,11 @@ public:
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
-        addRgb(o, name(), st_->volumes.accum);
-        addRgb(o, name(), st_->volumes.step[std::size_t(st_->lastStep)]);
+        for (const LpvCascade& c : st_->cascades) {
+            addRgb(o, name(), c.volumes.accum);
+            addRgb(o, name(), c.volumes.step[std::size_t(c.lastStep)]);
+            if (c.volumes.near[0]) addRgb(o, name(), c.volumes.near);
+        }
         return o;
     }
 };
@@ -267,18 +316,20 @@ public:
     std::string name() const override { return "lpv.temporal"; }
     Need neededToo(const Scene&, const Settings& s) const override {
         if (s.lpv.temporal <= 0.0f) return Need::no("lpv.temporal = 0");
+        if (cascadeCount(s.lpv) > 1)
+            return Need::no("lpv.temporal blends a single volume (lpv.cascades > 1: not implemented, docs/lpv.md)");
         return Need::yes();
     }
     void execute(FrameContext& ctx) override {
-        LpvState& st = *st_;
-        st.volumes.ensureHistory(ctx.ledger);
-        st.historyTarget = 1 - st.historyTarget;
-        lpv::temporalBlend(ctx.programs, st.ubo, st.volumes, st.historyTarget);
-        st.result = &st.volumes.history[std::size_t(st.historyTarget)];
+        LpvCascade& c = st_->first();
+        c.volumes.ensureHistory(ctx.ledger);
+        c.historyTarget = 1 - c.historyTarget;
+        lpv::temporalBlend(ctx.programs, c.ubo, c.volumes, c.historyTarget);
+        c.result = &c.volumes.history[std::size_t(c.historyTarget)];
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
         std::vector<Output> o;
-        addRgb(o, name(), st_->volumes.history[std::size_t(st_->historyTarget)]);
+        addRgb(o, name(), st_->first().volumes.history[std::size_t(st_->first().historyTarget)]);
         return o;
     }
 };
@@ -299,15 +350,28 @@ public:
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
         r.indirectDiffuse.ensure(ctx.ledger, "indirectDiffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         if (specular) r.specular.ensure(ctx.ledger, "specular", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        lpv::ApplyInputs in;
-        in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
-        in.volume = st.result;
-        in.brdfLut = r.brdfLut ? &r.brdfLut : nullptr;
-        in.s3ho = r.s3ho ? &r.s3ho : nullptr;
-        in.bentNormal = r.bentNormal ? &r.bentNormal : nullptr;
-        in.indirect = &r.indirectDiffuse;
-        in.specular = specular ? &r.specular : nullptr;
-        lpv::applyCompute(ctx.programs, st.ubo, in);
+        const int count = int(st.cascades.size());
+        if (count > 1) {
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        }
+        for (int i = 0; i < count; ++i) {
+            const LpvCascade& c = st.cascades[std::size_t(i)];
+            lpv::ApplyInputs in;
+            in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
+            in.volume = c.result;
+            in.brdfLut = r.brdfLut ? &r.brdfLut : nullptr;
+            in.s3ho = r.s3ho ? &r.s3ho : nullptr;
+            in.bentNormal = r.bentNormal ? &r.bentNormal : nullptr;
+            in.indirect = &r.indirectDiffuse;
+            in.specular = specular ? &r.specular : nullptr;
+            in.cascade = i;
+            in.cascades = count;
+            in.near = i > 0 ? &c.volumes.near : nullptr;
+            in.sumE = &st.sumE;
+            in.sumS = &st.sumS;
+            lpv::applyCompute(ctx.programs, c.ubo, in);
+        }
     }
 };
 

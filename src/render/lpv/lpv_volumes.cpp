@@ -94,6 +94,10 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
     return changed;
 }
 
+void Volumes::ensureNear(gl::MemoryLedger& ledger) {
+    ensureRgb(ledger, near, "lpv.near", {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+}
+
 void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     glm::ivec3 c = grid + 1;
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
@@ -207,14 +211,47 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
-int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations) {
+namespace {
+
+void copyRgb(const Rgb& from, Rgb& to, glm::ivec3 g) {
+    for (std::size_t c = 0; c < 3; ++c)
+        glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, g.x, g.y,
+                           g.z);
+}
+
+}  // namespace
+
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near) {
     const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format));
+    // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
+    int nearK = 0;
+    while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
+    float nearF = nearK + 1 <= iterations ? float(cascadeNearWeight(nearK + 1, iterations)) : 0.0f;
+    auto nearStep = [&](int k) {
+        if (!near) return;
+        if (k == nearK) {
+            // Producer: lpv.pack (k = 0, step[0]) or the iteration k (accum), image stores.
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            copyRgb(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
+        } else if (k == nearK + 1 && nearF > 0.0f) {
+            const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(v.format));
+            // Producers: the copy above and iteration k's accum stores.
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                            GL_TEXTURE_UPDATE_BARRIER_BIT);
+            bindRgbTextures(v.accum, RTGI_LPV_TEX_SOURCE_R);
+            bindRgbImages(v.near, RTGI_LPV_IMG_NEAR_R, GL_READ_WRITE, v.format);
+            mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF);
+            gl::dispatch(mix, v.grid.x, v.grid.y, v.grid.z);
+        }
+    };
     bindUbo(ubo);
-    glBindTextureUnit(3, v.geometry.id());
-    glBindTextureUnit(4, v.geometryAlbedo.id());
-    bindRgbImages(v.accum, 3, GL_READ_WRITE, v.format);
+    nearStep(0);
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
+        glUseProgram(prog.id());
+        glBindTextureUnit(3, v.geometry.id());
+        glBindTextureUnit(4, v.geometryAlbedo.id());
+        bindRgbImages(v.accum, 3, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -223,6 +260,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         prog.set(0, k);
         gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
         src = dst;
+        nearStep(k);
     }
     return src;
 }
@@ -270,7 +308,17 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     const gl::Texture* directional = in.s3ho ? in.s3ho : in.bentNormal;
     if (in.s3ho) d.push_back({"RTGI_LPV_S3HO", ""});
     else if (in.bentNormal) d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
+    const bool cascaded = in.cascades > 1;
+    if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
+    if (cascaded) {
+        if (in.cascade > 0) bindRgbTextures(*in.near, RTGI_LPV_TEX_APPLY_NEAR_R);
+        // Producer: the previous cascade's dispatch (image stores into the sums).
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glBindImageTexture(RTGI_LPV_IMG_APPLY_SUM_E, in.sumE->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(RTGI_LPV_IMG_APPLY_SUM_S, in.sumS->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_APPLY_LAST, in.cascade == in.cascades - 1 ? 1 : 0);
+    }
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
@@ -286,6 +334,8 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (in.specular) glBindImageTexture(1, in.specular->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, g.size.x, g.size.y);
     for (GLuint u = 4; u <= 8; ++u) glBindTextureUnit(u, 0);
+    if (cascaded)
+        for (GLuint u = RTGI_LPV_TEX_APPLY_NEAR_R; u <= RTGI_LPV_TEX_APPLY_NEAR_B; ++u) glBindTextureUnit(u, 0);
 }
 
 }  // namespace rtgi::lpv
