@@ -335,6 +335,45 @@ TEST_CASE("LPV propagation matches a CPU double implementation (grids, iteration
             }
 }
 
+TEST_CASE("LPV cascades: a cascade's near part is its steps weighted by the path-length split (CPU double)") {
+    GpuFixture gpu;
+    std::mt19937 rng(23);
+    // 2 cascades of 4^3 and 3 cascades of 3x5x7: every cascade i > 0 runs the same steps as a single
+    // volume (tested above) and keeps near = sum_k w_k step_k, w_k = lpv::cascadeNearWeight.
+    struct Case {
+        glm::ivec3 grid;
+        int cascades, iterations;
+    };
+    for (const Case& k : {Case{{4, 4, 4}, 2, 8}, Case{{3, 5, 7}, 3, 5}, Case{{3, 5, 7}, 3, 2}}) {
+        for (int i = 1; i < k.cascades; ++i) {
+            INFO("grid " << k.grid.x << "x" << k.grid.y << "x" << k.grid.z << ", cascade " << i << ", "
+                         << k.iterations << " iterations");
+            CpuOptions o;
+            o.occlusion = true;
+            o.flow = true;
+            GpuLpv g(k.grid, GL_RGBA32F, o, float(1 << i));
+            CpuVolume light = randomLight(k.grid, rng), input;
+            CpuGeometry geo = randomGeometry(k.grid, rng, 0.6), geoIn;
+            setup(g, light, &geo, input, &geoIn);
+            g.v.ensureNear(g.ledger);
+            lpv::propagateCompute(g.programs, g.ubo, g.v, k.iterations, true);
+            CpuVolume cur = input, near(k.grid), total = input;
+            auto add = [](CpuVolume& dst, const CpuVolume& src, double w) {
+                for (int c = 0; c < 3; ++c)
+                    for (std::size_t j = 0; j < dst.c[c].size(); ++j) dst.c[c][j] += w * src.c[c][j];
+            };
+            add(near, cur, lpv::cascadeNearWeight(0, k.iterations));
+            for (int it = 1; it <= k.iterations; ++it) {
+                cur = cpuPropagate(cur, &geoIn, it, o);
+                add(near, cur, lpv::cascadeNearWeight(it, k.iterations));
+                add(total, cur, 1.0);
+            }
+            CHECK(relL2(readRgb(g.v.near), near) <= 1e-4);
+            CHECK(relL2(readRgb(g.v.accum), total) <= 1e-4);
+        }
+    }
+}
+
 TEST_CASE("LPV energy: first-iteration flux ratio equals the clamped face quadrature; conserving option; occlusion") {
     GpuFixture gpu;
     std::mt19937 rng(11);
