@@ -44,6 +44,8 @@ TEST_CASE("LPV calibration: wall lit by a sunlit floor, LPV indirect vs path-tra
     ls.lpv.iterations = 16;        // light crosses the whole grid
     ls.lpv.rsm = 64;
     ls.lpv.format = LpvSettings::Format::Rgba32f;
+    ls.lpv.cascades = 1;                        // the derivation below is for one volume
+    ls.lpv.reemit = LpvSettings::Reemit::Face;  // and KD10's face re-emission
     ls.lpv.occlusion = ls.lpv.bounce = false;  // one bounce, as the reference below
     ls.lpv.specular = Toggle::Off;
     ls.light.shadowSize = 256;

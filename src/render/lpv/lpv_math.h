@@ -6,6 +6,7 @@
 #include "scene/scene.h"
 
 #include "compute/lib/lpv_shared.h"
+#include "compute/lib/sh_shared.h"
 
 #include <vector>
 

@@ -10,6 +10,7 @@
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
+#include "compute/lib/raster_shared.h"
 
 #include <algorithm>
 
@@ -124,7 +125,7 @@ public:
         }
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(0, rsmViewProj_);
+        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, rsmViewProj_);
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
         rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
@@ -242,10 +243,10 @@ public:
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp", {{"RTGI_LPV_SLICE_GEOMETRY", ""}});
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.pack (geometry)
-        glBindTextureUnit(0, v.geometry.id());
-        glBindTextureUnit(1, v.geometryAlbedo.id());
-        glBindImageTexture(0, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog.set(0, d.z / 2);
+        glBindTextureUnit(RTGI_LPV_SLICE_TEX_A, v.geometry.id());
+        glBindTextureUnit(RTGI_LPV_SLICE_TEX_B, v.geometryAlbedo.id());
+        glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_Z, d.z / 2);
         gl::dispatch(prog, d.x, d.y);
         return {{"lpv.geometry.slice", &st_->geometrySlice, 1.0f}};
     }
@@ -288,9 +289,9 @@ public:
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
         const lpv::Rgb& r = *st_->first().result;
-        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(c, r[c].id());
-        glBindImageTexture(0, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog.set(0, v.grid.z / 2);
+        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(RTGI_LPV_SLICE_TEX_A + c, r[c].id());
+        glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_Z, v.grid.z / 2);
         gl::dispatch(prog, v.grid.x, v.grid.y);
         FloatImage img = readTexture(st_->lightSlice);
         float m = 0;
