@@ -27,6 +27,29 @@ layout(binding = RTGI_LPV_TEX_DIRECTIONAL) uniform sampler2D uDirectional;  // b
 layout(rgba16f, binding = RTGI_LPV_IMG_INDIRECT) uniform writeonly image2D uIndirect;
 layout(rgba16f, binding = RTGI_LPV_IMG_SPECULAR) uniform writeonly image2D uSpecular;
 
+#ifdef RTGI_LPV_SELF
+// Self-illumination correction (docs/lpv.md, "Self-illumination"): the RSM gives the
+// exitance of a sunlit receiver; the scheme lights a uniformly lit plane with
+// kappa * exitance of its own light (lpv::planeSelfIrradiance), which is subtracted.
+layout(binding = RTGI_LPV_TEX_APPLY_RSM_FLUX) uniform sampler2D uRsmFlux;
+layout(binding = RTGI_LPV_TEX_APPLY_RSM_DEPTH) uniform sampler2D uRsmDepth;
+
+// Exitance (rgb) of the surface at wp (normal n) from the sun: the RSM texel over wp when
+// it is this surface (within a quarter cell along the light), flux / (A_texel / cos).
+vec3 lpvOwnExitance(vec3 wp, vec3 n) {
+    vec4 c = lpv.rsmViewProj * vec4(wp, 1.0);
+    vec2 ndc = c.xy / c.w;
+    if (any(greaterThan(abs(ndc), vec2(1.0)))) return vec3(0.0);
+    int side = lpv.grid.w;
+    ivec2 t = clamp(ivec2((ndc * 0.5 + 0.5) * float(side)), ivec2(0), ivec2(side - 1));
+    vec3 q = rsmWorldPosition(t, texelFetch(uRsmDepth, t, 0).r);
+    vec3 l = frame.sunDirection.xyz;  // towards the sun
+    float cosl = dot(n, l);
+    if (cosl <= 0.0 || abs(dot(q - wp, l)) > 0.25 * lpvCellSize()) return vec3(0.0);
+    return texelFetch(uRsmFlux, t, 0).rgb * cosl / lpv.rsm.x;
+}
+#endif
+
 #ifdef RTGI_LPV_CASCADED
 // Cascades (docs/lpv.md, "Cascades"): one dispatch per cascade, finest first;
 // each adds its weighted irradiance and specular radiance to running sums,
@@ -125,10 +148,21 @@ void main() {
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));
 #endif
+            vec3 eSelf = vec3(0.0);
+#ifdef RTGI_LPV_SELF
+            // Weighted like the volume it stands for: all steps, or near + far of a cascade.
+            float kappa = lpv.cascadeParams.y;
 #ifdef RTGI_LPV_CASCADED
-            irradiance = e * invArea;
+            vec2 cw = lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n);
+            kappa = lpv.cascade.x == 0 ? cw.x * lpv.cascadeParams.y
+                                       : cw.x * lpv.cascadeParams.z + cw.y * (lpv.cascadeParams.y - lpv.cascadeParams.z);
+#endif
+            eSelf = kappa * lpvOwnExitance(wp, n);
+#endif
+#ifdef RTGI_LPV_CASCADED
+            irradiance = e * invArea - eSelf;
 #else
-            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e, vec3(0.0)) * invArea;
+            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e * invArea - eSelf, vec3(0.0));
 #endif
         }
 #ifdef RTGI_LPV_CASCADED
