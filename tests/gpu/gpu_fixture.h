@@ -115,6 +115,18 @@ inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 si
 
 // LPV on at a size llvmpipe runs in well under a second (8^3, 4 iterations,
 // RSM 64^2, shadow map 256^2).
+// The path tracer's one-bounce Lambert indirect light (reference=indirect,
+// reference.bounces=1, reference.specular=off, uncached) with `s`'s scene settings.
+inline Settings oneBounceReference(Settings s, int spp) {
+    s.lpv.mode = Toggle::Off;
+    s.reference.kind = ReferenceSettings::Kind::Indirect;
+    s.reference.spp = spp;
+    s.reference.bounces = 1;
+    s.reference.specular = false;
+    s.reference.cacheDir = "off";
+    return s;
+}
+
 inline Settings smallLpvSettings() {
     Settings s;
     s.lpv.mode = Toggle::On;

@@ -30,6 +30,22 @@ Scene wallScene() {
     return s;
 }
 
+// One volume of 16^3 auto-fit cells (4 m / 16 = 0.25 m, the floor on a cell boundary), fp32,
+// occlusion and bounce off (one bounce, as the reference), KD10's face re-emission.
+Settings wallLpv(int iterations) {
+    Settings ls;
+    ls.lpv.mode = Toggle::On;
+    ls.lpv.grid = glm::ivec3(16);
+    ls.lpv.iterations = iterations;
+    ls.lpv.rsm = 64;
+    ls.lpv.format = LpvSettings::Format::Rgba32f;
+    ls.lpv.cascades = 1;
+    ls.lpv.reemit = LpvSettings::Reemit::Face;
+    ls.lpv.occlusion = ls.lpv.bounce = false;
+    ls.lpv.specular = Toggle::Off;
+    ls.light.shadowSize = 256;
+    return ls;
+}
 
 }  // namespace
 
@@ -38,25 +54,10 @@ TEST_CASE("LPV calibration: wall lit by a sunlit floor, LPV indirect vs path-tra
     gl::Profiler prof(false);
     Scene scene = wallScene();
 
-    Settings ls;
-    ls.lpv.mode = Toggle::On;
-    ls.lpv.grid = glm::ivec3(16);  // auto-fit: 4 m / 16 = 0.25 m cells, the floor on a cell boundary
-    ls.lpv.iterations = 16;        // light crosses the whole grid
-    ls.lpv.rsm = 64;
-    ls.lpv.format = LpvSettings::Format::Rgba32f;
-    ls.lpv.cascades = 1;                        // the derivation below is for one volume
-    ls.lpv.reemit = LpvSettings::Reemit::Face;  // and KD10's face re-emission
-    ls.lpv.occlusion = ls.lpv.bounce = false;  // one bounce, as the reference below
-    ls.lpv.specular = Toggle::Off;
-    ls.light.shadowSize = 256;
+    Settings ls = wallLpv(16);  // 16 iterations: light crosses the whole grid; the derivation below is for
+                                // one volume and KD10's face re-emission
 
-    Settings rs;
-    rs.lpv.mode = Toggle::Off;
-    rs.reference.kind = ReferenceSettings::Kind::Indirect;
-    rs.reference.spp = 64;
-    rs.reference.bounces = 1;
-    rs.reference.specular = false;
-    rs.reference.cacheDir = "off";
+    Settings rs = oneBounceReference(Settings{}, 64);
 
     auto ref = renderFrames(scene, rs, kSize, prof);
     auto* out = dynamic_cast<ReferenceOutput*>(ref->findPass("ref.path"));
@@ -112,16 +113,7 @@ TEST_CASE("LPV self-illumination: the sunlit floor receives no one-bounce light 
     GpuFixture gpu;
     gl::Profiler prof(false);
     Scene scene = wallScene();
-    Settings ls;
-    ls.lpv.mode = Toggle::On;
-    ls.lpv.grid = glm::ivec3(16);
-    ls.lpv.iterations = 8;
-    ls.lpv.rsm = 64;
-    ls.lpv.format = LpvSettings::Format::Rgba32f;
-    ls.lpv.occlusion = ls.lpv.bounce = false;
-    ls.lpv.specular = Toggle::Off;
-    ls.lpv.cascades = 1;
-    ls.light.shadowSize = 256;
+    Settings ls = wallLpv(8);
     Settings depthOnly = ls;
     auto probe = renderFrames(scene, depthOnly, kSize, prof);
     FloatImage depth = readTexture(probe->resources().gbuffer.linearDepth);

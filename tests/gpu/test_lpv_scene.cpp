@@ -253,13 +253,7 @@ TEST_CASE("LPV on cornell with the defaults beats black against the one-bounce r
     Scene scene = loadBuiltin("cornell");
     const glm::ivec2 size{64, 36};
     Settings s = effectiveSettings(scene.suggestedSettings, {{"lpv", "on"}, {"lpv.bounce", "off"}}, scene.name);
-    Settings rs = s;
-    rs.lpv.mode = Toggle::Off;
-    rs.reference.kind = ReferenceSettings::Kind::Indirect;
-    rs.reference.spp = 256;
-    rs.reference.bounces = 1;
-    rs.reference.specular = false;
-    rs.reference.cacheDir = "off";
+    Settings rs = oneBounceReference(s, 256);
     auto ref = renderFrames(scene, rs, size, prof);
     auto* out = dynamic_cast<ReferenceOutput*>(ref->findPass("ref.path"));
     REQUIRE(out != nullptr);
