@@ -17,29 +17,55 @@
 namespace rtgi {
 namespace {
 
-struct LpvState {
+// One volume: the single LPV, or one cascade (docs/lpv.md, "Cascades").
+struct LpvCascade {
     lpv::Volumes volumes;
-    lpv::Rsm rsm;
-    gl::FramebufferHandle rsmFbo;
-    gl::Buffer ubo, stats;
+    gl::Buffer ubo;
     lpv::Placement placement, previous;
     bool havePrevious = false;
     int historyTarget = 0;
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
+};
+
+struct LpvState {
+    std::vector<LpvCascade> cascades;  // finest first; cascades[0] is the single volume when C = 1
+    lpv::Rsm rsm;
+    gl::FramebufferHandle rsmFbo;
+    gl::Buffer stats;
+    gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
+    LpvCascade& first() { return cascades.front(); }
+    const LpvCascade& first() const { return cascades.front(); }
 };
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
 
+// Cascades in use: the raster baseline is the seed's single volume.
+int cascadeCount(const LpvSettings& s) { return s.path == LpvSettings::Path::Raster ? 1 : s.cascades; }
+
 // --check entries of one R, G, B volume triple (SH coefficients: signed);
-// `volume` picks the triple when the frame runs (it may alternate).
+// `volume` picks the triple when the frame runs (it may alternate; nullptr
+// before the first frame).
 void outputRgb(PassDecl& d, const std::string& name, std::function<const lpv::Rgb*()> volume) {
     for (std::size_t c = 0; c < 3; ++c)
-        d.output(name + "." + "rgb"[c], [volume, c] { return &(*volume())[c]; }, Check::signedValues);
+        d.output(name + "." + "rgb"[c], [volume, c]() -> const gl::Texture* {
+            const lpv::Rgb* v = volume();
+            return v ? &(*v)[c] : nullptr;
+        }, Check::signedValues);
+}
+
+// The same triple of every cascade: cascade 0 keeps the single-volume name,
+// cascade i > 0 adds ".cascade<i>". `pick` chooses the triple of a cascade.
+void outputCascadesRgb(PassDecl& d, const LpvState* st, const LpvSettings& s, const std::string& name,
+                       std::function<const lpv::Rgb*(const LpvCascade&)> pick, int first = 0) {
+    for (int i = first; i < cascadeCount(s); ++i)
+        outputRgb(d, i == 0 ? name : name + ".cascade" + std::to_string(i), [st, i, pick]() -> const lpv::Rgb* {
+            return std::size_t(i) < st->cascades.size() ? pick(st->cascades[std::size_t(i)]) : nullptr;
+        });
 }
 
 class LpvPass : public Pass {
@@ -60,20 +86,34 @@ public:
         st.programs = &ctx.programs;
         st.ledger = &ctx.ledger;
         const LpvSettings& ls = ctx.settings.lpv;
-        st.placement = lpv::placeVolume(ls, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        const int count = cascadeCount(ls);
+        std::vector<lpv::Placement> placements =
+            lpv::placeCascades(ls, count, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        st.cascades.resize(std::size_t(count));
         auto sun = resolveSun(ctx.scene, ctx.settings);
-        lpv::UniformInputs in;
-        in.placement = st.placement;
-        in.rsmViewProj = orthoLightViewProj(st.placement.box(), sun->towardSun);
-        in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
-        bool compatible = st.havePrevious && lpv::historyCompatible(st.placement, st.previous);
-        in.historyValid = compatible && !ctx.view.cut;
-        in.shift = compatible ? lpv::temporalShift(st.placement, st.previous) : glm::ivec3(0);
-        gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
-        if (!st.ubo) st.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms", sizeof(u));
-        st.ubo.upload(&u, sizeof(u));
-        st.previous = st.placement;
-        st.havePrevious = true;
+        // One RSM for every cascade, fitted to the coarsest (it holds the others).
+        rsmViewProj_ = orthoLightViewProj(placements.back().box(), sun->towardSun);
+        for (int i = 0; i < count; ++i) {
+            LpvCascade& c = st.cascades[std::size_t(i)];
+            c.placement = placements[std::size_t(i)];
+            lpv::UniformInputs in;
+            in.placement = c.placement;
+            in.rsmViewProj = rsmViewProj_;
+            in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
+            in.cascade = i;
+            if (count > 1) in.cascades = placements;
+            bool compatible = c.havePrevious && lpv::historyCompatible(c.placement, c.previous);
+            in.historyValid = compatible && !ctx.view.cut;
+            in.shift = compatible ? lpv::temporalShift(c.placement, c.previous) : glm::ivec3(0);
+            gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
+            if (!c.ubo)
+                c.ubo = gl::Buffer(ctx.ledger, i == 0 ? std::string("lpv.uniforms")
+                                                      : "lpv.uniforms.cascade" + std::to_string(i),
+                                   sizeof(u));
+            c.ubo.upload(&u, sizeof(u));
+            c.previous = c.placement;
+            c.havePrevious = true;
+        }
 
         int n = ls.rsm;
         bool changed = st.rsm.flux.ensure(ctx.ledger, "lpv.rsm.flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
@@ -94,8 +134,8 @@ public:
         }
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
-        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, rsmViewProj_);
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
         rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
     void declare(PassDecl& d, const Scene&, const Settings&) const override {
@@ -107,6 +147,7 @@ public:
     }
 
 private:
+    glm::mat4 rsmViewProj_{1.0f};
     float maxFlux() const {
         FloatImage img = readTexture(st_->rsm.flux);
         float m = 0;
@@ -124,14 +165,15 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        st.volumes.ensureLight(ctx.ledger, st.placement.grid,
-                               ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
-        if (ls.path == LpvSettings::Path::Raster) {
-            lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes);
-        } else {
-            st.stats.clearZero();
-            lpv::injectCompute(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, st.stats);
+        if (ls.path == LpvSettings::Path::Compute) st.stats.clearZero();
+        for (LpvCascade& c : st.cascades) {
+            c.volumes.ensureLight(ctx.ledger, c.placement.grid,
+                                  ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
+            if (ls.path == LpvSettings::Path::Raster)
+                lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes);
+            else
+                lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
         }
     }
     std::vector<std::pair<std::string, double>> stats() override {
@@ -143,12 +185,12 @@ public:
     }
     // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
-        lpv::Volumes* v = &st_->volumes;
+        const LpvState* st = st_.get();
         if (s.lpv.path == LpvSettings::Path::Raster) {
-            outputRgb(d, "lpv.step0", [v] { return &v->step[0]; });
-            outputRgb(d, "lpv.accum", [v] { return &v->accum; });
+            outputCascadesRgb(d, st, s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
+            outputCascadesRgb(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accum; });
         } else {
-            outputRgb(d, "lpv.inject", [v] { return &v->inject; });
+            outputCascadesRgb(d, st, s.lpv, "lpv.inject", [](const LpvCascade& c) { return &c.volumes.inject; });
         }
     }
 };
@@ -162,10 +204,11 @@ public:
         if (s.lpv.path == LpvSettings::Path::Raster)
             return d.skip("lpv.path=raster injects straight into the propagation format");
         // pack writes step 0 only; accum is first written by lpv.propagate.
-        lpv::Volumes* v = &st_->volumes;
-        outputRgb(d, "lpv.step0", [v] { return &v->step[0]; });
+        outputCascadesRgb(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
     }
-    void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
+    void execute(FrameContext& ctx) override {
+        for (LpvCascade& c : st_->cascades) lpv::packLight(ctx.programs, c.ubo, c.volumes);
+    }
 };
 
 // lpv.inject_geometry: blocking potential from the RSM and the G-buffer.
@@ -176,19 +219,31 @@ public:
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (!geometryNeeded(s)) return d.skip("lpv.occlusion and lpv.bounce are off");
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
-        d.output("lpv.geometry", &st_->volumes.geometry, Check::signedValues);
-        d.output("lpv.geometry_albedo", &st_->volumes.geometryAlbedo);
+        const LpvState* st = st_.get();
+        for (int i = 0; i < cascadeCount(s.lpv); ++i) {
+            std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
+            auto volumes = [st, i]() -> const lpv::Volumes* {
+                return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes : nullptr;
+            };
+            d.output("lpv.geometry" + suffix, [volumes] { auto v = volumes(); return v ? &v->geometry : nullptr; },
+                     Check::signedValues);
+            d.output("lpv.geometry_albedo" + suffix,
+                     [volumes] { auto v = volumes(); return v ? &v->geometryAlbedo : nullptr; });
+        }
         d.debugImage("lpv.geometry.slice", [this] { return geometrySlice(); });
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
-        st.volumes.ensureGeometry(ctx.ledger);
         const GBuffer& g = ctx.res.gbuffer;
         lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
-        lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, ctx.settings.lpv.rsm, gb, st.volumes);
+        for (LpvCascade& c : st.cascades) {
+            c.volumes.ensureGeometry(ctx.ledger);
+            lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, ctx.settings.lpv.rsm, gb, c.volumes);
+        }
     }
     DebugImage geometrySlice() const {
-        const lpv::Volumes& v = st_->volumes;
+        if (st_->cascades.empty()) return {"lpv.geometry.slice", nullptr};
+        const lpv::Volumes& v = st_->first().volumes;
         if (!v.geometry || !st_->programs) return {"lpv.geometry.slice", nullptr};
         glm::ivec3 d = v.grid + 1;
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
@@ -211,25 +266,36 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        if (ls.path == LpvSettings::Path::Raster)
-            st.lastStep = lpv::propagateRaster(ctx.programs, st.ubo, st.volumes, ls.iterations);
-        else
-            st.lastStep = lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
-        st.result = &st.volumes.accum;
+        for (std::size_t i = 0; i < st.cascades.size(); ++i) {
+            LpvCascade& c = st.cascades[i];
+            if (ls.path == LpvSettings::Path::Raster) {
+                c.lastStep = lpv::propagateRaster(ctx.programs, c.ubo, c.volumes, ls.iterations);
+            } else {
+                // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
+                if (i > 0) c.volumes.ensureNear(ctx.ledger);
+                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
+            }
+            c.result = &c.volumes.accum;
+        }
     }
-    void declare(PassDecl& d, const Scene&, const Settings&) const override {
-        LpvState* st = st_.get();
-        outputRgb(d, "lpv.accum", [st] { return &st->volumes.accum; });
-        outputRgb(d, "lpv.last_step", [st] { return &st->volumes.step[std::size_t(st->lastStep)]; });
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        const LpvState* st = st_.get();
+        outputCascadesRgb(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accum; });
+        outputCascadesRgb(d, st, s.lpv, "lpv.last_step",
+                          [](const LpvCascade& c) { return &c.volumes.step[std::size_t(c.lastStep)]; });
+        // Cascades i > 0 keep their near part (compute path; docs/lpv.md, "Cascades").
+        if (s.lpv.path == LpvSettings::Path::Compute)
+            outputCascadesRgb(d, st, s.lpv, "lpv.near", [](const LpvCascade& c) { return &c.volumes.near; }, 1);
         d.debugImage("lpv.volume.slice", [this] { return lightSlice(); });
     }
     DebugImage lightSlice() const {
-        const lpv::Volumes& v = st_->volumes;
-        if (!st_->result || !st_->programs) return {"lpv.volume.slice", nullptr};
+        if (st_->cascades.empty()) return {"lpv.volume.slice", nullptr};
+        const lpv::Volumes& v = st_->first().volumes;
+        if (!st_->first().result || !st_->programs) return {"lpv.volume.slice", nullptr};
         st_->lightSlice.ensure(*st_->ledger, "lpv.debug.light_slice", {GL_TEXTURE_2D, GL_RGBA32F, v.grid.x, v.grid.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
-        const lpv::Rgb& r = *st_->result;
+        const lpv::Rgb& r = *st_->first().result;
         for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(RTGI_LPV_SLICE_TEX_A + c, r[c].id());
         glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         prog.set(RTGI_LPV_LOC_Z, v.grid.z / 2);
@@ -249,15 +315,21 @@ public:
     std::string name() const override { return "lpv.temporal"; }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
-        LpvState* st = st_.get();
-        outputRgb(d, "lpv.history", [st] { return &st->volumes.history[std::size_t(st->historyTarget)]; });
+        if (cascadeCount(s.lpv) > 1)
+            return d.skip("lpv.temporal blends a single volume (lpv.cascades > 1: not implemented, docs/lpv.md)");
+        const LpvState* st = st_.get();
+        outputRgb(d, "lpv.history", [st]() -> const lpv::Rgb* {
+            if (st->cascades.empty()) return nullptr;
+            const LpvCascade& c = st->cascades.front();
+            return &c.volumes.history[std::size_t(c.historyTarget)];
+        });
     }
     void execute(FrameContext& ctx) override {
-        LpvState& st = *st_;
-        st.volumes.ensureHistory(ctx.ledger);
-        st.historyTarget = 1 - st.historyTarget;
-        lpv::temporalBlend(ctx.programs, st.ubo, st.volumes, st.historyTarget);
-        st.result = &st.volumes.history[std::size_t(st.historyTarget)];
+        LpvCascade& c = st_->first();
+        c.volumes.ensureHistory(ctx.ledger);
+        c.historyTarget = 1 - c.historyTarget;
+        lpv::temporalBlend(ctx.programs, c.ubo, c.volumes, c.historyTarget);
+        c.result = &c.volumes.history[std::size_t(c.historyTarget)];
     }
 };
 
@@ -277,15 +349,29 @@ public:
         FrameResources& r = ctx.res;
         const glm::ivec2 s = ctx.view.size;
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
-        lpv::ApplyInputs in;
-        in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
-        in.volume = st.result;
-        in.brdfLut = specular ? &r.brdfLut : nullptr;
-        in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
-        in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
-        in.indirect = &r.indirectDiffuse;
-        in.specular = specular ? &r.specular : nullptr;
-        lpv::applyCompute(ctx.programs, st.ubo, in);
+        const int count = int(st.cascades.size());
+        if (count > 1) {
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        }
+        for (int i = 0; i < count; ++i) {
+            const LpvCascade& c = st.cascades[std::size_t(i)];
+            lpv::ApplyInputs in;
+            in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
+            in.volume = c.result;
+            in.brdfLut = specular ? &r.brdfLut : nullptr;
+            in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
+            in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
+            in.indirect = &r.indirectDiffuse;
+            in.specular = specular ? &r.specular : nullptr;
+            in.cascade = i;
+            in.cascades = count;
+            in.near = i > 0 ? &c.volumes.near : nullptr;
+            in.rsm = ctx.settings.lpv.selfCorrection ? &st.rsm : nullptr;
+            in.sumE = &st.sumE;
+            in.sumS = &st.sumS;
+            lpv::applyCompute(ctx.programs, c.ubo, in);
+        }
     }
 };
 
