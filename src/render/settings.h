@@ -58,6 +58,10 @@ struct LpvSettings {
     // around the mean direction of the flux crossing them (docs/lpv.md).
     enum class Reemit { Face, Flow } reemit = Reemit::Flow;
     int cascades = 2;                    // nested camera-following volumes, cell doubling per cascade (docs/lpv.md)
+    // Stage attribution (docs/lpv.md): the accumulated volumes come from the
+    // propagation or from path-traced probes at the cell centres.
+    enum class Source { Propagated, Probe } source = Source::Propagated;
+    int probeDirections = 256;           // lpv.source=probe: traced directions per cell
 };
 
 struct AoSettings {

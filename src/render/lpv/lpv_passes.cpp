@@ -7,6 +7,7 @@
 #include "gl/profiler.h"
 #include "render/gpu_scene.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_probe.h"
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
@@ -38,6 +39,7 @@ struct LpvState {
     // Debug slices (made in debugImages(), outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
+    lpv::ProbeTracer probe;  // lpv.source=probe (docs/lpv.md, "Stage attribution")
     LpvCascade& first() { return cascades.front(); }
     const LpvCascade& first() const { return cascades.front(); }
 };
@@ -279,6 +281,8 @@ public:
                 c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
             }
             c.result = &c.volumes.accum;
+            // Stage attribution: the path-traced probe volume replaces the propagated one.
+            if (ls.source == LpvSettings::Source::Probe) st.probe.fill(ctx, c.ubo, c.volumes, i > 0);
         }
     }
     std::vector<DebugImage> debugImages() const override {
