@@ -1,8 +1,8 @@
 // lpv.source=probe (issue 12, stage attribution; docs/lpv.md): the probe
 // volume of every cascade against an independent oracle. Scene: a sunlit
-// Lambert square (albedo rho, half-size h, sun irradiance E at cos theta_s)
+// Lambert lobe of a glossy square (albedo rho, metallic 0.5, half-size h, sun irradiance E at cos theta_s)
 // and nothing else, so the one-bounce radiance arriving at a point above it
-// is L_f = rho E cos(theta_s) / pi from the directions that hit the square
+// is L_f = rho (1 - metallic) E cos(theta_s) / pi from the directions that hit the square
 // and 0 elsewhere (no sky at the first segment, as the matching-bounce
 // reference). Its band-0/1 projection p_k = L_f * integral over the square
 // of Y_k(w) dw, with dw = y dA / r^3, is a CPU double midpoint quadrature
@@ -66,7 +66,12 @@ TEST_CASE("LPV probe volume: sunlit square, every cascade's SH equals the CPU do
     const double rho = 0.6, e = 2.0, half = 2.0;
     const glm::dvec3 towardSun = glm::normalize(glm::dvec3(0.3, 1.0, 0.2));
     Scene scene = floorScene(float(half), glm::vec3(float(rho)), true, glm::vec3(towardSun), float(e));
-    const double lf = rho * e * towardSun.y / kPi;  // radiance of the square, one bounce
+    // Glossy and half metallic: the probe must see only the Lambert lobe
+    // diffuseAlbedo = rho (1 - metallic), as the matching-bounce reference.
+    const double metallic = 0.5;
+    scene.materials[0].roughness = 0.1f;
+    scene.materials[0].metallic = float(metallic);
+    const double lf = rho * (1.0 - metallic) * e * towardSun.y / kPi;  // radiance of the square, one bounce
 
     Settings s = smallLpvSettings();
     s.lpv.cascades = 2;

@@ -37,7 +37,10 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
                                 std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
     }
     const ProbeParams p = probeParams(ctx.settings, ctx.scene.bounds());
-    const gl::Program& prog = ctx.programs.compute("lpv/probe.comp", formatDefines(v.format));
+    // Lambert only, as the matching-bounce reference (reference.specular=off).
+    gl::Defines defines = formatDefines(v.format);
+    defines.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
+    const gl::Program& prog = ctx.programs.compute("lpv/probe.comp", defines);
     glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, nodes_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, triangles_.id());
