@@ -33,6 +33,8 @@
 #define RTGI_LPV_TEX_APPLY_NEAR_R 9     // apply: the cascade's near part (after the units 0-8 of the single volume)
 #define RTGI_LPV_TEX_APPLY_NEAR_G 10
 #define RTGI_LPV_TEX_APPLY_NEAR_B 11
+#define RTGI_LPV_TEX_APPLY_RSM_FLUX 12   // apply: the RSM (self-illumination correction)
+#define RTGI_LPV_TEX_APPLY_RSM_DEPTH 13
 #define RTGI_LPV_IMG_APPLY_SUM_E 2      // apply: running sum over cascades of irradiance (rgb)
 #define RTGI_LPV_IMG_APPLY_SUM_S 3      // apply: and of specular radiance (rgb)
 #define RTGI_LPV_LOC_APPLY_LAST 0       // apply: 1 in the last (coarsest) cascade's dispatch
@@ -60,7 +62,8 @@ RTGI_LPV_STRUCT(LpvUniforms) {
     vec4 temporal;        // x: blend weight of the previous volume
     ivec4 cascade;        // x: this volume's cascade index i, y: cascade count C, z: count dropped RSM texels,
                           // w: lpv.reemit=flow (side faces re-emit along their flow direction)
-    vec4 cascadeParams;   // x: blend width of a cascade border in cells (apply)
+    vec4 cascadeParams;   // x: blend width of a cascade border in cells (apply); y, z: self-irradiance of a
+                          // lit plane per unit exitance, all steps / near steps; w: lpv.self_correction
     vec4 cascadeOrigin[RTGI_LPV_MAX_CASCADES];  // every cascade: xyz min corner, w cell size (apply weights)
 };
 

@@ -27,6 +27,53 @@ layout(binding = RTGI_LPV_TEX_DIRECTIONAL) uniform sampler2D uDirectional;  // b
 layout(rgba16f, binding = RTGI_LPV_IMG_INDIRECT) uniform writeonly image2D uIndirect;
 layout(rgba16f, binding = RTGI_LPV_IMG_SPECULAR) uniform writeonly image2D uSpecular;
 
+#ifdef RTGI_LPV_SELF
+// Self-illumination correction (docs/lpv.md, "Self-illumination"): the RSM gives the
+// exitance of a sunlit receiver; the scheme lights a uniformly lit plane with
+// kappa * exitance of its own light (lpv::planeSelfIrradiance), which is subtracted.
+layout(binding = RTGI_LPV_TEX_APPLY_RSM_FLUX) uniform sampler2D uRsmFlux;
+layout(binding = RTGI_LPV_TEX_APPLY_RSM_DEPTH) uniform sampler2D uRsmDepth;
+
+// Exitance (rgb) from the sun of the plane through `plane` (normal n) at its point x: the
+// RSM texel over x when the surface the RSM sees there lies in that plane (within a
+// quarter cell), flux / (A_texel / cos); 0 where the plane is not lit or not there.
+vec3 lpvPlaneExitanceAt(vec3 x, vec3 plane, vec3 n, float cosl) {
+    vec4 c = lpv.rsmViewProj * vec4(x, 1.0);
+    vec2 ndc = c.xy / c.w;
+    if (any(greaterThan(abs(ndc), vec2(1.0)))) return vec3(0.0);
+    int side = lpv.grid.w;
+    ivec2 t = clamp(ivec2((ndc * 0.5 + 0.5) * float(side)), ivec2(0), ivec2(side - 1));
+    vec3 q = rsmWorldPosition(t, texelFetch(uRsmDepth, t, 0).r);
+    if (abs(dot(q - plane, n)) > 0.25 * lpvCellSize()) return vec3(0.0);
+    return texelFetch(uRsmFlux, t, 0).rgb * cosl / lpv.rsm.x;
+}
+
+// The plane's exitance weighted by the scheme's lateral self-illumination kernel: ring
+// weights (cells 0..4 away) of the 3D double model of a point on a plane, 8 steps, flow,
+// energy conserving (docs/lpv.md): 93 % of the self-light comes from within 4 cells, the
+// own cell's is negative. A uniformly lit plane gives its exitance back (weights sum to 1).
+vec3 lpvOwnExitance(vec3 wp, vec3 n) {
+    vec3 l = frame.sunDirection.xyz;  // towards the sun
+    float cosl = dot(n, l);
+    if (cosl <= 0.0) return vec3(0.0);
+    const float ring[5] = float[5](-0.179, 0.406, 0.326, 0.213, 0.234);
+    vec3 t1 = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+    vec3 t2 = cross(n, t1);
+    vec3 m = ring[0] * lpvPlaneExitanceAt(wp, wp, n, cosl);
+    for (int r = 1; r <= 4; ++r) {
+        float a = (r & 1) != 0 ? 0.0 : 0.7853982;  // alternate rings turned by 45 degrees
+        vec3 ringSum = vec3(0.0);
+        for (int k = 0; k < 4; ++k) {
+            float phi = a + float(k) * 1.5707963;
+            vec3 x = wp + float(r) * lpvCellSize() * (cos(phi) * t1 + sin(phi) * t2);
+            ringSum += lpvPlaneExitanceAt(x, wp, n, cosl);
+        }
+        m += ring[r] * 0.25 * ringSum;
+    }
+    return max(m, vec3(0.0));
+}
+#endif
+
 #ifdef RTGI_LPV_CASCADED
 // Cascades (docs/lpv.md, "Cascades"): one dispatch per cascade, finest first;
 // each adds its weighted irradiance and specular radiance to running sums,
@@ -125,10 +172,21 @@ void main() {
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));
 #endif
+            vec3 eSelf = vec3(0.0);
+#ifdef RTGI_LPV_SELF
+            // Weighted like the volume it stands for: all steps, or near + far of a cascade.
+            float kappa = lpv.cascadeParams.y;
 #ifdef RTGI_LPV_CASCADED
-            irradiance = e * invArea;
+            vec2 cw = lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n);
+            kappa = lpv.cascade.x == 0 ? cw.x * lpv.cascadeParams.y
+                                       : cw.x * lpv.cascadeParams.z + cw.y * (lpv.cascadeParams.y - lpv.cascadeParams.z);
+#endif
+            eSelf = kappa * lpvOwnExitance(wp, n);
+#endif
+#ifdef RTGI_LPV_CASCADED
+            irradiance = e * invArea - eSelf;
 #else
-            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e, vec3(0.0)) * invArea;
+            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e * invArea - eSelf, vec3(0.0));
 #endif
         }
 #ifdef RTGI_LPV_CASCADED

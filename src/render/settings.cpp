@@ -185,6 +185,8 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.reemit", "side faces re-emit around their normal (face, KD10) or their flux direction (flow)",
             "face|flow", s.lpv.reemit = parseEnum<LpvSettings::Reemit>("lpv.reemit", v, kLpvReemit),
             kLpvReemit[int(s.lpv.reemit)]),
+        KEY("lpv.self_correction", "subtract the volume's self-illumination of sunlit surfaces (derived, docs/lpv.md)",
+            "on|off", s.lpv.selfCorrection = parseBool("lpv.self_correction", v), onOff(s.lpv.selfCorrection)),
         KEY("lpv.cascades", "nested volumes, each cascade's cells twice the previous (compute path)", "1..6",
             s.lpv.cascades = parseInt("lpv.cascades", v, 1, 6), fmt(s.lpv.cascades)),
         KEY("lpv.source", "accumulated volumes from the propagation or from path-traced probes (stage attribution)",

@@ -57,6 +57,7 @@ struct LpvSettings {
     // Side faces of a propagation step re-emit around their normal (KD10) or
     // around the mean direction of the flux crossing them (docs/lpv.md).
     enum class Reemit { Face, Flow } reemit = Reemit::Flow;
+    bool selfCorrection = true;          // subtract the scheme's self-illumination of lit surfaces (docs/lpv.md)
     int cascades = 2;                    // nested camera-following volumes, cell doubling per cascade (docs/lpv.md)
     // Stage attribution (docs/lpv.md): the accumulated volumes come from the
     // propagation or from path-traced probes at the cell centres.

@@ -72,6 +72,66 @@ double cascadeNearWeight(int step, int iterations) {
     return 1.0 - std::clamp(double(step) + 1.0 - t, 0.0, 1.0);
 }
 
+namespace {
+
+using Sh = glm::dvec4;
+constexpr double kPi = 3.14159265358979323846;
+Sh shBasis(glm::dvec3 d) {
+    const double y0 = RTGI_SH_Y00, y1 = RTGI_SH_Y1;
+    return {y0, -y1 * d.y, y1 * d.z, -y1 * d.x};
+}
+Sh shLobe(glm::dvec3 n) {
+    const double c0 = RTGI_SH_COS_C0, c1 = RTGI_SH_COS_C1;
+    return {c0, -c1 * n.y, c1 * n.z, -c1 * n.x};
+}
+const glm::dvec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+}  // namespace
+
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving) {
+    // Layer j holds the cells j + 1/2 cells above the plane (the injection offset puts
+    // the plane's light into layer 0); the plane is uniform, so the 4 lateral neighbours
+    // of a cell hold what the cell holds. Unit cells, M = 1: layer 0 starts at (1/pi) cosLobe(up).
+    const int layers = iterations + 2;  // light moves one layer per step
+    const double front = RTGI_LPV_FRONT_SOLID_ANGLE, side = RTGI_LPV_SIDE_SOLID_ANGLE;
+    const double st = RTGI_LPV_SIDE_DIR_T, sd = RTGI_LPV_SIDE_DIR_D;
+    const glm::dvec3 up(0, 1, 0);
+    std::vector<Sh> cur(std::size_t(layers), Sh(0.0));
+    cur[0] = shLobe(up) / kPi;
+    auto receive = [&](const Sh& i) { return glm::dot(i, shLobe(-up)); };  // <mirror(I), cosLobe(n)>
+    double total = receive(cur[0]) * 1.0, near = receive(cur[0]) * cascadeNearWeight(0, iterations);
+    for (int k = 1; k <= iterations; ++k) {
+        std::vector<Sh> next(cur.size(), Sh(0.0));
+        for (int j = 0; j < layers; ++j)
+            for (const glm::dvec3& a : kAxes) {
+                int nb = j + int(a.y);
+                if (nb < 0 || nb >= layers) continue;
+                Sh in = cur[std::size_t(nb)];
+                if (conserving) {  // as lpvConservingScale: the quadrature flux of all 30 faces
+                    double q = 0;
+                    for (const glm::dvec3& d : kAxes) {
+                        q += front * std::max(0.0, glm::dot(in, shBasis(d)));
+                        for (const glm::dvec3& t : kAxes)
+                            if (glm::dot(t, d) == 0.0) q += side * std::max(0.0, glm::dot(in, shBasis(st * t + sd * d)));
+                    }
+                    in *= q > 0.0 ? std::max(in.x, 0.0) / RTGI_SH_Y00 / q : 0.0;
+                }
+                glm::dvec3 d = -a;
+                Sh& out = next[std::size_t(j)];
+                out += front * std::max(0.0, glm::dot(in, shBasis(d))) / kPi * shLobe(d);
+                for (const glm::dvec3& t : kAxes) {
+                    if (glm::dot(t, d) != 0.0) continue;
+                    glm::dvec3 w = st * t + sd * d;
+                    out += side * std::max(0.0, glm::dot(in, shBasis(w))) / kPi * shLobe(flow ? w : t);
+                }
+            }
+        cur = std::move(next);
+        total += receive(cur[0]);
+        near += receive(cur[0]) * cascadeNearWeight(k, iterations);
+    }
+    return {total, near};
+}
+
 double rsmTexelArea(const glm::mat4& m, int rsmSize) {
     // Rows 0/1 of an orthographic P*V scale light-space x/y by 2/width, 2/height.
     glm::dvec3 rx(m[0][0], m[1][0], m[2][0]), ry(m[0][1], m[1][1], m[2][1]);
@@ -99,7 +159,10 @@ gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in) {
     u.temporal = glm::vec4(s.temporal, 0, 0, 0);
     int count = in.cascades.empty() ? 1 : int(in.cascades.size());
     u.cascade = glm::ivec4(in.cascade, count, in.cascade == count - 1, s.reemit == LpvSettings::Reemit::Flow);
-    u.cascadeParams = glm::vec4(kCascadeBlendCells, 0, 0, 0);
+    glm::dvec2 self = s.selfCorrection ? planeSelfIrradiance(s.iterations, s.reemit == LpvSettings::Reemit::Flow,
+                                                             s.energyConserving)
+                                       : glm::dvec2(0.0);
+    u.cascadeParams = glm::vec4(kCascadeBlendCells, float(self.x), float(self.y), s.selfCorrection ? 1.0f : 0.0f);
     for (int i = 0; i < RTGI_LPV_MAX_CASCADES; ++i) {
         const Placement& p = in.cascades.empty() ? in.placement : in.cascades[std::size_t(std::min(i, count - 1))];
         u.cascadeOrigin[i] = glm::vec4(p.origin, p.cell);

@@ -56,6 +56,14 @@ std::vector<Placement> placeCascades(const LpvSettings& s, int cascades, const A
 // weight of step k in the near part (1 - clamp(k + 1 - t, 0, 1)).
 double cascadeNearWeight(int step, int iterations);
 
+// Self-illumination of the scheme (docs/lpv.md, "Self-illumination"): the
+// irradiance that a uniformly lit infinite plane of exitance M receives from
+// its own injection through the volume, per unit M, for `iterations` steps
+// with the given re-emission and energy conservation (a 1D column of cells
+// in double, laterally uniform; nothing below the plane). The truth is 0.
+// .x: all steps; .y: the steps weighted by cascadeNearWeight.
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving);
+
 // Blend width of a cascade's border in cells (apply).
 constexpr float kCascadeBlendCells = 2.0f;
 

@@ -373,6 +373,7 @@ public:
             in.cascade = i;
             in.cascades = count;
             in.near = i > 0 ? &c.volumes.near : nullptr;
+            in.rsm = ctx.settings.lpv.selfCorrection ? &st.rsm : nullptr;
             in.sumE = &st.sumE;
             in.sumS = &st.sumS;
             lpv::applyCompute(ctx.programs, c.ubo, in);

@@ -318,6 +318,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     const gl::Texture* directional = in.s3ho ? in.s3ho : in.bentNormal;
     if (in.s3ho) d.push_back({"RTGI_LPV_S3HO", ""});
     else if (in.bentNormal) d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
+    if (in.rsm) d.push_back({"RTGI_LPV_SELF", ""});
     const bool cascaded = in.cascades > 1;
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
@@ -338,6 +339,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)
             b.texture(RTGI_LPV_TEX_APPLY_NEAR_R, (*in.near)[0])

@@ -82,6 +82,7 @@ struct ApplyInputs {
     // running sums between the dispatches, which run finest first.
     int cascade = 0, cascades = 1;
     const Rgb* near = nullptr;
+    const Rsm* rsm = nullptr;  // set: subtract the self-illumination of sunlit receivers (lpv.self_correction)
     gl::Texture* sumE = nullptr;
     gl::Texture* sumS = nullptr;
     const gl::Texture* brdfLut = nullptr;     // split-sum LUT (SSR family), optional
