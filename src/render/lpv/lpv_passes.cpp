@@ -373,7 +373,11 @@ public:
             in.cascade = i;
             in.cascades = count;
             in.near = i > 0 ? &c.volumes.near : nullptr;
-            in.rsm = ctx.settings.lpv.selfCorrection ? &st.rsm : nullptr;
+            // The self-illumination correction undoes an artefact of the propagation;
+            // a probe volume (lpv.source=probe) has none to undo.
+            in.rsm = ctx.settings.lpv.selfCorrection && ctx.settings.lpv.source == LpvSettings::Source::Propagated
+                         ? &st.rsm
+                         : nullptr;
             in.sumE = &st.sumE;
             in.sumS = &st.sumS;
             lpv::applyCompute(ctx.programs, c.ubo, in);
