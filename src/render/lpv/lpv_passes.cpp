@@ -382,6 +382,7 @@ public:
             in.sumS = &st.sumS;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }
+        r.indirectDiffuseFrame = ctx.view.frame;  // written this frame: ao.nearfield adds into it
     }
 };
 
