@@ -130,4 +130,11 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 // uniform locations
 #define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
+// lpv/probe.comp (lpv.source=probe, docs/lpv.md "Stage attribution"); BVH and scene
+// buffers at their bvh_shared.h / shared.h bindings.
+#define RTGI_LPV_PROBE_IMG_ACCUM_R 0
+#define RTGI_LPV_PROBE_IMG_ACCUM_G 1
+#define RTGI_LPV_PROBE_IMG_ACCUM_B 2
+#define RTGI_LPV_PROBE_LOC_PARAMS  0  // uvec4: directions per cell, bounces, seed, first z slice
+#define RTGI_LPV_PROBE_LOC_RAY     1  // float: origin offset along the geometric normal
 #endif

@@ -135,3 +135,38 @@ bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, in
     weight = refBrdfCos(n, v, l, albedo, roughness, metallic) / pdf;
     return true;
 }
+
+// Radiance arriving along (ro, rd), times `throughput`: at most maxBounces
+// surfaces (each adds its emission and next-event direct light), Russian
+// roulette from the third on. A ray escaping at the first segment sees the
+// sky only with skyFirst (ref.path's indirect mode leaves the sky seen
+// directly from the G-buffer surface to the compose pass's ambient term;
+// the LPV probe reference, lpv/probe.comp, does the same). eps: origin
+// offset along the geometric normal. Shared by ref/path.comp and lpv/probe.comp.
+vec3 refTraceRadiance(vec3 ro, vec3 rd, vec3 throughput, uint maxBounces, float eps, bool skyFirst, inout Rng rng) {
+    vec3 L = vec3(0.0);
+    for (uint bounce = 1u; bounce <= maxBounces; ++bounce) {
+        Hit h;
+        if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
+            if (bounce > 1u || skyFirst) L += throughput * frame.sky.rgb;
+            break;
+        }
+        Surface x = surfaceAt(h, ro, rd);
+        vec3 v = -rd;
+        vec3 origin = x.position + x.geometric * eps;
+        L += throughput * (x.emission + directLight(x, v, origin));
+        if (bounce == maxBounces) break;
+        vec3 l, w;
+        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w)) break;
+        if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
+        throughput *= w;
+        if (bounce >= 3u) {
+            float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
+            if (rngNext(rng) >= q) break;
+            throughput /= q;
+        }
+        ro = origin;
+        rd = l;
+    }
+    return L;
+}

@@ -32,40 +32,6 @@ layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // Î
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
 layout(location = RTGI_REF_LOC_RAY) uniform vec2 uRay;       // unused, origin offset along the normal
 
-// Radiance arriving along (ro, rd) at a surface; `fromFirst` marks the ray
-// leaving x1 (escaping it sees the sky directly).
-vec3 traceRadiance(vec3 ro, vec3 rd, vec3 throughput, inout Rng rng) {
-    vec3 L = vec3(0.0);
-    float eps = uRay.y;
-    for (uint bounce = 1u; bounce <= uSamples.w; ++bounce) {
-        Hit h;
-        if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
-#ifndef RTGI_REF_FULL
-            if (bounce == 1u) break;  // direct skylight at x1: the compose pass's ambient term
-#endif
-            L += throughput * frame.sky.rgb;
-            break;
-        }
-        Surface x = surfaceAt(h, ro, rd);
-        vec3 v = -rd;
-        vec3 origin = x.position + x.geometric * eps;
-        L += throughput * (x.emission + directLight(x, v, origin));
-        if (bounce == uSamples.w) break;
-        vec3 l, w;
-        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w)) break;
-        if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
-        throughput *= w;
-        if (bounce >= 3u) {
-            float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
-            if (rngNext(rng) >= q) break;
-            throughput /= q;
-        }
-        ro = origin;
-        rd = l;
-    }
-    return L;
-}
-
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
@@ -98,10 +64,11 @@ void main() {
 #ifdef RTGI_REF_FULL
             vec3 L = s.emission + directLight(s, v, origin);
             vec3 l, w;
-            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w)) L += traceRadiance(origin, l, w, rng);
+            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w))
+                L += refTraceRadiance(origin, l, w, uSamples.w, uRay.y, true, rng);
 #else
             vec3 l = cosineHemisphere(rngNext2(rng), n);
-            vec3 L = traceRadiance(origin, l, diffuseAlbedo(s.albedo, s.metallic), rng);
+            vec3 L = refTraceRadiance(origin, l, diffuseAlbedo(s.albedo, s.metallic), uSamples.w, uRay.y, false, rng);
 #endif
             // A non-finite sample (degenerate geometry) is dropped, never accumulated.
             if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);

@@ -162,6 +162,12 @@ int main(int argc, char** argv) {
                           << "; interior rel_rmse " << mb["interior"]["rel_rmse"] << ", skill "
                           << mb["interior"]["skill"] << "\n";
             }
+            if (e.contains("stage")) {
+                const auto& st = e["stage"];
+                std::cout << "  stages (probe volume, " << st["probe_directions"] << " directions/cell): lookup rmse "
+                          << st["lookup"]["rmse"] << " (skill " << st["lookup"]["skill"] << "), propagation rmse "
+                          << st["propagation"]["rmse"] << " (adds " << st["propagation"]["rmse_delta"] << ")\n";
+            }
         }
         std::cout << "  wrote " << cl.run.outDir << "/results.json, results.csv"
                   << (cl.run.writeImages ? ", final.png, final.pfm, final.exr and debug images" : "") << "\n";

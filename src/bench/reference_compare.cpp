@@ -8,6 +8,7 @@
 #include "render/reference/metrics.h"
 #include "render/reference/reference_cache.h"
 #include "render/lpv/lpv_passes.h"
+#include "render/lpv/lpv_probe.h"
 #include "render/reference/reference_passes.h"
 
 #include <algorithm>
@@ -132,6 +133,26 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         mb["specular"] = false;
         mb["same_as_reference"] = same;
         e["matching_bounce"] = mb;
+        // Stage attribution (docs/lpv.md): the same frame with the path-traced
+        // probe volumes; probe vs matching = lookup error, propagated vs probe
+        // = what the propagation adds.
+        if (run.settings().lpv.source == LpvSettings::Source::Propagated) {
+            FloatImage probe = lpv::renderProbeIndirect(run, v);
+            nlohmann::json lookup = metricsJson(compareImages(probe, matching, channels, mpeak, mask), true);
+            addSkill(lookup, probe, matching, channels, mpeak, mask);
+            lookup.erase("ssim");
+            nlohmann::json lin = metricsJson(compareImages(probe, matching, channels, mpeak, interior), true);
+            addSkill(lin, probe, matching, channels, mpeak, interior);
+            lin.erase("ssim");
+            lookup["interior"] = lin;
+            nlohmann::json prop = metricsJson(compareImages(test, probe, channels, mpeak, mask), true);
+            prop.erase("ssim");
+            prop["rmse_delta"] = mb["rmse"].get<double>() - lookup["rmse"].get<double>();
+            prop["interior"] = {{"rmse", compareImages(test, probe, channels, mpeak, interior).rmse},
+                                {"rmse_delta", in["rmse"].get<double>() - lin["rmse"].get<double>()}};
+            e["stage"] = {{"lookup", lookup}, {"propagation", prop},
+                          {"probe_directions", run.settings().lpv.probeDirections}};
+        }
     }
     // Issue 6: the reflection error on the glossy pixels (roughness <=
     // ssr.roughness_cutoff, the ones SSR shades; also with ssr=off, as the

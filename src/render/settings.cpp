@@ -94,6 +94,7 @@ const char* const kToggle[] = {"auto", "on", "off"};
 const char* const kLpvPath[] = {"compute", "raster"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
 const char* const kLpvReemit[] = {"face", "flow"};
+const char* const kLpvSource[] = {"propagated", "probe"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
@@ -188,6 +189,11 @@ std::vector<SettingKey> buildKeys() {
             "on|off", s.lpv.selfCorrection = parseBool("lpv.self_correction", v), onOff(s.lpv.selfCorrection)),
         KEY("lpv.cascades", "nested volumes, each cascade's cells twice the previous (compute path)", "1..6",
             s.lpv.cascades = parseInt("lpv.cascades", v, 1, 6), fmt(s.lpv.cascades)),
+        KEY("lpv.source", "accumulated volumes from the propagation or from path-traced probes (stage attribution)",
+            "propagated|probe", s.lpv.source = parseEnum<LpvSettings::Source>("lpv.source", v, kLpvSource),
+            kLpvSource[int(s.lpv.source)]),
+        KEY("lpv.probe_directions", "lpv.source=probe: traced directions per cell", "1..65536",
+            s.lpv.probeDirections = parseInt("lpv.probe_directions", v, 1, 65536), fmt(s.lpv.probeDirections)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

@@ -60,6 +60,10 @@ struct LpvSettings {
     enum class Reemit { Face, Flow } reemit = Reemit::Flow;
     bool selfCorrection = true;          // subtract the scheme's self-illumination of lit surfaces (docs/lpv.md)
     int cascades = 2;                    // nested camera-following volumes, cell doubling per cascade (docs/lpv.md)
+    // Stage attribution (docs/lpv.md): the accumulated volumes come from the
+    // propagation or from path-traced probes at the cell centres.
+    enum class Source { Propagated, Probe } source = Source::Propagated;
+    int probeDirections = 256;           // lpv.source=probe: traced directions per cell
 };
 
 struct AoSettings {

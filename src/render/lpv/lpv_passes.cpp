@@ -7,6 +7,7 @@
 #include "gl/profiler.h"
 #include "render/gpu_scene.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_probe.h"
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
@@ -38,6 +39,7 @@ struct LpvState {
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
+    lpv::ProbeTracer probe;  // lpv.source=probe (docs/lpv.md, "Stage attribution")
     LpvCascade& first() { return cascades.front(); }
     const LpvCascade& first() const { return cascades.front(); }
 };
@@ -276,6 +278,8 @@ public:
                 c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
             }
             c.result = &c.volumes.accum;
+            // Stage attribution: the path-traced probe volume replaces the propagated one.
+            if (ls.source == LpvSettings::Source::Probe) st.probe.fill(ctx, c.ubo, c.volumes, i > 0);
         }
     }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
@@ -367,7 +371,11 @@ public:
             in.cascade = i;
             in.cascades = count;
             in.near = i > 0 ? &c.volumes.near : nullptr;
-            in.rsm = ctx.settings.lpv.selfCorrection ? &st.rsm : nullptr;
+            // The self-illumination correction undoes an artefact of the propagation;
+            // a probe volume (lpv.source=probe) has none to undo.
+            in.rsm = ctx.settings.lpv.selfCorrection && ctx.settings.lpv.source == LpvSettings::Source::Propagated
+                         ? &st.rsm
+                         : nullptr;
             in.sumE = &st.sumE;
             in.sumS = &st.sumS;
             lpv::applyCompute(ctx.programs, c.ubo, in);
