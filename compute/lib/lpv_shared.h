@@ -130,6 +130,64 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 // uniform locations
 #define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
+// lpv.sh_order=2 (RTGI_LPV_SH2; docs/lpv.md "Second-order SH"): coefficients 4-7 of each colour
+// in an RGBA volume ("hi" r, g, b) and coefficient 8 of r, g, b in a fourth ("last", .rgb);
+// each pass binds them after its band-1 slots. Injection accumulation: injectHi r32f (4X, Y, Z)
+// per colour (coefficient 4 + k at 4x + k), injectLast r32f (3X, Y, Z) (colour c at 3x + c).
+#define RTGI_LPV_INJECT_IMG_INJECT_HI_R   3  // lpv/inject.comp
+#define RTGI_LPV_INJECT_IMG_INJECT_HI_G   4
+#define RTGI_LPV_INJECT_IMG_INJECT_HI_B   5
+#define RTGI_LPV_INJECT_IMG_INJECT_LAST   6
+#define RTGI_LPV_PACK_IMG_INJECT_HI_R     0  // lpv/pack.comp with RTGI_LPV_PACK_HI
+#define RTGI_LPV_PACK_IMG_INJECT_HI_G     1
+#define RTGI_LPV_PACK_IMG_INJECT_HI_B     2
+#define RTGI_LPV_PACK_IMG_INJECT_LAST     3
+#define RTGI_LPV_PACK_IMG_VOL_HI_R        4
+#define RTGI_LPV_PACK_IMG_VOL_HI_G        5
+#define RTGI_LPV_PACK_IMG_VOL_HI_B        6
+#define RTGI_LPV_PACK_IMG_VOL_LAST        7
+#define RTGI_LPV_TEX_SRC_HI_R             5  // lpv/propagate.comp (after geometry 3, 4)
+#define RTGI_LPV_TEX_SRC_HI_G             6
+#define RTGI_LPV_TEX_SRC_HI_B             7
+#define RTGI_LPV_TEX_SRC_LAST             8
+#define RTGI_LPV_IMG_DST_HI_R             3  // lpv/propagate.comp (band 2 writes no accum: lpv/accumulate.comp)
+#define RTGI_LPV_IMG_DST_HI_G             4
+#define RTGI_LPV_IMG_DST_HI_B             5
+#define RTGI_LPV_IMG_DST_LAST             6
+#define RTGI_LPV_ACC_TEX_STEP_R           0  // lpv/accumulate.comp: accum += step k
+#define RTGI_LPV_ACC_TEX_STEP_G           1
+#define RTGI_LPV_ACC_TEX_STEP_B           2
+#define RTGI_LPV_ACC_TEX_STEP_HI_R        3
+#define RTGI_LPV_ACC_TEX_STEP_HI_G        4
+#define RTGI_LPV_ACC_TEX_STEP_HI_B        5
+#define RTGI_LPV_ACC_TEX_STEP_LAST        6
+#define RTGI_LPV_ACC_IMG_ACCUM_R          0
+#define RTGI_LPV_ACC_IMG_ACCUM_G          1
+#define RTGI_LPV_ACC_IMG_ACCUM_B          2
+#define RTGI_LPV_ACC_IMG_ACCUM_HI_R       3
+#define RTGI_LPV_ACC_IMG_ACCUM_HI_G       4
+#define RTGI_LPV_ACC_IMG_ACCUM_HI_B       5
+#define RTGI_LPV_ACC_IMG_ACCUM_LAST       6
+#define RTGI_LPV_TEX_SOURCE_HI_R          3  // lpv/near.comp
+#define RTGI_LPV_TEX_SOURCE_HI_G          4
+#define RTGI_LPV_TEX_SOURCE_HI_B          5
+#define RTGI_LPV_TEX_SOURCE_LAST          6
+#define RTGI_LPV_IMG_NEAR_HI_R            3
+#define RTGI_LPV_IMG_NEAR_HI_G            4
+#define RTGI_LPV_IMG_NEAR_HI_B            5
+#define RTGI_LPV_IMG_NEAR_LAST            6
+#define RTGI_LPV_TEX_LIGHT_HI_R          14  // lpv/apply.comp (after the RSM at 13)
+#define RTGI_LPV_TEX_LIGHT_HI_G          15
+#define RTGI_LPV_TEX_LIGHT_HI_B          16
+#define RTGI_LPV_TEX_LIGHT_LAST          17
+#define RTGI_LPV_TEX_APPLY_NEAR_HI_R     18
+#define RTGI_LPV_TEX_APPLY_NEAR_HI_G     19
+#define RTGI_LPV_TEX_APPLY_NEAR_HI_B     20
+#define RTGI_LPV_TEX_APPLY_NEAR_LAST     21
+#define RTGI_LPV_PROBE_IMG_ACCUM_HI_R     3  // lpv/probe.comp
+#define RTGI_LPV_PROBE_IMG_ACCUM_HI_G     4
+#define RTGI_LPV_PROBE_IMG_ACCUM_HI_B     5
+#define RTGI_LPV_PROBE_IMG_ACCUM_LAST     6
 // lpv/probe.comp (lpv.source=probe, docs/lpv.md "Stage attribution"); BVH and scene
 // buffers at their bvh_shared.h / shared.h bindings.
 #define RTGI_LPV_PROBE_IMG_ACCUM_R 0

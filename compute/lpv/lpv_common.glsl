@@ -52,3 +52,11 @@ vec4 lpvStorable(vec4 v) {
     return v;
 #endif
 }
+mat3 lpvStorable(mat3 v) {
+#ifdef RTGI_LPV_HALF
+    return mat3(clamp(v[0], vec3(-65504.0), vec3(65504.0)), clamp(v[1], vec3(-65504.0), vec3(65504.0)),
+                clamp(v[2], vec3(-65504.0), vec3(65504.0)));
+#else
+    return v;
+#endif
+}

@@ -1,6 +1,9 @@
 // lpv.propagate (compute): one dispatch per iteration; writes volume k and
 // adds it into the accumulated volume in the same dispatch (fused, SPEC 3.5);
-// the first step writes accum = step[0] + step[1].
+// the first step writes accum = step[0] + step[1]. lpv.sh_order=2 (RTGI_LPV_SH2):
+// bands 0-2 in 7 volumes (lo r, g, b + hi r, g, b + last); writing step k and
+// accum would need 14 image units (GL guarantees 8), so the sum is added by
+// lpv/accumulate.comp after each step.
 #include "lpv/propagate.glsl"
 #include "lib/lpv_shared.h"
 
@@ -14,9 +17,26 @@ layout(binding = RTGI_LPV_TEX_GEOMETRY_ALBEDO) uniform sampler3D uGeometryAlbedo
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_R) uniform writeonly image3D uDstR;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_G) uniform writeonly image3D uDstG;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_B) uniform writeonly image3D uDstB;
+#ifdef RTGI_LPV_SH2
+layout(binding = RTGI_LPV_TEX_SRC_HI_R) uniform sampler3D uSrcHiR;
+layout(binding = RTGI_LPV_TEX_SRC_HI_G) uniform sampler3D uSrcHiG;
+layout(binding = RTGI_LPV_TEX_SRC_HI_B) uniform sampler3D uSrcHiB;
+layout(binding = RTGI_LPV_TEX_SRC_LAST) uniform sampler3D uSrcLast;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_HI_R) uniform writeonly image3D uDstHiR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_HI_G) uniform writeonly image3D uDstHiG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_HI_B) uniform writeonly image3D uDstHiB;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_LAST) uniform writeonly image3D uDstLast;
+
+mat3 lpvSource9(vec4 lo, int colour, ivec3 cell) {
+    vec4 hi = colour == 0 ? texelFetch(uSrcHiR, cell, 0) : colour == 1 ? texelFetch(uSrcHiG, cell, 0)
+                                                                       : texelFetch(uSrcHiB, cell, 0);
+    return shFromParts(lo, hi, texelFetch(uSrcLast, cell, 0)[colour]);
+}
+#else
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_R) uniform image3D uAccumR;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_G) uniform image3D uAccumG;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_B) uniform image3D uAccumB;
+#endif
 
 layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 
@@ -27,6 +47,15 @@ void main() {
     v.r = lpvStorable(v.r);
     v.g = lpvStorable(v.g);
     v.b = lpvStorable(v.b);
+#ifdef RTGI_LPV_SH2
+    imageStore(uDstR, c, shLo(v.r));
+    imageStore(uDstG, c, shLo(v.g));
+    imageStore(uDstB, c, shLo(v.b));
+    imageStore(uDstHiR, c, shHi(v.r));
+    imageStore(uDstHiG, c, shHi(v.g));
+    imageStore(uDstHiB, c, shHi(v.b));
+    imageStore(uDstLast, c, vec4(shLast(v.r), shLast(v.g), shLast(v.b), 0.0));
+#else
     imageStore(uDstR, c, v.r);
     imageStore(uDstG, c, v.g);
     imageStore(uDstB, c, v.b);
@@ -37,4 +66,5 @@ void main() {
     imageStore(uAccumR, c, lpvStorable((first ? texelFetch(uSrcR, c, 0) : imageLoad(uAccumR, c)) + v.r));
     imageStore(uAccumG, c, lpvStorable((first ? texelFetch(uSrcG, c, 0) : imageLoad(uAccumG, c)) + v.g));
     imageStore(uAccumB, c, lpvStorable((first ? texelFetch(uSrcB, c, 0) : imageLoad(uAccumB, c)) + v.b));
+#endif
 }

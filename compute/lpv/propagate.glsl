@@ -11,12 +11,24 @@
 const ivec3 LPV_AXES[6] = ivec3[6](ivec3(1, 0, 0), ivec3(-1, 0, 0), ivec3(0, 1, 0), ivec3(0, -1, 0),
                                    ivec3(0, 0, 1), ivec3(0, 0, -1));
 
+// lpv.sh_order=2 (RTGI_LPV_SH2, compute path only): the same scheme on SH of bands 0-2
+// (mat3, lib/sh.glsl); the includer defines lpvSource9, which completes a neighbour's
+// band-1 texel with its band-2 coefficients (docs/lpv.md, "Second-order SH").
+#ifdef RTGI_LPV_SH2
+#define LpvSh mat3
+#define lpvLobe shCosineLobe9
+mat3 lpvSource9(vec4 lo, int colour, ivec3 cell);
+#else
+#define LpvSh vec4
+#define lpvLobe shCosineLobe
+#endif
+
 struct LpvRgb {
-    vec4 r, g, b;
+    LpvSh r, g, b;
 };
 
 // Sum of the quadrature over all 30 faces a source feeds (6 destinations x 5 faces).
-float lpvQuadratureFlux(vec4 I) {
+float lpvQuadratureFlux(LpvSh I) {
     float q = 0.0;
     for (int a = 0; a < 6; ++a) {
         vec3 d = vec3(LPV_AXES[a]);
@@ -32,9 +44,9 @@ float lpvQuadratureFlux(vec4 I) {
 
 // lpv.energy_conserving: scale so a source emits exactly its flux 2 sqrt(pi) I_00
 // (the integral of its intensity) instead of what the quadrature gives.
-float lpvConservingScale(vec4 I) {
+float lpvConservingScale(LpvSh I) {
     float q = lpvQuadratureFlux(I);
-    float target = max(I.x, 0.0) / RTGI_SH_Y00;
+    float target = max(shBand0(I), 0.0) / RTGI_SH_Y00;
     return q > 0.0 ? target / q : 0.0;
 }
 
@@ -58,10 +70,10 @@ vec4 lpvFaceBlocking(sampler3D gv, sampler3D gvAlbedo, ivec3 c, ivec3 o, out vec
 // Adds what flows from source intensity I (flow direction d) through the 5
 // exit faces of the destination, scaled by `transmit`, to `dst`; returns the
 // flux reaching the faces before transmission.
-float lpvPropagateFaces(vec4 I, vec3 d, float transmit, inout vec4 dst) {
+float lpvPropagateFaces(LpvSh I, vec3 d, float transmit, inout LpvSh dst) {
     float front = RTGI_LPV_FRONT_SOLID_ANGLE * max(0.0, shEvaluate(I, d));
     float total = front;
-    dst += (front * transmit * INV_PI) * shCosineLobe(d);
+    dst += (front * transmit * INV_PI) * lpvLobe(d);
     for (int t = 0; t < 6; ++t) {
         vec3 nf = vec3(LPV_AXES[t]);
         if (dot(nf, d) != 0.0) continue;
@@ -70,7 +82,7 @@ float lpvPropagateFaces(vec4 I, vec3 d, float transmit, inout vec4 dst) {
         total += side;
         // lpv.reemit=flow: around the mean direction w of the flux crossing the face (its flux
         // is unchanged); KD10 (face): around the face normal, 57 degrees off (docs/lpv.md).
-        dst += (side * transmit * INV_PI) * shCosineLobe(lpv.cascade.w != 0 ? w : nf);
+        dst += (side * transmit * INV_PI) * lpvLobe(lpv.cascade.w != 0 ? w : nf);
     }
     return total;
 }
@@ -80,30 +92,36 @@ float lpvPropagateFaces(vec4 I, vec3 d, float transmit, inout vec4 dst) {
 // on (seed 3.5.1): the first step would let geometry occlude its own light.
 LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler3D srcB, sampler3D gv,
                  sampler3D gvAlbedo) {
-    LpvRgb o = LpvRgb(vec4(0.0), vec4(0.0), vec4(0.0));
+    LpvRgb o = LpvRgb(LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
     ivec3 dims = lpv.grid.xyz;
     bool geometry = iteration >= 2 && (lpv.flags.x != 0 || lpv.flags.y != 0);
     for (int a = 0; a < 6; ++a) {
         ivec3 n = c + LPV_AXES[a];
         if (!lpvInside(n, dims)) continue;
         vec3 d = -vec3(LPV_AXES[a]);  // flow from the neighbour into c
+#ifdef RTGI_LPV_SH2
+        mat3 I[3] = mat3[3](lpvSource9(texelFetch(srcR, n, 0), 0, n), lpvSource9(texelFetch(srcG, n, 0), 1, n),
+                            lpvSource9(texelFetch(srcB, n, 0), 2, n));
+#else
         vec4 I[3] = vec4[3](texelFetch(srcR, n, 0), texelFetch(srcG, n, 0), texelFetch(srcB, n, 0));
+#endif
         float transmit = 1.0;
         vec3 reflected = vec3(0.0);
         if (geometry) {
             vec3 albedo;
+            // The blocking potential stays band 1 for either order (docs/lpv.md).
             vec4 B = lpvFaceBlocking(gv, gvAlbedo, c, LPV_AXES[a], albedo);
             // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)).
             float blocked = clamp(shEvaluate(B, -d), 0.0, 1.0);
             transmit = 1.0 - blocked;
             if (lpv.flags.y != 0) reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
         }
-        vec4 acc[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
+        LpvSh acc[3] = LpvSh[3](LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
         for (int ch = 0; ch < 3; ++ch) {
             float scale = lpv.flags.z != 0 ? lpvConservingScale(I[ch]) : 1.0;
             float total = lpvPropagateFaces(I[ch] * scale, d, transmit, acc[ch]);
             // The reflected part leaves the blocking surface back towards the source.
-            acc[ch] += (reflected[ch] * total * INV_PI) * shCosineLobe(-d);
+            acc[ch] += (reflected[ch] * total * INV_PI) * lpvLobe(-d);
         }
         o.r += acc[0];
         o.g += acc[1];

@@ -73,57 +73,103 @@ double cascadeNearWeight(int step, int iterations) {
 }
 
 namespace {
-
-using Sh = glm::dvec4;
 constexpr double kPi = 3.14159265358979323846;
-Sh shBasis(glm::dvec3 d) {
-    const double y0 = RTGI_SH_Y00, y1 = RTGI_SH_Y1;
-    return {y0, -y1 * d.y, y1 * d.z, -y1 * d.x};
-}
-Sh shLobe(glm::dvec3 n) {
-    const double c0 = RTGI_SH_COS_C0, c1 = RTGI_SH_COS_C1;
-    return {c0, -c1 * n.y, c1 * n.z, -c1 * n.x};
-}
 const glm::dvec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-
+Sh9 scaled(Sh9 c, double s) {
+    for (double& v : c) v *= s;
+    return c;
+}
+void addScaled(Sh9& dst, const Sh9& c, double s) {
+    for (std::size_t k = 0; k < 9; ++k) dst[k] += s * c[k];
+}
+glm::dvec3 sideDirection(glm::dvec3 t, glm::dvec3 d) { return RTGI_LPV_SIDE_DIR_T * t + RTGI_LPV_SIDE_DIR_D * d; }
 }  // namespace
 
-glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving) {
+Sh9 shBasis9(glm::dvec3 d) {
+    const double y0 = RTGI_SH_Y00, y1 = RTGI_SH_Y1, y2 = RTGI_SH_Y2;
+    return {y0,
+            -y1 * d.y,
+            y1 * d.z,
+            -y1 * d.x,
+            y2 * d.x * d.y,
+            -y2 * d.y * d.z,
+            RTGI_SH_Y20 * (3.0 * d.z * d.z - 1.0),
+            -y2 * d.x * d.z,
+            RTGI_SH_Y22 * (d.x * d.x - d.y * d.y)};
+}
+
+Sh9 shCosineLobe9(glm::dvec3 n) {
+    Sh9 c = scaled(shBasis9(n), RTGI_SH_COS_A2);
+    c[0] = RTGI_SH_COS_C0;
+    c[1] = -RTGI_SH_COS_C1 * n.y;
+    c[2] = RTGI_SH_COS_C1 * n.z;
+    c[3] = -RTGI_SH_COS_C1 * n.x;
+    return c;
+}
+
+double shDot9(const Sh9& a, const Sh9& b) {
+    double s = 0.0;
+    for (std::size_t k = 0; k < 9; ++k) s += a[k] * b[k];
+    return s;
+}
+
+Sh9 shTruncate(const Sh9& c, int order) {
+    Sh9 t = c;
+    if (order < 2)
+        for (std::size_t k = 4; k < 9; ++k) t[k] = 0.0;
+    return t;
+}
+
+double faceTransfer(const Sh9& I, glm::dvec3 d, double transmit, bool flow, int order, Sh9& dst) {
+    double front = RTGI_LPV_FRONT_SOLID_ANGLE * std::max(0.0, shDot9(I, shBasis9(d)));
+    double total = front;
+    addScaled(dst, shTruncate(shCosineLobe9(d), order), front * transmit / kPi);
+    for (const glm::dvec3& t : kAxes) {
+        if (glm::dot(t, d) != 0.0) continue;
+        glm::dvec3 w = sideDirection(t, d);
+        double side = RTGI_LPV_SIDE_SOLID_ANGLE * std::max(0.0, shDot9(I, shBasis9(w)));
+        total += side;
+        addScaled(dst, shTruncate(shCosineLobe9(flow ? w : t), order), side * transmit / kPi);
+    }
+    return total;
+}
+
+double quadratureFlux(const Sh9& I) {
+    double q = 0.0;
+    for (const glm::dvec3& d : kAxes) {
+        q += RTGI_LPV_FRONT_SOLID_ANGLE * std::max(0.0, shDot9(I, shBasis9(d)));
+        for (const glm::dvec3& t : kAxes)
+            if (glm::dot(t, d) == 0.0) q += RTGI_LPV_SIDE_SOLID_ANGLE * std::max(0.0, shDot9(I, shBasis9(sideDirection(t, d))));
+    }
+    return q;
+}
+
+double conservingScale(const Sh9& I) {
+    double q = quadratureFlux(I);
+    return q > 0.0 ? std::max(I[0], 0.0) / RTGI_SH_Y00 / q : 0.0;
+}
+
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int order) {
     // Layer j holds the cells j + 1/2 cells above the plane (the injection offset puts
     // the plane's light into layer 0); the plane is uniform, so the 4 lateral neighbours
     // of a cell hold what the cell holds. Unit cells, M = 1: layer 0 starts at (1/pi) cosLobe(up).
     const int layers = iterations + 2;  // light moves one layer per step
-    const double front = RTGI_LPV_FRONT_SOLID_ANGLE, side = RTGI_LPV_SIDE_SOLID_ANGLE;
-    const double st = RTGI_LPV_SIDE_DIR_T, sd = RTGI_LPV_SIDE_DIR_D;
     const glm::dvec3 up(0, 1, 0);
-    std::vector<Sh> cur(std::size_t(layers), Sh(0.0));
-    cur[0] = shLobe(up) / kPi;
-    auto receive = [&](const Sh& i) { return glm::dot(i, shLobe(-up)); };  // <mirror(I), cosLobe(n)>
+    std::vector<Sh9> cur(std::size_t(layers), Sh9{});
+    cur[0] = shTruncate(shCosineLobe9(up), order);
+    for (double& v : cur[0]) v /= kPi;
+    const Sh9 down = shTruncate(shCosineLobe9(-up), order);
+    auto receive = [&](const Sh9& i) { return shDot9(i, down); };  // <mirror(I), cosLobe(n)>
     double total = receive(cur[0]) * 1.0, near = receive(cur[0]) * cascadeNearWeight(0, iterations);
     for (int k = 1; k <= iterations; ++k) {
-        std::vector<Sh> next(cur.size(), Sh(0.0));
+        std::vector<Sh9> next(cur.size(), Sh9{});
         for (int j = 0; j < layers; ++j)
             for (const glm::dvec3& a : kAxes) {
                 int nb = j + int(a.y);
                 if (nb < 0 || nb >= layers) continue;
-                Sh in = cur[std::size_t(nb)];
-                if (conserving) {  // as lpvConservingScale: the quadrature flux of all 30 faces
-                    double q = 0;
-                    for (const glm::dvec3& d : kAxes) {
-                        q += front * std::max(0.0, glm::dot(in, shBasis(d)));
-                        for (const glm::dvec3& t : kAxes)
-                            if (glm::dot(t, d) == 0.0) q += side * std::max(0.0, glm::dot(in, shBasis(st * t + sd * d)));
-                    }
-                    in *= q > 0.0 ? std::max(in.x, 0.0) / RTGI_SH_Y00 / q : 0.0;
-                }
-                glm::dvec3 d = -a;
-                Sh& out = next[std::size_t(j)];
-                out += front * std::max(0.0, glm::dot(in, shBasis(d))) / kPi * shLobe(d);
-                for (const glm::dvec3& t : kAxes) {
-                    if (glm::dot(t, d) != 0.0) continue;
-                    glm::dvec3 w = st * t + sd * d;
-                    out += side * std::max(0.0, glm::dot(in, shBasis(w))) / kPi * shLobe(flow ? w : t);
-                }
+                Sh9 in = cur[std::size_t(nb)];
+                if (conserving) in = scaled(in, conservingScale(in));  // as lpvConservingScale
+                faceTransfer(in, -a, 1.0, flow, order, next[std::size_t(j)]);
             }
         cur = std::move(next);
         total += receive(cur[0]);

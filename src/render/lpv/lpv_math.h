@@ -8,6 +8,7 @@
 #include "compute/lib/lpv_shared.h"
 #include "compute/lib/sh_shared.h"
 
+#include <array>
 #include <vector>
 
 namespace rtgi::gpu {
@@ -62,7 +63,29 @@ double cascadeNearWeight(int step, int iterations);
 // with the given re-emission and energy conservation (a 1D column of cells
 // in double, laterally uniform; nothing below the plane). The truth is 0.
 // .x: all steps; .y: the steps weighted by cascadeNearWeight.
-glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving);
+// `order`: SH bands used by the scheme (lpv.sh_order, 1 or 2).
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int order = 1);
+
+// SH of bands 0-2 in double (lpv.sh_order=2, docs/lpv.md "Second-order SH"): the 9
+// coefficients in the order and with the signs of compute/lib/sh_shared.h; an SH of
+// bands 0-1 is one whose coefficients 4-8 are 0.
+using Sh9 = std::array<double, 9>;
+Sh9 shBasis9(glm::dvec3 d);
+// Projection of max(0, n.w): A_l Y_lm(n), A = (pi, 2 pi / 3, pi / 4).
+Sh9 shCosineLobe9(glm::dvec3 n);
+double shDot9(const Sh9& a, const Sh9& b);
+// Keeps the first 4 (order 1) or all 9 (order 2) coefficients.
+Sh9 shTruncate(const Sh9& c, int order);
+// The propagation's face transfer (docs/lpv.md) in bands 0..order: for a source of
+// intensity I flowing along the axis d into a destination, each of its 5 exit faces f
+// receives Phi_f = dOmega_f max(0, I(w_f)) and re-emits (Phi_f / pi) cosLobe(n_f or w_f)
+// (lpv.reemit=face | flow), truncated to the order, times `transmit`, added to `dst`.
+// Returns the sum of Phi_f (before transmission).
+double faceTransfer(const Sh9& I, glm::dvec3 d, double transmit, bool flow, int order, Sh9& dst);
+// Sum of Phi_f over all 30 faces a source feeds (6 destinations x 5 faces).
+double quadratureFlux(const Sh9& I);
+// lpv.energy_conserving: the scale that makes the quadrature flux equal 2 sqrt(pi) I_00.
+double conservingScale(const Sh9& I);
 
 // Blend width of a cascade's border in cells (apply).
 constexpr float kCascadeBlendCells = 2.0f;
