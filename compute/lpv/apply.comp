@@ -8,6 +8,9 @@
 // when a BRDF LUT exists (RTGI_LPV_BRDF_LUT), else times F0.
 // Hooks: RTGI_LPV_BENT_NORMAL looks up along the AO pass's bent normal;
 // RTGI_LPV_S3HO integrates against the SH visibility instead of the cosine.
+// lpv.sh_order=2 (RTGI_LPV_SH2): the volumes hold bands 0-2 (mat3, lib/sh.glsl);
+// the irradiance uses the band-2 clamped cosine (A_2 = pi / 4), the specular
+// lookup evaluates bands 0-2 (docs/lpv.md, "Second-order SH").
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
 #include "lib/depth.glsl"
@@ -24,6 +27,15 @@ layout(binding = RTGI_LPV_TEX_LIGHT_G) uniform sampler3D uLightG;
 layout(binding = RTGI_LPV_TEX_LIGHT_B) uniform sampler3D uLightB;
 layout(binding = RTGI_LPV_TEX_BRDF_LUT) uniform sampler2D uBrdfLut;
 layout(binding = RTGI_LPV_TEX_DIRECTIONAL) uniform sampler2D uDirectional;  // bent normal (xyz, view) or S3HO SH (view)
+#ifdef RTGI_LPV_SH2
+layout(binding = RTGI_LPV_TEX_LIGHT_HI_R) uniform sampler3D uLightHiR;
+layout(binding = RTGI_LPV_TEX_LIGHT_HI_G) uniform sampler3D uLightHiG;
+layout(binding = RTGI_LPV_TEX_LIGHT_HI_B) uniform sampler3D uLightHiB;
+layout(binding = RTGI_LPV_TEX_LIGHT_LAST) uniform sampler3D uLightLast;
+#define LpvSh mat3
+#else
+#define LpvSh vec4
+#endif
 layout(rgba16f, binding = RTGI_LPV_IMG_INDIRECT) uniform writeonly image2D uIndirect;
 layout(rgba16f, binding = RTGI_LPV_IMG_SPECULAR) uniform writeonly image2D uSpecular;
 
@@ -84,6 +96,12 @@ layout(binding = RTGI_LPV_TEX_APPLY_NEAR_B) uniform sampler3D uNearB;
 layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_SUM_E) uniform image2D uSumE;
 layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_SUM_S) uniform image2D uSumS;
 layout(location = RTGI_LPV_LOC_APPLY_LAST) uniform int uLast;
+#ifdef RTGI_LPV_SH2
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_HI_R) uniform sampler3D uNearHiR;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_HI_G) uniform sampler3D uNearHiG;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_HI_B) uniform sampler3D uNearHiB;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_LAST) uniform sampler3D uNearLast;
+#endif
 
 // How far inside cascade j the point lies: 1 from kCascadeBlendCells + 1/2
 // cells inside its border on, falling linearly to 0 half a cell inside it
@@ -112,13 +130,20 @@ vec2 lpvCascadeWeights(vec3 world) {
 
 // Trilinear lookup; outside the grid there is no LPV light. Cascade i > 0:
 // u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md).
-bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
+bool lpvSample(vec3 world, out LpvSh r, out LpvSh g, out LpvSh b) {
     vec3 uvw = lpvCellCoord(world) / vec3(lpv.grid.xyz);
-    r = g = b = vec4(0.0);
+    r = g = b = LpvSh(0.0);
     if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return false;
+#ifdef RTGI_LPV_SH2
+    vec4 last = texture(uLightLast, uvw);
+    r = shFromParts(texture(uLightR, uvw), texture(uLightHiR, uvw), last.r);
+    g = shFromParts(texture(uLightG, uvw), texture(uLightHiG, uvw), last.g);
+    b = shFromParts(texture(uLightB, uvw), texture(uLightHiB, uvw), last.b);
+#else
     r = texture(uLightR, uvw);
     g = texture(uLightG, uvw);
     b = texture(uLightB, uvw);
+#endif
 #ifdef RTGI_LPV_CASCADED
     vec2 w = lpvCascadeWeights(world);
     if (lpv.cascade.x == 0) {
@@ -126,7 +151,14 @@ bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
         g *= w.x;
         b *= w.x;
     } else {
+#ifdef RTGI_LPV_SH2
+        vec4 nl = texture(uNearLast, uvw);
+        mat3 nr = shFromParts(texture(uNearR, uvw), texture(uNearHiR, uvw), nl.r);
+        mat3 ng = shFromParts(texture(uNearG, uvw), texture(uNearHiG, uvw), nl.g);
+        mat3 nb = shFromParts(texture(uNearB, uvw), texture(uNearHiB, uvw), nl.b);
+#else
         vec4 nr = texture(uNearR, uvw), ng = texture(uNearG, uvw), nb = texture(uNearB, uvw);
+#endif
         r = w.x * nr + w.y * (r - nr);
         g = w.x * ng + w.y * (g - ng);
         b = w.x * nb + w.y * (b - nb);
@@ -162,12 +194,17 @@ void main() {
         vec3 bent = directionalAt(uv).xyz;
         if (dot(bent, bent) > 0.0) lookupN = normalize(viewToWorldDir(bent));
 #endif
-        vec4 r, g, b;
+        LpvSh r, g, b;
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
         if (lpvSample(wp + 0.5 * lpvCellSize() * n, r, g, b)) {
 #ifdef RTGI_LPV_S3HO
+            // S3HO is band 1: the band-2 part of the light has no visibility to meet.
             vec4 w = shRotate(directionalAt(uv), mat3(frame.invView));
+#ifdef RTGI_LPV_SH2
+            vec3 e = vec3(dot(shLo(shMirror(r)), w), dot(shLo(shMirror(g)), w), dot(shLo(shMirror(b)), w));
+#else
             vec3 e = vec3(dot(shMirror(r), w), dot(shMirror(g), w), dot(shMirror(b), w));
+#endif
 #else
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));

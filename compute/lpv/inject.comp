@@ -3,7 +3,9 @@
 // atomics, pre-reduced per workgroup in shared memory (lpv_reduce.glsl).
 // Layout of each r32f accumulation texture: coefficient k of cell (x, y, z)
 // at (4x + k, y, z). The textures are zero on entry (lpv.pack zeroes what it
-// consumed). Texels outside the grid are counted.
+// consumed). Texels outside the grid are counted. lpv.sh_order=2 (RTGI_LPV_SH2):
+// the 9 coefficients of the band-2 lobe; 4-7 in injectHi (4X, Y, Z), 8 of colour c
+// in injectLast at (3x + c, y, z) (lib/lpv_shared.h).
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
@@ -18,6 +20,31 @@ layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_G) uniform image3D uInjectG;
 layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_B) uniform image3D uInjectB;
 layout(std430, binding = RTGI_SSBO_LPV_STATS) buffer Stats { uint droppedTexels; };
 
+#ifdef RTGI_LPV_SH2
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_HI_R) uniform image3D uInjectHiR;
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_HI_G) uniform image3D uInjectHiG;
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_HI_B) uniform image3D uInjectHiB;
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_LAST) uniform image3D uInjectLast;
+#define LPV_REDUCE_CHANNELS 27  // colour * 9 + SH coefficient
+void lpvGlobalAdd(uint key, int channel, float value) {
+    ivec3 c = lpvCellOfKey(key, lpv.grid.xyz);
+    int colour = channel / 9, k = channel % 9;
+    if (k == 8) {
+        imageAtomicAdd(uInjectLast, ivec3(3 * c.x + colour, c.y, c.z), value);
+        return;
+    }
+    ivec3 a = ivec3(4 * c.x + (k & 3), c.y, c.z);
+    if (k < 4) {
+        if (colour == 0) imageAtomicAdd(uInjectR, a, value);
+        else if (colour == 1) imageAtomicAdd(uInjectG, a, value);
+        else imageAtomicAdd(uInjectB, a, value);
+    } else {
+        if (colour == 0) imageAtomicAdd(uInjectHiR, a, value);
+        else if (colour == 1) imageAtomicAdd(uInjectHiG, a, value);
+        else imageAtomicAdd(uInjectHiB, a, value);
+    }
+}
+#else
 #define LPV_REDUCE_CHANNELS 12  // colour * 4 + SH coefficient
 void lpvGlobalAdd(uint key, int channel, float value) {
     ivec3 c = lpvCellOfKey(key, lpv.grid.xyz);
@@ -27,6 +54,7 @@ void lpvGlobalAdd(uint key, int channel, float value) {
     else if (colour == 1) imageAtomicAdd(uInjectG, a, value);
     else imageAtomicAdd(uInjectB, a, value);
 }
+#endif
 #include "lpv/lpv_reduce.glsl"
 
 void main() {
@@ -37,14 +65,25 @@ void main() {
         vec3 n = normalize(nrm.xyz);
         ivec3 c;
         if (lpvInjectionCell(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, c)) {
-            vec4 lobe = shCosineLobe(n) * INV_PI;
             vec3 flux = texelFetch(uFlux, t, 0).rgb;
+#ifdef RTGI_LPV_SH2
+            mat3 lobe = shCosineLobe9(n) * INV_PI;
+            float v[27];
+            for (int k = 0; k < 9; ++k) {
+                float l = lobe[k / 3][k % 3];
+                v[k] = flux.r * l;
+                v[9 + k] = flux.g * l;
+                v[18 + k] = flux.b * l;
+            }
+#else
+            vec4 lobe = shCosineLobe(n) * INV_PI;
             float v[12];
             for (int k = 0; k < 4; ++k) {
                 v[k] = flux.r * lobe[k];
                 v[4 + k] = flux.g * lobe[k];
                 v[8 + k] = flux.b * lobe[k];
             }
+#endif
             lpvReduceAdd(lpvKeyOfCell(c, lpv.grid.xyz), v);
         } else {
             if (lpv.cascade.z != 0) atomicAdd(droppedTexels, 1u);  // the coarsest cascade counts (finer ones hold less by design)

@@ -10,6 +10,15 @@
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
+// The n coefficients of cell c in one accumulation texture (at n x + k), zeroed behind
+// (the invocation owns them).
+#define LPV_CONSUME_N(img, c, n, out4)                             \
+    for (int k = 0; k < n; ++k) {                                  \
+        ivec3 t = ivec3(n * c.x + k, c.y, c.z);                    \
+        out4[k] = imageLoad(img, t).r;                             \
+        if (out4[k] != 0.0) imageStore(img, t, vec4(0.0));         \
+    }
+
 #ifdef RTGI_LPV_PACK_GEOMETRY
 layout(r32f, binding = RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM) uniform image3D uGeometryAccum;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_GEOMETRY) uniform writeonly image3D uGeometry;
@@ -28,6 +37,31 @@ void main() {
     vec3 albedo = a[7] > 0.0 ? clamp(vec3(a[4], a[5], a[6]) / a[7], 0.0, 1.0) : vec3(0.0);
     imageStore(uGeometryAlbedo, g, vec4(albedo, 1.0));
 }
+#elif defined(RTGI_LPV_PACK_HI)
+// lpv.sh_order=2: coefficients 4-8 (a second dispatch; the first packs 0-3 as for band 1),
+// 8 image units in all (docs/lpv.md, "Second-order SH").
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_HI_R) uniform image3D uInjectHiR;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_HI_G) uniform image3D uInjectHiG;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_HI_B) uniform image3D uInjectHiB;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_LAST) uniform image3D uInjectLast;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PACK_IMG_VOL_HI_R) uniform writeonly image3D uVolHiR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PACK_IMG_VOL_HI_G) uniform writeonly image3D uVolHiG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PACK_IMG_VOL_HI_B) uniform writeonly image3D uVolHiB;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PACK_IMG_VOL_LAST) uniform writeonly image3D uVolLast;
+
+void main() {
+    ivec3 c = ivec3(gl_GlobalInvocationID);
+    if (!lpvInside(c, lpv.grid.xyz)) return;
+    vec4 r, g, b, last = vec4(0.0);
+    LPV_CONSUME_N(uInjectHiR, c, 4, r)
+    LPV_CONSUME_N(uInjectHiG, c, 4, g)
+    LPV_CONSUME_N(uInjectHiB, c, 4, b)
+    LPV_CONSUME_N(uInjectLast, c, 3, last)
+    imageStore(uVolHiR, c, lpvStorable(r));
+    imageStore(uVolHiG, c, lpvStorable(g));
+    imageStore(uVolHiB, c, lpvStorable(b));
+    imageStore(uVolLast, c, lpvStorable(last));
+}
 #else
 layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_R) uniform image3D uInjectR;
 layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_G) uniform image3D uInjectG;
@@ -36,21 +70,13 @@ layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_VOL_R) uniform writeonly image3D 
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_VOL_G) uniform writeonly image3D uVolG;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_VOL_B) uniform writeonly image3D uVolB;
 
-// The 4 coefficients of cell c in one accumulation texture, zeroed behind (the invocation owns them).
-#define LPV_CONSUME(img, c, out4)                                  \
-    for (int k = 0; k < 4; ++k) {                                  \
-        ivec3 t = ivec3(4 * c.x + k, c.y, c.z);                    \
-        out4[k] = imageLoad(img, t).r;                             \
-        if (out4[k] != 0.0) imageStore(img, t, vec4(0.0));         \
-    }
-
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);
     if (!lpvInside(c, lpv.grid.xyz)) return;
     vec4 r, g, b;
-    LPV_CONSUME(uInjectR, c, r)
-    LPV_CONSUME(uInjectG, c, g)
-    LPV_CONSUME(uInjectB, c, b)
+    LPV_CONSUME_N(uInjectR, c, 4, r)
+    LPV_CONSUME_N(uInjectG, c, 4, g)
+    LPV_CONSUME_N(uInjectB, c, 4, b)
     imageStore(uVolR, c, lpvStorable(r));
     imageStore(uVolG, c, lpvStorable(g));
     imageStore(uVolB, c, lpvStorable(b));

@@ -8,7 +8,8 @@
 // The volume stores the intensity of the light *flowing* through the cell
 // (lpv.apply: L = I / s^2, light arriving from w flows along -w), so the cell
 // gets I = s^2 shMirror(p); lpv.apply then computes E(n) = <p, cosLobe(n)>,
-// the band-1 irradiance of the traced field at x.
+// the band-1 irradiance of the traced field at x. lpv.sh_order=2 (RTGI_LPV_SH2):
+// bands 0-2 (shBasis9), stored in the 7 volumes of the band-2 layout.
 #include "lpv/lpv_common.glsl"
 #include "lib/bvh_shared.h"
 #include "lib/random.glsl"
@@ -21,6 +22,17 @@ layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_R) uniform writeonly image3D uAccumR;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_G) uniform writeonly image3D uAccumG;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_B) uniform writeonly image3D uAccumB;
+#ifdef RTGI_LPV_SH2
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_HI_R) uniform writeonly image3D uAccumHiR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_HI_G) uniform writeonly image3D uAccumHiG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_HI_B) uniform writeonly image3D uAccumHiB;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_LAST) uniform writeonly image3D uAccumLast;
+#define LpvSh mat3
+#define lpvProbeBasis shBasis9
+#else
+#define LpvSh vec4
+#define lpvProbeBasis shBasis
+#endif
 layout(location = RTGI_LPV_PROBE_LOC_PARAMS) uniform uvec4 uParams;  // directions, bounces, seed, first z slice
 layout(location = RTGI_LPV_PROBE_LOC_RAY) uniform float uEps;
 
@@ -31,7 +43,7 @@ void main() {
     uint n = max(uParams.x, 1u);
     uint m = uint(floor(sqrt(float(n))));
     uint key = lpvKeyOfCell(c, lpv.grid.xyz);
-    vec4 pr = vec4(0.0), pg = vec4(0.0), pb = vec4(0.0);
+    LpvSh pr = LpvSh(0.0), pg = LpvSh(0.0), pb = LpvSh(0.0);
     for (uint j = 0u; j < n; ++j) {
         Rng rng = rngInit(uvec2(key, uint(lpv.cascade.x)), j, uParams.z);
         vec2 u = rngNext2(rng);
@@ -40,13 +52,24 @@ void main() {
         vec3 w = uniformSphere(u);
         vec3 L = refTraceRadiance(x, w, vec3(1.0), uParams.y, uEps, false, rng);
         if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
-        vec4 y = shBasis(w);
+        LpvSh y = lpvProbeBasis(w);
         pr += L.r * y;
         pg += L.g * y;
         pb += L.b * y;
     }
     float k = 4.0 * PI / float(n) * lpvCellSize() * lpvCellSize();
+#ifdef RTGI_LPV_SH2
+    mat3 r = lpvStorable(shMirror(pr) * k), g = lpvStorable(shMirror(pg) * k), b = lpvStorable(shMirror(pb) * k);
+    imageStore(uAccumR, c, shLo(r));
+    imageStore(uAccumG, c, shLo(g));
+    imageStore(uAccumB, c, shLo(b));
+    imageStore(uAccumHiR, c, shHi(r));
+    imageStore(uAccumHiG, c, shHi(g));
+    imageStore(uAccumHiB, c, shHi(b));
+    imageStore(uAccumLast, c, vec4(shLast(r), shLast(g), shLast(b), 0.0));
+#else
     imageStore(uAccumR, c, lpvStorable(shMirror(pr) * k));
     imageStore(uAccumG, c, lpvStorable(shMirror(pg) * k));
     imageStore(uAccumB, c, lpvStorable(shMirror(pb) * k));
+#endif
 }

@@ -57,7 +57,7 @@ std::vector<Family> frameFamilies() {
     return {
         {"ao.", "ao", aoFamily, [](const Settings& s) { return s.ao.variant != AoSettings::Variant::Off; },
          validateAoSettings},
-        {"lpv.", "lpv", lpvFamily, [](const Settings& s) { return s.lpv.mode == Toggle::On; }, nullptr},
+        {"lpv.", "lpv", lpvFamily, [](const Settings& s) { return s.lpv.mode == Toggle::On; }, validateLpvSettings},
         {"ssr.", "ssr", ssrFamily,
          [](const Settings& s) {
              return s.ssr.tracer != SsrSettings::Tracer::Auto && s.ssr.tracer != SsrSettings::Tracer::Off;

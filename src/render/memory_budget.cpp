@@ -83,8 +83,16 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         // temporal history (two, when lpv.temporal > 0); geometry volume
         // (grid + 1)^3: 8 R32F accumulation channels, the SH in the volume
         // format, albedo RGBA16F.
-        double lpv = cells * (48.0 + 3.0 * 3.0 * fmt) + geometryCells * (32.0 + fmt + 8.0);
-        if (s.lpv.temporal > 0.0f) lpv += cells * 2.0 * 3.0 * fmt;
+        // Per cascade (lpv.cascades, compute path; the raster path has one volume); cascades
+        // i > 0 keep a near part (3 channels). lpv.sh_order=2 adds per volume 4 more textures
+        // (coefficients 4-7 of r, g, b and 8 of r, g, b) and the fp32 accumulation of
+        // coefficients 4-8 (15 R32F) (docs/lpv.md, "Second-order SH").
+        const int cascades = s.lpv.path == LpvSettings::Path::Raster ? 1 : s.lpv.cascades;
+        const double volumeTextures = s.lpv.shOrder == 2 ? 7.0 : 3.0;
+        const double injectBytes = s.lpv.shOrder == 2 ? 108.0 : 48.0;
+        double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * (32.0 + fmt + 8.0)) +
+                     (cascades - 1) * cells * volumeTextures * fmt;
+        if (s.lpv.temporal > 0.0f && cascades == 1 && s.lpv.shOrder == 1) lpv += cells * 2.0 * 3.0 * fmt;
         std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
                                   ? std::to_string(s.lpv.grid.x)
                                   : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +

@@ -194,6 +194,8 @@ std::vector<SettingKey> buildKeys() {
             kLpvSource[int(s.lpv.source)]),
         KEY("lpv.probe_directions", "lpv.source=probe: traced directions per cell", "1..65536",
             s.lpv.probeDirections = parseInt("lpv.probe_directions", v, 1, 65536), fmt(s.lpv.probeDirections)),
+        KEY("lpv.sh_order", "SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9; compute path)",
+            "1|2", s.lpv.shOrder = parseInt("lpv.sh_order", v, 1, 2), fmt(s.lpv.shOrder)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

@@ -64,6 +64,7 @@ struct LpvSettings {
     // propagation or from path-traced probes at the cell centres.
     enum class Source { Propagated, Probe } source = Source::Propagated;
     int probeDirections = 256;           // lpv.source=probe: traced directions per cell
+    int shOrder = 1;                     // SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9)
 };
 
 struct AoSettings {

@@ -30,6 +30,7 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate bounds the l
     const Case cases[] = {
         {"default", {}, {64, 48}},
         {"lpv 16^3 fp32 temporal", {"lpv=on", "lpv.grid=16", "lpv.format=rgba32f", "lpv.temporal=0.5", "lpv.rsm=64"}, {48, 32}},
+        {"lpv 16^3 band 2, 3 cascades", {"lpv=on", "lpv.grid=16", "lpv.sh_order=2", "lpv.cascades=3", "lpv.rsm=64"}, {48, 32}},
         {"gtao full res + ssr", {"ao=gtao", "ao.resolution=full", "ao.directional=bent-normals", "ssr=hiz",
                                  "floor.roughness=0.1", "lpv=off"}, {96, 64}},
         {"hbao half + nearfield", {"ao=hbao", "ao.nearfield=1", "lpv=off", "shadow.size=256"}, {320, 240}},

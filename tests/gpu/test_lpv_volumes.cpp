@@ -143,7 +143,8 @@ struct GpuLpv {
     lpv::Volumes v;
     gl::Buffer ubo;
     LpvSettings settings;
-    GpuLpv(glm::ivec3 grid, GLenum format, CpuOptions o, float cell = 1.0f) {
+    GpuLpv(glm::ivec3 grid, GLenum format, CpuOptions o, float cell = 1.0f, int shOrder = 1) {
+        settings.shOrder = shOrder;
         settings.occlusion = o.occlusion;
         settings.bounce = o.bounce;
         settings.energyConserving = o.conserving;
@@ -154,7 +155,7 @@ struct GpuLpv {
         in.placement.cell = cell;
         in.rsmViewProj = glm::mat4(1.0f);
         upload(in);
-        v.ensureLight(ledger, grid, format);
+        v.ensureLight(ledger, grid, format, shOrder);
     }
     void upload(const lpv::UniformInputs& in) {
         settings.rsm = std::max(settings.rsm, 16);
@@ -275,6 +276,144 @@ void setup(GpuLpv& g, const CpuVolume& light, const CpuGeometry* geo, CpuVolume&
     }
 }
 
+// ---- lpv.sh_order=2 (docs/lpv.md, "Second-order SH"): volumes of 9 coefficients ----
+struct Cpu9 {
+    glm::ivec3 n{0};
+    std::vector<lpv::Sh9> c[3];
+    explicit Cpu9(glm::ivec3 dims = glm::ivec3(0)) : n(dims) {
+        for (auto& v : c) v.assign(std::size_t(n.x * n.y * n.z), lpv::Sh9{});
+    }
+    std::size_t at(glm::ivec3 p) const { return std::size_t((p.z * n.y + p.y) * n.x + p.x); }
+    bool inside(glm::ivec3 p) const { return glm::all(glm::greaterThanEqual(p, glm::ivec3(0))) && glm::all(glm::lessThan(p, n)); }
+    void add(const Cpu9& o, double w) {
+        for (int ch = 0; ch < 3; ++ch)
+            for (std::size_t i = 0; i < c[ch].size(); ++i)
+                for (std::size_t k = 0; k < 9; ++k) c[ch][i][k] += w * o.c[ch][i][k];
+    }
+};
+
+double relL2(const Cpu9& a, const Cpu9& b) {
+    double num = 0, den = 0;
+    for (int ch = 0; ch < 3; ++ch)
+        for (std::size_t i = 0; i < a.c[ch].size(); ++i)
+            for (std::size_t k = 0; k < 9; ++k) {
+                num += (a.c[ch][i][k] - b.c[ch][i][k]) * (a.c[ch][i][k] - b.c[ch][i][k]);
+                den += b.c[ch][i][k] * b.c[ch][i][k];
+            }
+    return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
+}
+
+// The 7 textures of a band-2 volume -> 9 coefficients per colour.
+Cpu9 read9(const lpv::Rgb& lo, const lpv::Hi& hi) {
+    Cpu9 v(glm::ivec3(lo[0].width(), lo[0].height(), lo[0].depth()));
+    std::vector<glm::dvec4> last = readVolume(hi[3]);
+    for (int ch = 0; ch < 3; ++ch) {
+        std::vector<glm::dvec4> a = readVolume(lo[std::size_t(ch)]), b = readVolume(hi[std::size_t(ch)]);
+        for (std::size_t i = 0; i < a.size(); ++i)
+            v.c[ch][i] = {a[i].x, a[i].y, a[i].z, a[i].w, b[i].x, b[i].y, b[i].z, b[i].w, last[i][ch]};
+    }
+    return v;
+}
+
+void upload9(const Cpu9& v, lpv::Rgb& lo, lpv::Hi& hi) {
+    std::vector<glm::dvec4> last(v.c[0].size(), glm::dvec4(0.0));
+    for (int ch = 0; ch < 3; ++ch) {
+        std::vector<glm::dvec4> a, b;
+        for (std::size_t i = 0; i < v.c[ch].size(); ++i) {
+            const lpv::Sh9& x = v.c[ch][i];
+            a.emplace_back(x[0], x[1], x[2], x[3]);
+            b.emplace_back(x[4], x[5], x[6], x[7]);
+            last[i][ch] = x[8];
+        }
+        uploadRgba(lo[std::size_t(ch)], a);
+        uploadRgba(hi[std::size_t(ch)], b);
+    }
+    uploadRgba(hi[3], last);
+}
+
+// One iteration of the documented scheme in bands 0-2, double (the transfer written out here;
+// basis and lobes from lpv_math, tested against the polar form and integrals in the unit tier).
+Cpu9 cpuPropagate9(const Cpu9& src, const CpuGeometry* gv, int iteration, CpuOptions o) {
+    const double st = RTGI_LPV_SIDE_DIR_T, sd = RTGI_LPV_SIDE_DIR_D;
+    auto eval = [](const lpv::Sh9& I, glm::dvec3 w) { return lpv::shDot9(I, lpv::shBasis9(w)); };
+    Cpu9 dst(src.n);
+    for (int z = 0; z < src.n.z; ++z)
+        for (int y = 0; y < src.n.y; ++y)
+            for (int x = 0; x < src.n.x; ++x) {
+                glm::ivec3 c(x, y, z);
+                for (auto a : kAxes) {
+                    glm::ivec3 nb = c + a;
+                    if (!src.inside(nb)) continue;
+                    glm::dvec3 d = -glm::dvec3(a);
+                    double transmit = 1.0;
+                    glm::dvec3 refl(0.0);
+                    if (gv && iteration >= 2 && (o.occlusion || o.bounce)) {  // band-1 blocking, as for order 1
+                        glm::ivec3 base = c + glm::max(a, glm::ivec3(0));
+                        glm::ivec3 u = a.x != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(1, 0, 0);
+                        glm::ivec3 v = a.z != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(0, 0, 1);
+                        glm::dvec4 B(0.0);
+                        glm::dvec3 alb(0.0);
+                        for (int i = 0; i < 4; ++i) {
+                            glm::ivec3 g = base + ((i & 1) ? u : glm::ivec3(0)) + ((i & 2) ? v : glm::ivec3(0));
+                            B += 0.25 * gv->sh[gv->at(g)];
+                            alb += 0.25 * gv->albedo[gv->at(g)];
+                        }
+                        double blocked = std::clamp(glm::dot(B, basis(-d)), 0.0, 1.0);
+                        transmit = 1.0 - blocked;
+                        if (o.bounce) refl = blocked * alb;
+                    }
+                    for (int ch = 0; ch < 3; ++ch) {
+                        lpv::Sh9 I = src.c[ch][src.at(nb)];
+                        if (o.conserving) {
+                            double q = 0;
+                            for (auto e : kAxes) {
+                                glm::dvec3 f(e);
+                                q += kFront * std::max(0.0, eval(I, f));
+                                for (auto t : kAxes)
+                                    if (glm::dot(glm::dvec3(t), f) == 0.0) q += kSide * std::max(0.0, eval(I, st * glm::dvec3(t) + sd * f));
+                            }
+                            double k = q > 0 ? std::max(I[0], 0.0) / kY0 / q : 0.0;
+                            for (double& v : I) v *= k;
+                        }
+                        lpv::Sh9& out = dst.c[ch][dst.at(c)];
+                        auto emit = [&](double flux, glm::dvec3 axis) {
+                            lpv::Sh9 l = lpv::shCosineLobe9(axis);
+                            for (std::size_t k = 0; k < 9; ++k) out[k] += flux / kPi * l[k];
+                        };
+                        double f = kFront * std::max(0.0, eval(I, d));
+                        double total = f;
+                        emit(f * transmit, d);
+                        for (auto t : kAxes) {
+                            glm::dvec3 nf(t);
+                            if (glm::dot(nf, d) != 0.0) continue;
+                            glm::dvec3 w = st * nf + sd * d;
+                            double sFlux = kSide * std::max(0.0, eval(I, w));
+                            total += sFlux;
+                            emit(sFlux * transmit, o.flow ? w : nf);
+                        }
+                        emit(refl[ch] * total, -d);
+                    }
+                }
+            }
+    return dst;
+}
+
+// Random band-2 cosine lobes (what band-2 injection produces) with a band-2 perturbation.
+Cpu9 randomLight9(glm::ivec3 n, std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.0, 1.0);
+    Cpu9 v(n);
+    for (int ch = 0; ch < 3; ++ch)
+        for (auto& x : v.c[ch]) {
+            glm::dvec3 d;
+            do d = {u(rng), u(rng), u(rng)};
+            while (glm::length(d) < 0.1 || glm::length(d) > 1.0);
+            x = lpv::shCosineLobe9(glm::normalize(d));
+            double s = pos(rng) / kPi;
+            for (std::size_t k = 0; k < 9; ++k) x[k] = s * x[k] + (k >= 4 ? 0.05 * s * u(rng) : 0.0);
+        }
+    return v;
+}
+
 }  // namespace
 
 TEST_CASE("LPV propagation matches a CPU double implementation (grids, iterations, occlusion, bounce, formats)") {
@@ -372,6 +511,105 @@ TEST_CASE("LPV cascades: a cascade's near part is its steps weighted by the path
             CHECK(relL2(readRgb(g.v.accum), total) <= 1e-4);
         }
     }
+}
+
+TEST_CASE("LPV band 2 (lpv.sh_order=2): propagation and near part match a CPU double implementation") {
+    GpuFixture gpu;
+    std::mt19937 rng(31);
+    struct Case {
+        glm::ivec3 grid;
+        int iterations;
+        bool near;
+    };
+    // fp32 (1e-4 as for band 1); small grids: llvmpipe time.
+    for (const Case& k : {Case{{1, 1, 1}, 1, false}, Case{{2, 2, 2}, 2, false}, Case{{3, 5, 7}, 1, false},
+                          Case{{3, 5, 7}, 3, true}, Case{{4, 4, 4}, 8, true}})
+        for (int mode = 0; mode < 6; ++mode) {
+            if (k.grid.x == 4 && mode % 3 != 2) continue;
+            CpuOptions o;
+            o.occlusion = mode % 3 >= 1;
+            o.bounce = mode % 3 == 2;
+            o.flow = mode >= 3;
+            o.conserving = mode == 4 || mode == 5;
+            INFO("grid " << k.grid.x << "x" << k.grid.y << "x" << k.grid.z << ", " << k.iterations << " iterations, mode "
+                         << mode);
+            GpuLpv g(k.grid, GL_RGBA32F, o, 1.0f, 2);
+            Cpu9 light = randomLight9(k.grid, rng);
+            upload9(light, g.v.step[0], g.v.stepHi[0]);
+            Cpu9 input = read9(g.v.step[0], g.v.stepHi[0]);
+            CpuVolume unused;
+            CpuGeometry geo = randomGeometry(k.grid, rng, 0.6), geoIn;
+            g.v.ensureGeometry(g.ledger);
+            uploadRgba(g.v.geometry, geo.sh);
+            std::vector<glm::dvec4> alb;
+            for (auto& x : geo.albedo) alb.emplace_back(x, 1.0);
+            uploadRgba(g.v.geometryAlbedo, alb);
+            geoIn = {geo.n, readVolume(g.v.geometry), {}};
+            for (auto& x : readVolume(g.v.geometryAlbedo)) geoIn.albedo.emplace_back(x);
+            if (k.near) g.v.ensureNear(g.ledger);
+            int last = lpv::propagateCompute(g.programs, g.ubo, g.v, k.iterations, k.near);
+            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            Cpu9 cur = input, acc = input, near(k.grid);
+            near.add(input, lpv::cascadeNearWeight(0, k.iterations));
+            for (int it = 1; it <= k.iterations; ++it) {
+                cur = cpuPropagate9(cur, &geoIn, it, o);
+                acc.add(cur, 1.0);
+                near.add(cur, lpv::cascadeNearWeight(it, k.iterations));
+            }
+            CHECK(relL2(read9(g.v.step[std::size_t(last)], g.v.stepHi[std::size_t(last)]), cur) <= 1e-4);
+            CHECK(relL2(read9(g.v.accum, g.v.accumHi), acc) <= 1e-4);
+            if (k.near) CHECK(relL2(read9(g.v.near, g.v.nearHi), near) <= 1e-4);
+        }
+}
+
+TEST_CASE("LPV band 2: a uniform band-0 field propagates identically in band 1 and band 2") {
+    // Every cell holds the same c00: the 6 gathered neighbours' lobes cancel in bands 1 and 2
+    // (cubic symmetry), so a cell at least k cells from the border holds a pure band-0 field
+    // after k steps, the same in both orders; band 2 changes only what the border broke.
+    GpuFixture gpu;
+    const glm::ivec3 grid(7);
+    const int steps = 2;
+    CpuOptions o;
+    o.flow = true;
+    o.conserving = true;
+    Cpu9 uniform(grid);
+    for (int ch = 0; ch < 3; ++ch)
+        for (auto& x : uniform.c[ch]) x[0] = 0.5 + 0.25 * ch;
+    GpuLpv g1(grid, GL_RGBA32F, o, 1.0f, 1), g2(grid, GL_RGBA32F, o, 1.0f, 2);
+    upload9(uniform, g2.v.step[0], g2.v.stepHi[0]);
+    for (int ch = 0; ch < 3; ++ch) {
+        std::vector<glm::dvec4> a;
+        for (auto& x : uniform.c[ch]) a.emplace_back(x[0], x[1], x[2], x[3]);
+        uploadRgba(g1.v.step[0][std::size_t(ch)], a);
+    }
+    lpv::propagateCompute(g1.programs, g1.ubo, g1.v, steps);
+    lpv::propagateCompute(g2.programs, g2.ubo, g2.v, steps);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    CpuVolume b1 = readRgb(g1.v.accum);
+    Cpu9 b2 = read9(g2.v.accum, g2.v.accumHi);
+    int interior = 0;
+    double maxBorderDiff = 0;
+    for (int z = 0; z < grid.z; ++z)
+        for (int y = 0; y < grid.y; ++y)
+            for (int x = 0; x < grid.x; ++x) {
+                glm::ivec3 c(x, y, z);
+                bool inner = glm::all(glm::greaterThanEqual(c, glm::ivec3(steps))) &&
+                             glm::all(glm::lessThan(c, grid - steps));
+                for (int ch = 0; ch < 3; ++ch) {
+                    glm::dvec4 a = b1.c[ch][b1.at(c)];
+                    const lpv::Sh9& b = b2.c[ch][b2.at(c)];
+                    if (inner) {
+                        CHECK(b[0] == doctest::Approx(a.x).epsilon(1e-6));
+                        for (std::size_t k = 1; k < 9; ++k) CHECK(std::abs(b[k]) <= 1e-6 * b[0]);
+                        for (int k = 1; k < 4; ++k) CHECK(std::abs(a[k]) <= 1e-6 * a.x);
+                    } else {
+                        maxBorderDiff = std::max(maxBorderDiff, std::abs(b[0] - a.x) / a.x);
+                    }
+                }
+                interior += inner;
+            }
+    CHECK(interior == 27);
+    CHECK(maxBorderDiff > 1e-3);  // positive control: the border does differ between the orders
 }
 
 TEST_CASE("LPV energy: first-iteration flux ratio equals the clamped face quadrature; conserving option; occlusion") {
@@ -498,8 +736,8 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
     // Atomic order: the same texels injected with the RSM transposed (x <-> y, and the
     // light matrix swapped to match) land in other invocations and workgroups.
     gl::MemoryLedger ledger;
-    auto inject = [&](bool transposed, std::uint32_t& dropped) {
-        GpuLpv g(grid, GL_RGBA32F, CpuOptions{}, cell);
+    auto inject = [&](bool transposed, std::uint32_t& dropped, int order = 1, Cpu9* out9 = nullptr) {
+        GpuLpv g(grid, GL_RGBA32F, CpuOptions{}, cell, order);
         g.settings.rsm = R;
         lpv::UniformInputs in;
         in.placement.grid = grid;
@@ -531,6 +769,7 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
         lpv::packLight(g.programs, g.ubo, g.v);
         glMemoryBarrier(GL_ALL_BARRIER_BITS);
         stats.download(&dropped, 4);
+        if (out9) *out9 = read9(g.v.step[0], g.v.stepHi[0]);
         return readRgb(g.v.step[0]);
     };
     // CPU double oracle.
@@ -560,6 +799,30 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
     CHECK(dropB == cpuDropped);
     CHECK(cpuDropped > 0);
     CHECK(cpuDropped < std::uint32_t(R * R));
+    // lpv.sh_order=2: the 9 coefficients of the band-2 lobe (27 reduction channels, 3 more
+    // accumulation textures, the second pack dispatch) against the same oracle in bands 0-2.
+    Cpu9 expected9(grid), got9, got9t;
+    for (int y = 0; y < R; ++y)
+        for (int x = 0; x < R; ++x) {
+            int i = y * R + x;
+            if (normal[std::size_t(i * 4 + 3)] == 0.0f) continue;
+            glm::dvec3 n = glm::normalize(glm::dvec3(normal[std::size_t(i * 4)], normal[std::size_t(i * 4 + 1)], normal[std::size_t(i * 4 + 2)]));
+            glm::dvec4 w = inv * glm::dvec4((x + 0.5) / R * 2 - 1, (y + 0.5) / R * 2 - 1, depth[std::size_t(i)] * 2.0 - 1, 1.0);
+            glm::ivec3 c(glm::floor((glm::dvec3(w) / w.w + 0.5 * double(cell) * n) / double(cell)));
+            if (!expected9.inside(c)) continue;
+            lpv::Sh9 l = lpv::shCosineLobe9(n);
+            for (int ch = 0; ch < 3; ++ch)
+                for (int k = 0; k < 9; ++k)
+                    expected9.c[ch][expected9.at(c)][std::size_t(k)] += double(flux[std::size_t(i * 4 + ch)]) / kPi * l[std::size_t(k)];
+        }
+    std::uint32_t drop9 = 0, drop9t = 0;
+    CpuVolume lo9 = inject(false, drop9, 2, &got9);
+    inject(true, drop9t, 2, &got9t);
+    CHECK(relL2(got9, expected9) <= 1e-5);
+    CHECK(relL2(got9t, got9) <= 1e-5);
+    CHECK(relL2(lo9, a) <= 1e-5);  // bands 0-1 as in the band-1 path
+    CHECK(drop9 == cpuDropped);
+    CHECK(drop9t == cpuDropped);
 }
 
 TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole-cell camera move re-indexes") {

@@ -206,7 +206,7 @@ gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in) {
     int count = in.cascades.empty() ? 1 : int(in.cascades.size());
     u.cascade = glm::ivec4(in.cascade, count, in.cascade == count - 1, s.reemit == LpvSettings::Reemit::Flow);
     glm::dvec2 self = s.selfCorrection ? planeSelfIrradiance(s.iterations, s.reemit == LpvSettings::Reemit::Flow,
-                                                             s.energyConserving)
+                                                             s.energyConserving, s.shOrder)
                                        : glm::dvec2(0.0);
     u.cascadeParams = glm::vec4(kCascadeBlendCells, float(self.x), float(self.y), s.selfCorrection ? 1.0f : 0.0f);
     for (int i = 0; i < RTGI_LPV_MAX_CASCADES; ++i) {

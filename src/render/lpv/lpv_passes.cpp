@@ -26,6 +26,7 @@ struct LpvCascade {
     bool havePrevious = false;
     int historyTarget = 0;
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
+    const lpv::Hi* resultHi = nullptr; // its band-2 part (lpv.sh_order=2)
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
 };
 
@@ -58,6 +59,26 @@ void outputRgb(PassDecl& d, const std::string& name, std::function<const lpv::Rg
             const lpv::Rgb* v = volume();
             return v ? &(*v)[c] : nullptr;
         }, Check::signedValues);
+}
+
+// lpv.sh_order=2: the band-2 part of a volume (hi r, g, b, last), as outputRgb.
+void outputHi(PassDecl& d, const std::string& name, std::function<const lpv::Hi*()> volume) {
+    for (std::size_t c = 0; c < 4; ++c)
+        d.output(name + "." + (c < 3 ? std::string(1, "rgb"[c]) : std::string("last")),
+                 [volume, c]() -> const gl::Texture* {
+                     const lpv::Hi* v = volume();
+                     return v && (*v)[c] ? &(*v)[c] : nullptr;
+                 },
+                 Check::signedValues);
+}
+
+void outputCascadesHi(PassDecl& d, const LpvState* st, const LpvSettings& s, const std::string& name,
+                      std::function<const lpv::Hi*(const LpvCascade&)> pick, int first = 0) {
+    if (s.shOrder != 2) return;
+    for (int i = first; i < cascadeCount(s); ++i)
+        outputHi(d, (i == 0 ? name : name + ".cascade" + std::to_string(i)) + ".hi", [st, i, pick]() -> const lpv::Hi* {
+            return std::size_t(i) < st->cascades.size() ? pick(st->cascades[std::size_t(i)]) : nullptr;
+        });
 }
 
 // The same triple of every cascade: cascade 0 keeps the single-volume name,
@@ -171,7 +192,7 @@ public:
         if (ls.path == LpvSettings::Path::Compute) st.stats.clearZero();
         for (LpvCascade& c : st.cascades) {
             c.volumes.ensureLight(ctx.ledger, c.placement.grid,
-                                  ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
+                                  ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F, ls.shOrder);
             if (ls.path == LpvSettings::Path::Raster)
                 lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes);
             else
@@ -193,6 +214,18 @@ public:
             outputCascadesRgb(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accum; });
         } else {
             outputCascadesRgb(d, st, s.lpv, "lpv.inject", [](const LpvCascade& c) { return &c.volumes.inject; });
+            if (s.lpv.shOrder == 2)
+                for (int i = 0; i < cascadeCount(s.lpv); ++i) {
+                    std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
+                    outputRgb(d, "lpv.inject_hi" + suffix, [st, i]() -> const lpv::Rgb* {
+                        return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.injectHi
+                                                                    : nullptr;
+                    });
+                    d.output("lpv.inject_last" + suffix, [st, i]() -> const gl::Texture* {
+                        return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.injectLast
+                                                                    : nullptr;
+                    }, Check::signedValues);
+                }
         }
     }
 };
@@ -207,6 +240,7 @@ public:
             return d.skip("lpv.path=raster injects straight into the propagation format");
         // pack writes step 0 only; accum is first written by lpv.propagate.
         outputCascadesRgb(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
+        outputCascadesHi(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.stepHi[0]; });
     }
     void execute(FrameContext& ctx) override {
         for (LpvCascade& c : st_->cascades) lpv::packLight(ctx.programs, c.ubo, c.volumes);
@@ -278,6 +312,7 @@ public:
                 c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
             }
             c.result = &c.volumes.accum;
+            c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
             // Stage attribution: the path-traced probe volume replaces the propagated one.
             if (ls.source == LpvSettings::Source::Probe) st.probe.fill(ctx, c.ubo, c.volumes, i > 0);
         }
@@ -290,6 +325,10 @@ public:
         // Cascades i > 0 keep their near part (compute path; docs/lpv.md, "Cascades").
         if (s.lpv.path == LpvSettings::Path::Compute)
             outputCascadesRgb(d, st, s.lpv, "lpv.near", [](const LpvCascade& c) { return &c.volumes.near; }, 1);
+        outputCascadesHi(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accumHi; });
+        outputCascadesHi(d, st, s.lpv, "lpv.last_step",
+                         [](const LpvCascade& c) { return &c.volumes.stepHi[std::size_t(c.lastStep)]; });
+        outputCascadesHi(d, st, s.lpv, "lpv.near", [](const LpvCascade& c) { return &c.volumes.nearHi; }, 1);
         d.debugImage("lpv.volume.slice", [this] { return lightSlice(); });
     }
     DebugImage lightSlice() const {
@@ -321,6 +360,8 @@ public:
         if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
         if (cascadeCount(s.lpv) > 1)
             return d.skip("lpv.temporal blends a single volume (lpv.cascades > 1: not implemented, docs/lpv.md)");
+        if (s.lpv.shOrder == 2)
+            return d.skip("lpv.temporal blends band-1 volumes (lpv.sh_order=2: not implemented, docs/lpv.md)");
         const LpvState* st = st_.get();
         outputRgb(d, "lpv.history", [st]() -> const lpv::Rgb* {
             if (st->cascades.empty()) return nullptr;
@@ -363,6 +404,8 @@ public:
             lpv::ApplyInputs in;
             in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
             in.volume = c.result;
+            in.volumeHi = c.resultHi;
+            in.nearHi = i > 0 && c.resultHi ? &c.volumes.nearHi : nullptr;
             in.brdfLut = specular ? &r.brdfLut : nullptr;
             in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
             in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
@@ -394,6 +437,11 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
     f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
     f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
     f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
+}
+
+void validateLpvSettings(const Scene&, const Settings& s) {
+    if (s.lpv.shOrder == 2 && s.lpv.path == LpvSettings::Path::Raster)
+        throw ConfigError("lpv.sh_order=2 needs lpv.path=compute: the raster baseline is the seed's band-1 method");
 }
 
 Need lpvFamily(const Scene& scene, const Settings& s) {

@@ -13,7 +13,8 @@
 namespace rtgi::lpv {
 
 static_assert(RTGI_LPV_PROBE_IMG_ACCUM_B == RTGI_LPV_PROBE_IMG_ACCUM_R + 2 &&
-              RTGI_LPV_PROBE_IMG_ACCUM_G == RTGI_LPV_PROBE_IMG_ACCUM_R + 1);
+              RTGI_LPV_PROBE_IMG_ACCUM_G == RTGI_LPV_PROBE_IMG_ACCUM_R + 1 &&
+              RTGI_LPV_PROBE_IMG_ACCUM_LAST == RTGI_LPV_PROBE_IMG_ACCUM_HI_R + 3);
 
 ProbeParams probeParams(const Settings& s, const Aabb& bounds) {
     ProbeParams p;
@@ -38,7 +39,7 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
     }
     const ProbeParams p = probeParams(ctx.settings, ctx.scene.bounds());
     // Lambert only, as the matching-bounce reference (reference.specular=off).
-    gl::Defines defines = formatDefines(v.format);
+    gl::Defines defines = formatDefines(v.format, v.shOrder);
     defines.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
     const gl::Program& prog = ctx.programs.compute("lpv/probe.comp", defines);
     glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
@@ -49,6 +50,10 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
     ctx.gpuScene.bindTables();
     for (GLuint c = 0; c < 3; ++c)
         glBindImageTexture(RTGI_LPV_PROBE_IMG_ACCUM_R + c, v.accum[c].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
+    if (v.shOrder == 2)  // bands 0-2 (docs/lpv.md, "Second-order SH")
+        for (GLuint c = 0; c < 4; ++c)
+            glBindImageTexture(RTGI_LPV_PROBE_IMG_ACCUM_HI_R + c, v.accumHi[c].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                               v.format);
     prog.set(RTGI_LPV_PROBE_LOC_RAY, p.originOffset);
     // Producer: lpv.propagate's image stores into accum (overwritten here).
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -64,6 +69,10 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
         for (std::size_t c = 0; c < 3; ++c)
             glCopyImageSubData(v.accum[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, v.near[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0,
                                v.grid.x, v.grid.y, v.grid.z);
+    if (near && v.shOrder == 2 && v.nearHi[0])
+        for (std::size_t c = 0; c < 4; ++c)
+            glCopyImageSubData(v.accumHi[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, v.nearHi[c].id(), GL_TEXTURE_3D, 0, 0, 0,
+                               0, v.grid.x, v.grid.y, v.grid.z);
 }
 
 FloatImage renderProbeIndirect(const Renderer& run, const View& view) {

@@ -30,6 +30,38 @@ static_assert(RTGI_LPV_TEX_SRC_B == RTGI_LPV_TEX_SRC_R + 2 && RTGI_LPV_TEX_CUR_B
               RTGI_LPV_INJECT_IMG_INJECT_B == RTGI_LPV_INJECT_IMG_INJECT_R + 2 &&
               RTGI_LPV_PACK_IMG_INJECT_B == RTGI_LPV_PACK_IMG_INJECT_R + 2);
 
+static_assert(RTGI_LPV_INJECT_IMG_INJECT_HI_B == RTGI_LPV_INJECT_IMG_INJECT_HI_R + 2 &&
+              RTGI_LPV_PACK_IMG_INJECT_HI_B == RTGI_LPV_PACK_IMG_INJECT_HI_R + 2 &&
+              RTGI_LPV_PACK_IMG_VOL_LAST == RTGI_LPV_PACK_IMG_VOL_HI_R + 3 &&
+              RTGI_LPV_TEX_SRC_LAST == RTGI_LPV_TEX_SRC_HI_R + 3 && RTGI_LPV_IMG_DST_LAST == RTGI_LPV_IMG_DST_HI_R + 3 &&
+              RTGI_LPV_ACC_TEX_STEP_LAST == RTGI_LPV_ACC_TEX_STEP_HI_R + 3 &&
+              RTGI_LPV_ACC_TEX_STEP_HI_R == RTGI_LPV_ACC_TEX_STEP_R + 3 &&
+              RTGI_LPV_ACC_IMG_ACCUM_LAST == RTGI_LPV_ACC_IMG_ACCUM_HI_R + 3 &&
+              RTGI_LPV_ACC_IMG_ACCUM_HI_R == RTGI_LPV_ACC_IMG_ACCUM_R + 3 &&
+              RTGI_LPV_TEX_SOURCE_LAST == RTGI_LPV_TEX_SOURCE_HI_R + 3 &&
+              RTGI_LPV_IMG_NEAR_LAST == RTGI_LPV_IMG_NEAR_HI_R + 3 &&
+              RTGI_LPV_TEX_LIGHT_LAST == RTGI_LPV_TEX_LIGHT_HI_R + 3 &&
+              RTGI_LPV_TEX_APPLY_NEAR_LAST == RTGI_LPV_TEX_APPLY_NEAR_HI_R + 3 &&
+              RTGI_LPV_PROBE_IMG_ACCUM_LAST == RTGI_LPV_PROBE_IMG_ACCUM_HI_R + 3);
+
+bool ensureHi(gl::MemoryLedger& ledger, Hi& t, const std::string& label, glm::ivec3 g, GLenum fmt, bool linear) {
+    bool changed = false;
+    for (int c = 0; c < 4; ++c) {
+        changed |= t[std::size_t(c)].ensure(ledger, label + "." + (c < 3 ? kChannel[c] : "last"),
+                                            {GL_TEXTURE_3D, fmt, g.x, g.y, g.z});
+        t[std::size_t(c)].setSampling(linear ? GL_LINEAR : GL_NEAREST, linear ? GL_LINEAR : GL_NEAREST);
+    }
+    return changed;
+}
+
+void bindHiTextures(const Hi& t, GLuint firstUnit) {
+    for (GLuint c = 0; c < 4; ++c) glBindTextureUnit(firstUnit + c, t[c].id());
+}
+
+void bindHiImages(const Hi& t, GLuint firstUnit, GLenum access, GLenum format) {
+    for (GLuint c = 0; c < 4; ++c) glBindImageTexture(firstUnit + c, t[c].id(), 0, GL_TRUE, 0, access, format);
+}
+
 void bindRgbTextures(const Rgb& t, GLuint firstUnit) {
     for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(firstUnit + c, t[c].id());
 }
@@ -84,10 +116,23 @@ void endRaster() {
 
 }  // namespace
 
-bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
-    bool changed = g != grid || fmt != format || !accum[0];
+bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt, int order) {
+    bool changed = g != grid || fmt != format || !accum[0] || order != shOrder;
     grid = g;
     format = fmt;
+    shOrder = order;
+    if (order == 2) {
+        if (ensureRgb(ledger, injectHi, "lpv.inject_hi", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false))
+            for (auto& t : injectHi) t.clear();
+        if (injectLast.ensure(ledger, "lpv.inject_last", {GL_TEXTURE_3D, GL_R32F, 3 * g.x, g.y, g.z})) injectLast.clear();
+        for (int k = 0; k < 2; ++k) ensureHi(ledger, stepHi[std::size_t(k)], "lpv.step" + std::to_string(k) + ".hi", g, fmt, false);
+        ensureHi(ledger, accumHi, "lpv.accum.hi", g, fmt, true);
+    } else {  // band 1: no band-2 memory
+        for (auto& t : injectHi) t.reset();
+        injectLast.reset();
+        for (Hi* h : {&stepHi[0], &stepHi[1], &accumHi, &nearHi})
+            for (auto& t : *h) t.reset();
+    }
     // The fp32 accumulation is zero between frames (lpv.pack zeroes what it consumes): cleared
     // once here, when allocated.
     if (ensureRgb(ledger, inject, "lpv.inject", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false))
@@ -105,6 +150,7 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
 
 void Volumes::ensureNear(gl::MemoryLedger& ledger) {
     ensureRgb(ledger, near, "lpv.near", {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+    if (shOrder == 2) ensureHi(ledger, nearHi, "lpv.near.hi", grid, format, true);
 }
 
 void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
@@ -136,14 +182,18 @@ void Volumes::ensureRasterTargets() {
                 layeredFbo("lpv.propagate.fbo" + std::to_string(k), step[std::size_t(k)], accum);
 }
 
-gl::Defines formatDefines(GLenum format) {
-    if (format == GL_RGBA32F) return {{"RTGI_LPV_FORMAT", "rgba32f"}};
-    return {{"RTGI_LPV_FORMAT", "rgba16f"}, {"RTGI_LPV_HALF", ""}};
+gl::Defines formatDefines(GLenum format, int shOrder) {
+    gl::Defines d;
+    if (format == GL_RGBA32F) d = {{"RTGI_LPV_FORMAT", "rgba32f"}};
+    else d = {{"RTGI_LPV_FORMAT", "rgba16f"}, {"RTGI_LPV_HALF", ""}};
+    if (shOrder == 2) d.push_back({"RTGI_LPV_SH2", ""});
+    return d;
 }
 
 void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
                    const gl::Buffer& stats) {
-    const gl::Program& prog = programs.compute("lpv/inject.comp");
+    const gl::Program& prog = programs.compute("lpv/inject.comp", v.shOrder == 2 ? gl::Defines{{"RTGI_LPV_SH2", ""}}
+                                                                                 : gl::Defines{});
     bindUbo(ubo);
     // Producers: lpv.rsm (framebuffer writes); the zeroing of the accumulation by the previous
     // lpv.pack (image stores) or its clear at allocation.
@@ -152,6 +202,10 @@ void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm&
     glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
     glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
     bindRgbImages(v.inject, RTGI_LPV_INJECT_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
+    if (v.shOrder == 2) {
+        bindRgbImages(v.injectHi, RTGI_LPV_INJECT_IMG_INJECT_HI_R, GL_READ_WRITE, GL_R32F);
+        glBindImageTexture(RTGI_LPV_INJECT_IMG_INJECT_LAST, v.injectLast.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LPV_STATS, stats.id());
     gl::dispatch(prog, rsmSize, rsmSize);
 }
@@ -164,6 +218,15 @@ void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
     bindRgbImages(v.inject, RTGI_LPV_PACK_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
     bindRgbImages(v.step[0], RTGI_LPV_IMG_VOL_R, GL_WRITE_ONLY, v.format);
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+    if (v.shOrder == 2) {  // coefficients 4-8: a second dispatch (8 image units)
+        gl::Defines d = formatDefines(v.format);
+        d.push_back({"RTGI_LPV_PACK_HI", ""});
+        const gl::Program& hi = programs.compute("lpv/pack.comp", d);
+        bindRgbImages(v.injectHi, RTGI_LPV_PACK_IMG_INJECT_HI_R, GL_READ_WRITE, GL_R32F);
+        glBindImageTexture(RTGI_LPV_PACK_IMG_INJECT_LAST, v.injectLast.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+        bindHiImages(v.stepHi[0], RTGI_LPV_PACK_IMG_VOL_HI_R, GL_WRITE_ONLY, v.format);
+        gl::dispatch(hi, v.grid.x, v.grid.y, v.grid.z);
+    }
 }
 
 void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v) {
@@ -223,8 +286,9 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 
 namespace {
 
-void copyRgb(const Rgb& from, Rgb& to, glm::ivec3 g) {
-    for (std::size_t c = 0; c < 3; ++c)
+template <class Textures>
+void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
+    for (std::size_t c = 0; c < from.size(); ++c)
         glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, g.x, g.y,
                            g.z);
 }
@@ -232,7 +296,8 @@ void copyRgb(const Rgb& from, Rgb& to, glm::ivec3 g) {
 }  // namespace
 
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near) {
-    const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format));
+    const bool sh2 = v.shOrder == 2;
+    const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format, v.shOrder));
     // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
     int nearK = 0;
     while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
@@ -242,33 +307,58 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         if (k == nearK) {
             // Producer: lpv.pack (k = 0, step[0]) or the iteration k (accum), image stores.
             glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            copyRgb(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
+            copyVolume(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
+            if (sh2) copyVolume(k == 0 ? v.stepHi[0] : v.accumHi, v.nearHi, v.grid);
         } else if (k == nearK + 1 && nearF > 0.0f) {
-            const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(v.format));
+            const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(v.format, v.shOrder));
             // Producers: the copy above and iteration k's accum stores.
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                             GL_TEXTURE_UPDATE_BARRIER_BIT);
             bindRgbTextures(v.accum, RTGI_LPV_TEX_SOURCE_R);
             bindRgbImages(v.near, RTGI_LPV_IMG_NEAR_R, GL_READ_WRITE, v.format);
+            if (sh2) {
+                bindHiTextures(v.accumHi, RTGI_LPV_TEX_SOURCE_HI_R);
+                bindHiImages(v.nearHi, RTGI_LPV_IMG_NEAR_HI_R, GL_READ_WRITE, v.format);
+            }
             mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF);
             gl::dispatch(mix, v.grid.x, v.grid.y, v.grid.z);
         }
     };
     bindUbo(ubo);
     nearStep(0);
+    if (sh2) {
+        // Band 2 sums in lpv/accumulate.comp: accum starts as step 0 (lpv.pack's image stores).
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        copyVolume(v.step[0], v.accum, v.grid);
+        copyVolume(v.stepHi[0], v.accumHi, v.grid);
+    }
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
-        // Rebound every iteration: the near part's mix uses units of its own.
+        // Rebound every iteration: the near part's mix and the band-2 sum use units of their own.
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
-        bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
+        if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         bindRgbTextures(v.step[std::size_t(src)], RTGI_LPV_TEX_SRC_R);
         bindRgbImages(v.step[std::size_t(dst)], RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, v.format);
+        if (sh2) {
+            bindHiTextures(v.stepHi[std::size_t(src)], RTGI_LPV_TEX_SRC_HI_R);
+            bindHiImages(v.stepHi[std::size_t(dst)], RTGI_LPV_IMG_DST_HI_R, GL_WRITE_ONLY, v.format);
+        }
         prog.set(RTGI_LPV_LOC_ITERATION, k);
         gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+        if (sh2) {
+            const gl::Program& acc = programs.compute("lpv/accumulate.comp", formatDefines(v.format));
+            // Producer: the step just written (image stores), read as textures here.
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            bindRgbTextures(v.step[std::size_t(dst)], RTGI_LPV_ACC_TEX_STEP_R);
+            bindHiTextures(v.stepHi[std::size_t(dst)], RTGI_LPV_ACC_TEX_STEP_HI_R);
+            bindRgbImages(v.accum, RTGI_LPV_ACC_IMG_ACCUM_R, GL_READ_WRITE, v.format);
+            bindHiImages(v.accumHi, RTGI_LPV_ACC_IMG_ACCUM_HI_R, GL_READ_WRITE, v.format);
+            gl::dispatch(acc, v.grid.x, v.grid.y, v.grid.z);
+        }
         src = dst;
         nearStep(k);
     }
@@ -321,6 +411,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (in.rsm) d.push_back({"RTGI_LPV_SELF", ""});
     const bool cascaded = in.cascades > 1;
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
+    if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -339,12 +430,22 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.volumeHi)
+        b.texture(RTGI_LPV_TEX_LIGHT_HI_R, (*in.volumeHi)[0])
+            .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])
+            .texture(RTGI_LPV_TEX_LIGHT_HI_B, (*in.volumeHi)[2])
+            .texture(RTGI_LPV_TEX_LIGHT_LAST, (*in.volumeHi)[3]);
     if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)
             b.texture(RTGI_LPV_TEX_APPLY_NEAR_R, (*in.near)[0])
                 .texture(RTGI_LPV_TEX_APPLY_NEAR_G, (*in.near)[1])
                 .texture(RTGI_LPV_TEX_APPLY_NEAR_B, (*in.near)[2]);
+        if (in.cascade > 0 && in.nearHi)
+            b.texture(RTGI_LPV_TEX_APPLY_NEAR_HI_R, (*in.nearHi)[0])
+                .texture(RTGI_LPV_TEX_APPLY_NEAR_HI_G, (*in.nearHi)[1])
+                .texture(RTGI_LPV_TEX_APPLY_NEAR_HI_B, (*in.nearHi)[2])
+                .texture(RTGI_LPV_TEX_APPLY_NEAR_LAST, (*in.nearHi)[3]);
         // Producer: the previous cascade's dispatch (image stores into the sums).
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         b.image(RTGI_LPV_IMG_APPLY_SUM_E, *in.sumE, GL_READ_WRITE, GL_RGBA32F)

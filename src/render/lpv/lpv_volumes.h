@@ -12,6 +12,9 @@
 namespace rtgi::lpv {
 
 using Rgb = std::array<gl::Texture, 3>;
+// lpv.sh_order=2 (docs/lpv.md, "Second-order SH"): the band-2 part of one volume:
+// [0..2] coefficients 4-7 of r, g, b (RGBA), [3] coefficient 8 of r, g, b (.rgb).
+using Hi = std::array<gl::Texture, 4>;
 
 // RSM targets (lpv.rsm).
 struct Rsm {
@@ -31,20 +34,27 @@ struct Volumes {
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
     std::array<Rgb, 2> history;  // temporal blend targets (format)
+    // lpv.sh_order=2 only (empty otherwise): the band-2 parts of inject, step, accum, near.
+    int shOrder = 1;
+    Rgb injectHi;                // R32F (4X, Y, Z): coefficient 4 + k at 4x + k
+    gl::Texture injectLast;      // R32F (3X, Y, Z): coefficient 8 of colour c at 3x + c
+    std::array<Hi, 2> stepHi;
+    Hi accumHi;
+    Hi nearHi;
     gl::FramebufferHandle injectFbo;                   // raster baseline: step[0] + accum, additive
     std::array<gl::FramebufferHandle, 2> propagateFbo; // raster baseline: step[k] + accum (blended)
     gl::VertexArrayHandle emptyVao;                    // attribute-less draws need a bound VAO (core profile)
 
     // (Re)allocates the light volumes; returns true when they changed.
-    bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format);
+    bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format, int shOrder = 1);
     void ensureNear(gl::MemoryLedger& ledger);
     void ensureGeometry(gl::MemoryLedger& ledger);
     void ensureHistory(gl::MemoryLedger& ledger);
     void ensureRasterTargets();
 };
 
-// #defines selecting the image format of one volume format.
-gl::Defines formatDefines(GLenum format);
+// #defines selecting the image format of one volume format (and RTGI_LPV_SH2 for order 2).
+gl::Defines formatDefines(GLenum format, int shOrder = 1);
 
 // Compute injection of every RSM texel with fp32 image atomics (pre-reduced per
 // workgroup) into v.inject, which must be zero (it is after allocation and after
@@ -77,6 +87,8 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
 struct ApplyInputs {
     GBufferView gbuffer;
     const Rgb* volume = nullptr;
+    const Hi* volumeHi = nullptr;  // lpv.sh_order=2: its band-2 part (and nearHi of `near`)
+    const Hi* nearHi = nullptr;
     // Cascades (docs/lpv.md): this dispatch adds cascade `cascade` of `cascades`
     // (its own ubo); `near` its near part (cascade > 0); `sumE`, `sumS` RGBA32F
     // running sums between the dispatches, which run finest first.
