@@ -177,7 +177,11 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
     const double k[3] = {2.0, 1.0, 0.5};
     gl::MemoryLedger ledger;
     gl::ProgramCache programs;
+    // lpv.sh_order = 1, then 2 (the band-2 lobe k cosLobe9 in the 7 textures of docs/lpv.md).
+    for (int order = 1; order <= 2; ++order) {
+    CAPTURE(order);
     lpv::Rgb volume;
+    lpv::Hi volumeHi;
     for (int c = 0; c < 3; ++c) {
         auto& t = volume[std::size_t(c)];
         t = gl::Texture(ledger, "t.volume", {GL_TEXTURE_3D, GL_RGBA32F, pl.grid.x, pl.grid.y, pl.grid.z});
@@ -186,6 +190,18 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
                        float(k[c] * std::sqrt(kPi / 3.0) * lobeDir.z), float(-k[c] * std::sqrt(kPi / 3.0) * lobeDir.x));
         std::vector<glm::vec4> data(std::size_t(pl.grid.x * pl.grid.y * pl.grid.z), lobe);
         glTextureSubImage3D(t.id(), 0, 0, 0, 0, pl.grid.x, pl.grid.y, pl.grid.z, GL_RGBA, GL_FLOAT, data.data());
+    }
+    if (order == 2) {
+        lpv::Sh9 l9 = lpv::shCosineLobe9(lobeDir);
+        for (int c = 0; c < 4; ++c) {
+            auto& t = volumeHi[std::size_t(c)];
+            t = gl::Texture(ledger, "t.volume.hi", {GL_TEXTURE_3D, GL_RGBA32F, pl.grid.x, pl.grid.y, pl.grid.z});
+            t.setSampling(GL_LINEAR, GL_LINEAR);
+            glm::vec4 v = c < 3 ? glm::vec4(glm::dvec4(l9[4], l9[5], l9[6], l9[7]) * k[c])
+                                : glm::vec4(float(k[0] * l9[8]), float(k[1] * l9[8]), float(k[2] * l9[8]), 0.0f);
+            std::vector<glm::vec4> data(std::size_t(pl.grid.x * pl.grid.y * pl.grid.z), v);
+            glTextureSubImage3D(t.id(), 0, 0, 0, 0, pl.grid.x, pl.grid.y, pl.grid.z, GL_RGBA, GL_FLOAT, data.data());
+        }
     }
     lpv::UniformInputs in;
     in.placement = pl;
@@ -197,6 +213,7 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
     lpv::ApplyInputs ai;
     ai.gbuffer = {&res.gbuffer.linearDepth, &res.gbuffer.normal, &res.gbuffer.albedo, &res.gbuffer.material, size};
     ai.volume = &volume;
+    ai.volumeHi = order == 2 ? &volumeHi : nullptr;
     ai.indirect = &indirect;
     ai.specular = &specular;
     lpv::applyCompute(programs, ubo, ai);
@@ -226,8 +243,10 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
             }
             if (nearEdge) continue;
             for (int c = 0; c < 3; ++c) {
-                // I(w) of k cosLobe(n) is k (1/4 + n.w / 2) (band 0-1 clamped cosine, docs/lpv.md).
-                double I = std::max(0.0, k[c] * (0.25 + 0.5 * glm::dot(lobeDir, -R)));
+                // I(w) of k cosLobe(n) is k (1/4 + n.w / 2) (band 0-1 clamped cosine, docs/lpv.md);
+                // bands 0-2 add k (5/16) P2(n.w) = k (5/32)(3 (n.w)^2 - 1) (A_2 = pi/4, sum_m Y2m Y2m = 5/(4 pi) P2).
+                double cw = glm::dot(lobeDir, -R);
+                double I = std::max(0.0, k[c] * (0.25 + 0.5 * cw + (order == 2 ? 5.0 / 32.0 * (3.0 * cw * cw - 1.0) : 0.0)));
                 double expected = albedo.at(x, y, c) * sum / 3.0 * I / (cell * cell);
                 // fp16 output (11-bit mantissa) and fp32 positions: 2e-3 relative.
                 CHECK(spec.at(x, y, c) == doctest::Approx(expected).epsilon(2e-3));
@@ -237,6 +256,7 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
         }
     CHECK(checked > size.x * size.y / 4);
     CHECK(lit > 0);
+    }
 }
 
 TEST_CASE("LPV on cornell with the defaults beats black against the one-bounce reference and lights the far half") {
