@@ -71,6 +71,44 @@ struct CpuOptions {
     bool flow = false;  // lpv.reemit=flow: side faces re-emit around their mean flux direction
 };
 
+// Occlusion and bounce at the face between c and its neighbour c + a (from iteration 2): the
+// mean band-1 blocking SH of the 4 corner texels spanning the face, evaluated against the flow.
+void faceBlocking(const CpuGeometry* gv, glm::ivec3 c, glm::ivec3 a, int iteration, CpuOptions o, double& transmit,
+                  glm::dvec3& refl) {
+    if (!gv || iteration < 2 || !(o.occlusion || o.bounce)) return;
+    glm::dvec3 d = -glm::dvec3(a);
+    glm::ivec3 base = c + glm::max(a, glm::ivec3(0));
+    glm::ivec3 u = a.x != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(1, 0, 0);
+    glm::ivec3 v = a.z != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(0, 0, 1);
+    glm::dvec4 B(0.0);
+    glm::dvec3 alb(0.0);
+    for (int i = 0; i < 4; ++i) {
+        glm::ivec3 g = base + ((i & 1) ? u : glm::ivec3(0)) + ((i & 2) ? v : glm::ivec3(0));
+        B += 0.25 * gv->sh[gv->at(g)];
+        alb += 0.25 * gv->albedo[gv->at(g)];
+    }
+    double blocked = std::clamp(glm::dot(B, basis(-d)), 0.0, 1.0);
+    transmit = 1.0 - blocked;
+    if (o.bounce) refl = blocked * alb;
+}
+
+// The gather of one step: for every cell c and neighbour nb = c + a inside the grid, the flow
+// direction d = -a into c and the face's transmission and bounce albedo (band 1 for either order).
+template <class F>
+void forEachGather(glm::ivec3 n, const CpuGeometry* gv, int iteration, CpuOptions o, F f) {
+    for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+            for (int x = 0; x < n.x; ++x)
+                for (auto a : kAxes) {
+                    glm::ivec3 c(x, y, z), nb = c + a;
+                    if (!glm::all(glm::greaterThanEqual(nb, glm::ivec3(0))) || !glm::all(glm::lessThan(nb, n))) continue;
+                    double transmit = 1.0;
+                    glm::dvec3 refl(0.0);
+                    faceBlocking(gv, c, a, iteration, o, transmit, refl);
+                    f(c, nb, -glm::dvec3(a), transmit, refl);
+                }
+}
+
 // One iteration of SPEC 3.5 in double (independent of propagate.glsl).
 CpuVolume cpuPropagate(const CpuVolume& src, const CpuGeometry* gv, int iteration, CpuOptions o) {
     // Side-face mean direction: integrated in the unit tier; here recomputed by a short integral.
@@ -87,31 +125,7 @@ CpuVolume cpuPropagate(const CpuVolume& src, const CpuGeometry* gv, int iteratio
         return glm::dvec2(s.x, s.z);
     }();
     CpuVolume dst(src.n);
-    for (int z = 0; z < src.n.z; ++z)
-        for (int y = 0; y < src.n.y; ++y)
-            for (int x = 0; x < src.n.x; ++x) {
-                glm::ivec3 c(x, y, z);
-                for (auto a : kAxes) {
-                    glm::ivec3 nb = c + a;
-                    if (!src.inside(nb)) continue;
-                    glm::dvec3 d = -glm::dvec3(a);
-                    double transmit = 1.0;
-                    glm::dvec3 refl(0.0);
-                    if (gv && iteration >= 2 && (o.occlusion || o.bounce)) {
-                        glm::ivec3 base = c + glm::max(a, glm::ivec3(0));
-                        glm::ivec3 u = a.x != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(1, 0, 0);
-                        glm::ivec3 v = a.z != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(0, 0, 1);
-                        glm::dvec4 B(0.0);
-                        glm::dvec3 alb(0.0);
-                        for (int i = 0; i < 4; ++i) {
-                            glm::ivec3 g = base + ((i & 1) ? u : glm::ivec3(0)) + ((i & 2) ? v : glm::ivec3(0));
-                            B += 0.25 * gv->sh[gv->at(g)];
-                            alb += 0.25 * gv->albedo[gv->at(g)];
-                        }
-                        double blocked = std::clamp(glm::dot(B, basis(-d)), 0.0, 1.0);
-                        transmit = 1.0 - blocked;
-                        if (o.bounce) refl = blocked * alb;
-                    }
+    forEachGather(src.n, gv, iteration, o, [&](glm::ivec3 c, glm::ivec3 nb, glm::dvec3 d, double transmit, glm::dvec3 refl) {
                     for (int ch = 0; ch < 3; ++ch) {
                         glm::dvec4 I = src.c[ch][src.at(nb)];
                         if (o.conserving) {
@@ -131,8 +145,7 @@ CpuVolume cpuPropagate(const CpuVolume& src, const CpuGeometry* gv, int iteratio
                         }
                         out += refl[ch] * total / kPi * lobe(-d);
                     }
-                }
-            }
+    });
     return dst;
 }
 
@@ -229,16 +242,23 @@ double relL2(const CpuVolume& a, const CpuVolume& b) {
     return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
 }
 
+// A random unit direction (rejection from the unit ball, away from its centre).
+glm::dvec3 randomDirection(std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    glm::dvec3 d;
+    do d = {u(rng), u(rng), u(rng)};
+    while (glm::length(d) < 0.1 || glm::length(d) > 1.0);
+    return glm::normalize(d);
+}
+
 // Random cosine-lobe light in every cell (what injection produces: c00 >= 0).
 CpuVolume randomLight(glm::ivec3 n, std::mt19937& rng) {
-    std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.0, 1.0);
+    std::uniform_real_distribution<double> pos(0.0, 1.0);
     CpuVolume v(n);
     for (int c = 0; c < 3; ++c)
         for (auto& x : v.c[c]) {
-            glm::dvec3 d;
-            do d = {u(rng), u(rng), u(rng)};
-            while (glm::length(d) < 0.1 || glm::length(d) > 1.0);
-            x = pos(rng) / kPi * lobe(glm::normalize(d));
+            glm::dvec3 d = randomDirection(rng);
+            x = pos(rng) / kPi * lobe(d);
         }
     return v;
 }
@@ -337,31 +357,7 @@ Cpu9 cpuPropagate9(const Cpu9& src, const CpuGeometry* gv, int iteration, CpuOpt
     const double st = RTGI_LPV_SIDE_DIR_T, sd = RTGI_LPV_SIDE_DIR_D;
     auto eval = [](const lpv::Sh9& I, glm::dvec3 w) { return lpv::shDot9(I, lpv::shBasis9(w)); };
     Cpu9 dst(src.n);
-    for (int z = 0; z < src.n.z; ++z)
-        for (int y = 0; y < src.n.y; ++y)
-            for (int x = 0; x < src.n.x; ++x) {
-                glm::ivec3 c(x, y, z);
-                for (auto a : kAxes) {
-                    glm::ivec3 nb = c + a;
-                    if (!src.inside(nb)) continue;
-                    glm::dvec3 d = -glm::dvec3(a);
-                    double transmit = 1.0;
-                    glm::dvec3 refl(0.0);
-                    if (gv && iteration >= 2 && (o.occlusion || o.bounce)) {  // band-1 blocking, as for order 1
-                        glm::ivec3 base = c + glm::max(a, glm::ivec3(0));
-                        glm::ivec3 u = a.x != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(1, 0, 0);
-                        glm::ivec3 v = a.z != 0 ? glm::ivec3(0, 1, 0) : glm::ivec3(0, 0, 1);
-                        glm::dvec4 B(0.0);
-                        glm::dvec3 alb(0.0);
-                        for (int i = 0; i < 4; ++i) {
-                            glm::ivec3 g = base + ((i & 1) ? u : glm::ivec3(0)) + ((i & 2) ? v : glm::ivec3(0));
-                            B += 0.25 * gv->sh[gv->at(g)];
-                            alb += 0.25 * gv->albedo[gv->at(g)];
-                        }
-                        double blocked = std::clamp(glm::dot(B, basis(-d)), 0.0, 1.0);
-                        transmit = 1.0 - blocked;
-                        if (o.bounce) refl = blocked * alb;
-                    }
+    forEachGather(src.n, gv, iteration, o, [&](glm::ivec3 c, glm::ivec3 nb, glm::dvec3 d, double transmit, glm::dvec3 refl) {
                     for (int ch = 0; ch < 3; ++ch) {
                         lpv::Sh9 I = src.c[ch][src.at(nb)];
                         if (o.conserving) {
@@ -393,8 +389,7 @@ Cpu9 cpuPropagate9(const Cpu9& src, const CpuGeometry* gv, int iteration, CpuOpt
                         }
                         emit(refl[ch] * total, -d);
                     }
-                }
-            }
+    });
     return dst;
 }
 
@@ -404,10 +399,7 @@ Cpu9 randomLight9(glm::ivec3 n, std::mt19937& rng) {
     Cpu9 v(n);
     for (int ch = 0; ch < 3; ++ch)
         for (auto& x : v.c[ch]) {
-            glm::dvec3 d;
-            do d = {u(rng), u(rng), u(rng)};
-            while (glm::length(d) < 0.1 || glm::length(d) > 1.0);
-            x = lpv::shCosineLobe9(glm::normalize(d));
+            x = lpv::shCosineLobe9(randomDirection(rng));
             double s = pos(rng) / kPi;
             for (std::size_t k = 0; k < 9; ++k) x[k] = s * x[k] + (k >= 4 ? 0.05 * s * u(rng) : 0.0);
         }
@@ -772,8 +764,9 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
         if (out9) *out9 = read9(g.v.step[0], g.v.stepHi[0]);
         return readRgb(g.v.step[0]);
     };
-    // CPU double oracle.
+    // CPU double oracle, bands 0-1 and (lpv.sh_order=2) bands 0-2.
     CpuVolume expected(grid);
+    Cpu9 expected9(grid), got9, got9t;
     std::uint32_t cpuDropped = 0;
     glm::dmat4 inv = glm::inverse(glm::dmat4(vp));
     for (int y = 0; y < R; ++y)
@@ -788,7 +781,12 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
                 ++cpuDropped;
                 continue;
             }
-            for (int ch = 0; ch < 3; ++ch) expected.c[ch][expected.at(c)] += double(flux[std::size_t(i * 4 + ch)]) / kPi * lobe(n);
+            lpv::Sh9 l = lpv::shCosineLobe9(n);
+            for (int ch = 0; ch < 3; ++ch) {
+                expected.c[ch][expected.at(c)] += double(flux[std::size_t(i * 4 + ch)]) / kPi * lobe(n);
+                for (int k = 0; k < 9; ++k)
+                    expected9.c[ch][expected9.at(c)][std::size_t(k)] += double(flux[std::size_t(i * 4 + ch)]) / kPi * l[std::size_t(k)];
+            }
         }
     std::uint32_t dropA = 0, dropB = 0;
     CpuVolume a = inject(false, dropA), b = inject(true, dropB);
@@ -801,20 +799,6 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
     CHECK(cpuDropped < std::uint32_t(R * R));
     // lpv.sh_order=2: the 9 coefficients of the band-2 lobe (27 reduction channels, 3 more
     // accumulation textures, the second pack dispatch) against the same oracle in bands 0-2.
-    Cpu9 expected9(grid), got9, got9t;
-    for (int y = 0; y < R; ++y)
-        for (int x = 0; x < R; ++x) {
-            int i = y * R + x;
-            if (normal[std::size_t(i * 4 + 3)] == 0.0f) continue;
-            glm::dvec3 n = glm::normalize(glm::dvec3(normal[std::size_t(i * 4)], normal[std::size_t(i * 4 + 1)], normal[std::size_t(i * 4 + 2)]));
-            glm::dvec4 w = inv * glm::dvec4((x + 0.5) / R * 2 - 1, (y + 0.5) / R * 2 - 1, depth[std::size_t(i)] * 2.0 - 1, 1.0);
-            glm::ivec3 c(glm::floor((glm::dvec3(w) / w.w + 0.5 * double(cell) * n) / double(cell)));
-            if (!expected9.inside(c)) continue;
-            lpv::Sh9 l = lpv::shCosineLobe9(n);
-            for (int ch = 0; ch < 3; ++ch)
-                for (int k = 0; k < 9; ++k)
-                    expected9.c[ch][expected9.at(c)][std::size_t(k)] += double(flux[std::size_t(i * 4 + ch)]) / kPi * l[std::size_t(k)];
-        }
     std::uint32_t drop9 = 0, drop9t = 0;
     CpuVolume lo9 = inject(false, drop9, 2, &got9);
     inject(true, drop9t, 2, &got9t);
