@@ -99,6 +99,20 @@ TEST_CASE("hardening: lpv.grid=512 and --res 16384x16384 stop within 5 s with ex
     fs::remove_all(out);
 }
 
+TEST_CASE("hardening: lpv.sh_order=2 with the raster baseline is refused in one sentence, exit 2, before a frame") {
+    // Band 2 exists in the compute path only (docs/lpv.md, "Second-order SH").
+    fs::path out = fs::temp_directory_path() / ("rtgi-hardening-sh-" + std::to_string(getpid()));
+    Run a = bench("--scene builtin:cornell --set lpv=on --set lpv.path=raster --set lpv.sh_order=2 --res 16x16 --frames 1 "
+                  "--warmup 0 --no-images --out " + out.string());
+    CAPTURE(a.err);
+    CHECK(a.rc == 2);
+    CHECK(a.err.find("lpv.sh_order=2 needs lpv.path=compute") != std::string::npos);
+    Run b = bench("--scene builtin:cornell --set lpv=on --set lpv.sh_order=2 --res 16x16 --frames 1 --warmup 0 "
+                  "--no-images --out " + out.string());
+    CHECK(b.rc == 0);  // the compute path runs it
+    fs::remove_all(out);
+}
+
 TEST_CASE("hardening: an unwritable --out or a link at results.json stops before the first frame with exit 6") {
     fs::path dir = fs::temp_directory_path() / ("rtgi-hardening-links-" + std::to_string(getpid()));
     fs::remove_all(dir);

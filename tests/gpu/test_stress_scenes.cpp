@@ -41,6 +41,7 @@ Settings matrixSettings(const Scene& scene, int k) {
     s.lpv.format = k % 3 == 2 ? LpvSettings::Format::Rgba32f : LpvSettings::Format::Rgba16f;
     s.lpv.path = k == 5 ? LpvSettings::Path::Raster : LpvSettings::Path::Compute;
     s.lpv.energyConserving = k == 4;
+    s.lpv.shOrder = k == 2 || k == 4 ? 2 : 1;  // band 2 (compute path, no temporal blend)
     s.ao.variant = kVariants[k];
     s.ao.samples = 8;
     s.ao.directional = k % 2 ? AoSettings::Directional::S3ho : AoSettings::Directional::BentNormals;
