@@ -14,6 +14,7 @@
 #include "render/lpv/lpv_math.h"
 
 #include <cmath>
+#include <map>
 
 using namespace rtgi;
 using namespace rtgi::test;
@@ -26,8 +27,9 @@ const double kY00 = 0.28209479177387814, kY1 = 0.48860251190291992;
 glm::dvec4 basis(glm::dvec3 d) { return {kY00, -kY1 * d.y, kY1 * d.z, -kY1 * d.x}; }
 
 struct Projection {
-    glm::dvec4 p{0.0};   // integral of Y_k over the square's solid angle
-    glm::dvec4 p2{0.0};  // integral of Y_k^2 (variance bound)
+    lpv::Sh9 p{};   // integral of Y_k over the square's solid angle (bands 0-2; lpv::shBasis9 is
+                    // checked against the polar form in the unit tier, its first 4 against basis())
+    lpv::Sh9 p2{};  // integral of Y_k^2 (variance bound)
 };
 
 // Midpoint rule on n x n cells of the square [-h, h]^2 at y = 0, seen from x (x.y > 0).
@@ -41,9 +43,13 @@ Projection squareProjection(glm::dvec3 x, double h, int n) {
             glm::dvec3 d = q - x;
             double r = glm::length(d);
             double dw = x.y * da / (r * r * r);
-            glm::dvec4 y = basis(d / r);
-            out.p += y * dw;
-            out.p2 += y * y * dw;
+            lpv::Sh9 y = lpv::shBasis9(d / r);
+            glm::dvec4 y1 = basis(d / r);
+            for (std::size_t k = 0; k < 9; ++k) {
+                double yk = k < 4 ? y1[int(k)] : y[k];
+                out.p[k] += yk * dw;
+                out.p2[k] += yk * yk * dw;
+            }
         }
     return out;
 }
@@ -73,7 +79,11 @@ TEST_CASE("LPV probe volume: sunlit square, every cascade's SH equals the CPU do
     scene.materials[0].metallic = float(metallic);
     const double lf = rho * (1.0 - metallic) * e * towardSun.y / kPi;  // radiance of the square, one bounce
 
+    // lpv.sh_order 1 and 2 (docs/lpv.md, "Second-order SH": bands 0-2, 7 textures per volume).
+    for (int order = 1; order <= 2; ++order) {
+    CAPTURE(order);
     Settings s = smallLpvSettings();
+    s.lpv.shOrder = order;
     s.lpv.cascades = 2;
     s.lpv.cell = 0.25f;  // cascade 0: 8^3 of 0.25 (2 m), cascade 1: 0.5 (4 m)
     s.lpv.format = LpvSettings::Format::Rgba32f;
@@ -93,22 +103,35 @@ TEST_CASE("LPV probe volume: sunlit square, every cascade's SH equals the CPU do
 
     Pass* prop = r->findPass("lpv.propagate");
     REQUIRE(prop != nullptr);
-    // Per cascade (finest first) and channel r, g, b (grey square: all equal).
-    std::vector<const gl::Texture*> accum, nearPart;
-    for (auto& o : r->checkedOutputs(*prop)) {
-        if (o.name.find("lpv.accum.") != std::string::npos) accum.push_back(o.tex);
-        if (o.name.find("lpv.near.") != std::string::npos) nearPart.push_back(o.tex);
-    }
-    REQUIRE(accum.size() == 6);
-    REQUIRE(nearPart.size() == 3);  // cascade 1 only
+    // Per cascade (finest first) and channel r, g, b (grey square: all equal): coefficients 0-3,
+    // and with band 2 4-7 (hi) and 8 (last, .rgb).
+    std::map<std::string, const gl::Texture*> out;
+    for (auto& o : r->checkedOutputs(*prop)) out[o.name.substr(o.name.find(':') + 1)] = o.tex;  // "pass:name"
+    auto volume = [&](const std::string& prefix, int ch) {
+        std::vector<lpv::Sh9> vol;
+        const std::string c(1, "rgb"[ch]);
+        REQUIRE(out.count(prefix + "." + c));
+        std::vector<glm::dvec4> lo = readVolume(*out[prefix + "." + c]), hi, last;
+        if (order == 2) {
+            REQUIRE(out.count(prefix + ".hi." + c));
+            hi = readVolume(*out[prefix + ".hi." + c]);
+            last = readVolume(*out[prefix + ".hi.last"]);
+        }
+        for (std::size_t i = 0; i < lo.size(); ++i)
+            vol.push_back(order == 2 ? lpv::Sh9{lo[i].x, lo[i].y, lo[i].z, lo[i].w, hi[i].x, hi[i].y, hi[i].z, hi[i].w,
+                                              last[i][ch]}
+                                   : lpv::Sh9{lo[i].x, lo[i].y, lo[i].z, lo[i].w, 0, 0, 0, 0, 0});
+        return vol;
+    };
+    const int coefficients = order == 2 ? 9 : 4;
 
     int checked = 0, lit = 0;
     double worst = 0;  // largest |error| / bound
     for (int vi = 0; vi < 6; ++vi) {
         const int ci = vi / 3;
         const lpv::Placement& pl = placements[std::size_t(ci)];
-        std::vector<glm::dvec4> got = readVolume(*accum[std::size_t(vi)]);
-        std::vector<glm::dvec4> gotNear = ci == 1 ? readVolume(*nearPart[std::size_t(vi - 3)]) : std::vector<glm::dvec4>{};
+        std::vector<lpv::Sh9> got = volume(ci == 0 ? "lpv.accum" : "lpv.accum.cascade1", vi % 3);
+        std::vector<lpv::Sh9> gotNear = ci == 1 ? volume("lpv.near.cascade1", vi % 3) : std::vector<lpv::Sh9>{};
         REQUIRE(got.size() == std::size_t(pl.grid.x * pl.grid.y * pl.grid.z));
         const double s2 = double(pl.cell) * double(pl.cell);
         for (int z = 0; z < pl.grid.z; ++z)
@@ -117,10 +140,11 @@ TEST_CASE("LPV probe volume: sunlit square, every cascade's SH equals the CPU do
                     glm::dvec3 c = glm::dvec3(pl.origin) + (glm::dvec3(x, y, z) + 0.5) * double(pl.cell);
                     if (std::abs(c.y) < 0.05) continue;  // a centre on the square itself: no oracle
                     Projection pr = squareProjection(c, half, 400);
-                    // Volume convention: I = s^2 mirror(p) (band 1 odd).
-                    glm::dvec4 want = s2 * lf * glm::dvec4(pr.p.x, -pr.p.y, -pr.p.z, -pr.p.w);
+                    // Volume convention: I = s^2 mirror(p) (band 1 odd, bands 0 and 2 even).
+                    lpv::Sh9 want;
+                    for (std::size_t k = 0; k < 9; ++k) want[k] = s2 * lf * (k >= 1 && k <= 3 ? -pr.p[k] : pr.p[k]);
                     std::size_t idx = std::size_t(x + pl.grid.x * (y + pl.grid.y * z));
-                    for (int k = 0; k < 4; ++k) {
+                    for (std::size_t k = 0; k < std::size_t(coefficients); ++k) {
                         // Jittered strata never exceed the variance of N independent uniform
                         // directions: sigma_k^2 <= 4 pi L_f^2 int Y_k^2 dw / N. 4 sigma, plus
                         // float rounding.
@@ -134,10 +158,11 @@ TEST_CASE("LPV probe volume: sunlit square, every cascade's SH equals the CPU do
                         if (ci == 1) CHECK(gotNear[idx][k] == doctest::Approx(got[idx][k]).epsilon(1e-6));
                     }
                     ++checked;
-                    if (want.x > 0.05 * s2 * lf) ++lit;
+                    if (want[0] > 0.05 * s2 * lf) ++lit;
                 }
     }
-    MESSAGE("cells checked " << checked << ", lit " << lit << ", worst error / bound " << worst);
+    MESSAGE("order " << order << ": cells checked " << checked << ", lit " << lit << ", worst error / bound " << worst);
     CHECK(checked > 1500);
     CHECK(lit > 600);
+    }
 }
