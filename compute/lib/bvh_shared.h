@@ -20,6 +20,8 @@ using uint = std::uint32_t;
 #define RTGI_SSBO_REF_INDICES 6    // GpuScene index buffer (3 per original triangle)
 #define RTGI_SSBO_REF_RAYS 7       // test rays (trace_test.comp)
 #define RTGI_SSBO_REF_COUNTER 8    // uint: rays traced by a dispatch (rays/s statistics)
+#define RTGI_SSBO_REF_EMITTERS 9   // uint pairs: emissive triangle id, area CDF (float bits)
+#define RTGI_REF_LOC_EMITTERS 2    // uniform vec2 of ref/path.comp: emitter count, total emissive area
 #define RTGI_BVH_STACK 48          // traversal stack depth (the builder caps the tree depth below it)
 #define RTGI_REF_LOCAL 8           // workgroup edge of the per-pixel reference kernels
 

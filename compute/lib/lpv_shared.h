@@ -24,6 +24,8 @@
 // ---- bindings ----
 #define RTGI_UBO_LPV 1              // LpvUniforms
 #define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
+#define RTGI_RSM_LOC_LIGHT 1        // lpv/rsm.frag (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 1-4
+#define RTGI_RSM_LOC_FACE 5         // lpv/rsm.frag (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
 #define RTGI_LPV_GV_CHANNELS 8      // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A)
 // Workgroup sizes (read back after linking; listed here so C++ and GLSL agree on tiling).
 #define RTGI_LPV_LOCAL_2D 8

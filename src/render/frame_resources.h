@@ -5,8 +5,11 @@
 // consumers test it (`if (res.ao)`) or declare it in reads() so the frame
 // checks the order when it is built.
 #include "gl/resources.h"
+#include "render/gpu_types.h"
 
 #include <glm/glm.hpp>
+
+#include <vector>
 
 namespace rtgi {
 
@@ -26,6 +29,22 @@ struct FrameResources {
     // shadow (sun)
     gl::Texture shadowMap;     // D32F
     glm::mat4 shadowViewProj{1.0f};
+
+    // local lights (render/lights.h): this frame's GpuLight list of the
+    // real-time path (culled ones have type 0), the world -> clip matrix of
+    // every shadow layer, and the layered depth maps (shadow.local).
+    gl::Buffer localLights;          // GpuLight[] (bound at RTGI_SSBO_LIGHTS by the real-time passes)
+    int localLightCount = 0;
+    gl::Buffer localShadowMatrices;  // mat4[] per layer
+    struct LocalShadowView {
+        glm::mat4 viewProj;
+        int light, layer;
+        float tanHalfFov;  // of the square perspective frustum
+    };
+    std::vector<LocalShadowView> localShadowViews;  // layers rendered this frame
+    std::vector<gpu::GpuLight> localLightsCpu;      // the uploaded list (lpv.rsm reads the lights' data)
+    std::vector<LocalShadowView> localRsmViews;     // RSM faces of the kept local lights (LPV on), lpv.rsm size
+    gl::Texture localShadowMaps;     // D32F 2D array, compare mode
 
     // lighting
     gl::Texture direct;           // RGBA16F, direct sun/punctual + emissive radiance

@@ -17,6 +17,7 @@ std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const Fra
         {"gbuffer.normal", &g.normal},     {"gbuffer.albedo", &g.albedo},
         {"gbuffer.material", &g.material}, {"gbuffer.emissive", &g.emissive},
         {"gbuffer.velocity", &g.velocity}, {"shadowMap", &r.shadowMap},
+        {"localShadowMaps", &r.localShadowMaps},
         {"direct", &r.direct},             {"indirectDiffuse", &r.indirectDiffuse},
         {"specular", &r.specular},         {"ao", &r.ao},
         {"bentNormal", &r.bentNormal},     {"s3ho", &r.s3ho},
@@ -37,7 +38,7 @@ std::vector<Pass::Output> Pass::checkedOutputs(const FrameResources& res) const 
     for (auto& w : writes()) {
         const gl::Texture* t = findResource(res, w);
         if (!t || !*t) continue;
-        if (w == "gbuffer.depth" || w == "shadowMap" || w == "ldr") continue;  // depth / unorm: cannot be non-finite
+        if (w == "gbuffer.depth" || w == "shadowMap" || w == "localShadowMaps" || w == "ldr") continue;  // depth / unorm: cannot be non-finite
         bool signedData = w == "gbuffer.normal" || w == "gbuffer.velocity" || w == "bentNormal" || w == "s3ho";
         out.push_back({name() + ":" + w, t, signedData});
     }
@@ -98,6 +99,14 @@ void Renderer::configure(const Settings& settings) {
     for (auto& n : forcedOff)
         if (!knownNames.count(n)) throw ConfigError("setting 'passes.off': there is no pass named '" + n + "'");
 
+    // Local lights: the per-frame list and the shadow matrices live as long as this configuration.
+    localLights_ = resolveLocalLights(scene_, settings_);
+    for (auto& [light, reason] : localLights_.leftOut) skipped_.push_back({"light:" + light, reason});
+    res_.localLights = gl::Buffer(ledger_, "lights.local",
+                                  std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLight)));
+    res_.localShadowMatrices = gl::Buffer(ledger_, "shadow.local.matrices",
+                                          std::int64_t(std::max(1, maxShadowLayers(localLights_)) * sizeof(glm::mat4)));
+
     // A technique the user asked for explicitly must run, or say why not.
     auto requireFamily = [&](bool requested, const std::string& family, const std::string& key) {
         if (!requested) return;
@@ -142,7 +151,25 @@ void Renderer::uploadFrameUniforms(const View& v) {
     u.sky = glm::vec4(resolveSky(scene_, settings_), settings_.post.exposure);
     u.projParams = glm::vec4(v.nearPlane, v.farPlane, std::tan(0.5f * v.fovY), float(v.size.x) / float(v.size.y));
     u.size = glm::ivec4(v.size, int(v.frame), v.cut ? 1 : 0);
-    u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, 0);
+    FrameLights fl = frameLights(localLights_, u.viewProj, box, findPass("shadow.local") != nullptr,
+                                 settings_.light.localShadowSize);
+    if (!fl.gpu.empty()) res_.localLights.upload(fl.gpu.data(), std::int64_t(fl.gpu.size() * sizeof(gpu::GpuLight)));
+    res_.localLightCount = int(fl.gpu.size());
+    res_.localShadowViews.clear();
+    std::vector<glm::mat4> mats;
+    for (auto& sv : fl.views) {
+        res_.localShadowViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
+        mats.push_back(sv.viewProj);
+    }
+    res_.localLightsCpu = fl.gpu;
+    res_.localRsmViews.clear();
+    if (findPass("lpv.rsm"))  // the same culling and frusta at the RSM's size
+        for (auto& sv : frameLights(localLights_, u.viewProj, box, true, settings_.lpv.rsm).views)
+            res_.localRsmViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
+    if (!mats.empty()) res_.localShadowMatrices.upload(mats.data(), std::int64_t(mats.size() * sizeof(glm::mat4)));
+    localCulled_ = fl.culled;
+    localShadowed_ = fl.shadowed;
+    u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, res_.localLightCount);
     frameUbo_.upload(&u, sizeof(u));
 }
 

@@ -2,6 +2,7 @@
 // The renderer shared by rtgi-bench, the tests and rtgi-view: owns the GPU
 // scene, the program cache, the memory ledger and the frame (a list of
 // passes built by the frame script in frame.cpp from scene + settings).
+#include "render/lights.h"
 #include "gl/profiler.h"
 #include "gl/program.h"
 #include "gl/resources.h"
@@ -39,6 +40,10 @@ public:
 
     const std::vector<std::unique_ptr<Pass>>& passes() const { return passes_; }
     const std::vector<SkippedPass>& skipped() const { return skipped_; }
+    const LocalLights& localLights() const { return localLights_; }
+    // Of the last frame: local lights culled (outside the view / zero) and shadowed.
+    int localLightsCulled() const { return localCulled_; }
+    int localLightsShadowed() const { return localShadowed_; }
     Pass* findPass(const std::string& name) const;
     FrameResources& resources() { return res_; }
     const Scene& scene() const { return scene_; }
@@ -66,6 +71,8 @@ private:
     FrameResources res_;
     std::vector<std::unique_ptr<Pass>> passes_;
     std::vector<SkippedPass> skipped_;
+    LocalLights localLights_;  // point/spot/area lights of the real-time path
+    int localCulled_ = 0, localShadowed_ = 0;
     bool check_ = false;
     std::vector<FiniteCount> finite_;
 };

@@ -151,4 +151,19 @@ inline glm::dvec3 worldPosition(const Scene& scene, const Settings& s, glm::ivec
     return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
 }
 
+// Irradiance at p (unit normal n) from a uniform Lambertian polygon of
+// radiance le with corners q (either winding), two-sided, unoccluded:
+// E = le/2 |Σ_i θ_i n·(v_i × v_{i+1})/|v_i × v_{i+1}||, v_i = q_i − p
+// (Lambert's polygon formula; e.g. Arvo 1995, "The irradiance Jacobian").
+inline double polygonIrradiance(glm::dvec3 p, glm::dvec3 n, const std::vector<glm::dvec3>& q, double le) {
+    double sum = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        glm::dvec3 a = glm::normalize(q[i] - p), b = glm::normalize(q[(i + 1) % q.size()] - p);
+        glm::dvec3 c = glm::cross(a, b);
+        double len = glm::length(c);
+        if (len > 0) sum += std::acos(std::max(-1.0, std::min(1.0, glm::dot(a, b)))) * glm::dot(n, c) / len;
+    }
+    return 0.5 * le * std::abs(sum);
+}
+
 }  // namespace rtgi::test

@@ -26,8 +26,11 @@ public:
 
 void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOnly) {
     const GBuffer& g = ctx.res.gbuffer;
-    const gl::Program& prog = ctx.programs.compute(
-        "post/direct.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
+    gl::Defines defs;
+    if (diffuseOnly) defs.push_back({"RTGI_DIFFUSE_ONLY", ""});
+    const bool local = bool(ctx.res.localShadowMaps);
+    if (local) defs.push_back({"RTGI_LOCAL_SHADOWS", ""});
+    const gl::Program& prog = ctx.programs.compute("post/direct.comp", defs);
     // Producer: gbuffer and shadow raster passes (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindTextureUnit(0, g.linearDepth.id());
@@ -39,9 +42,16 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
     glBindTextureUnit(5, shadow ? ctx.res.shadowMap.id() : 0);
     prog.set(0, shadow ? 1 : 0);
     ctx.gpuScene.bindTables();
+    // The real-time light list (culled, with shadow layers) replaces the scene's.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LIGHTS, ctx.res.localLights.id());
+    if (local) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LOCAL_SHADOW_MATRICES, ctx.res.localShadowMatrices.id());
+        glBindTextureUnit(RTGI_TEX_LOCAL_SHADOWS, ctx.res.localShadowMaps.id());
+    }
     glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, target.width(), target.height());
     glBindTextureUnit(5, 0);
+    if (local) glBindTextureUnit(RTGI_TEX_LOCAL_SHADOWS, 0);
 }
 
 std::unique_ptr<Pass> makeDirectPass() { return std::make_unique<DirectPass>(); }

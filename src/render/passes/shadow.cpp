@@ -1,7 +1,10 @@
 // shadow: depth map of the sun (orthographic, fitted to the scene bounds).
+// shadow.local: perspective maps of spot lights and cubes of point / area
+// lights (render/lights.h), one layer of a D32F array each.
 #include "gl/profiler.h"
 #include "gl/program.h"
 #include "render/gpu_scene.h"
+#include "render/lights.h"
 #include "render/passes/core_passes.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -51,18 +54,66 @@ public:
             glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, ctx.res.shadowMap.id(), 0);
             glNamedFramebufferDrawBuffer(f, GL_NONE);
         }
-        const gl::Program& prog =
-            ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(0, ctx.res.shadowViewProj);
-        rasterizeScene(ctx, prog, fbo_.id(), {n, n}, 0, /*depthBias=*/true);
+        renderShadowDepth(ctx, ctx.res.shadowViewProj, fbo_.id(), {n, n});
     }
 
 private:
     gl::FramebufferHandle fbo_;
 };
 
+class LocalShadowPass final : public Pass {
+public:
+    std::string name() const override { return "shadow.local"; }
+    Need needed(const Scene& scene, const Settings& settings) const override {
+        LocalLights ll = resolveLocalLights(scene, settings);
+        for (auto& l : ll.lights)
+            if (l.gpu.colorIntensity.x > 0 || l.gpu.colorIntensity.y > 0 || l.gpu.colorIntensity.z > 0)
+                return Need::yes();
+        return Need::no(ll.lights.empty() ? "the scene has no point, spot or emissive-region light"
+                                          : "every point, spot or emissive-region light has zero intensity");
+    }
+    std::vector<std::string> writes() const override { return {"localShadowMaps"}; }
+
+    void execute(FrameContext& ctx) override {
+        FrameResources& r = ctx.res;
+        const int n = ctx.settings.light.localShadowSize;
+        // Sized for every light at once, so culling never reallocates.
+        const int layers = std::max(1, int(r.localShadowMatrices.size() / std::int64_t(sizeof(glm::mat4))));
+        if (r.localShadowMaps.ensure(ctx.ledger, "shadow.local.maps", {GL_TEXTURE_2D_ARRAY, GL_DEPTH_COMPONENT32F, n, n, layers}) ||
+            fbos_.size() != std::size_t(layers)) {
+            r.localShadowMaps.setSampling(GL_LINEAR, GL_LINEAR);
+            glTextureParameteri(r.localShadowMaps.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+            glTextureParameteri(r.localShadowMaps.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+            fbos_.clear();
+            for (int l = 0; l < layers; ++l) {
+                GLuint f = 0;
+                glCreateFramebuffers(1, &f);
+                fbos_.emplace_back(f);
+                fbos_.back().label(("shadow.local.fbo" + std::to_string(l)).c_str());
+                glNamedFramebufferTextureLayer(f, GL_DEPTH_ATTACHMENT, r.localShadowMaps.id(), 0, l);
+                glNamedFramebufferDrawBuffer(f, GL_NONE);
+            }
+        }
+        for (auto& v : r.localShadowViews) renderShadowDepth(ctx, v.viewProj, fbos_[std::size_t(v.layer)].id(), {n, n});
+        layersDrawn_ = int(r.localShadowViews.size());
+    }
+    std::vector<std::pair<std::string, double>> stats() override { return {{"layers", double(layersDrawn_)}}; }
+
+private:
+    std::vector<gl::FramebufferHandle> fbos_;
+    int layersDrawn_ = 0;
+};
+
 }  // namespace
 
 std::unique_ptr<Pass> makeShadowPass() { return std::make_unique<ShadowPass>(); }
+std::unique_ptr<Pass> makeLocalShadowPass() { return std::make_unique<LocalShadowPass>(); }
+
+void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size) {
+    const gl::Program& prog =
+        ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
+    prog.set(0, viewProj);
+    rasterizeScene(ctx, prog, fbo, size, 0, /*depthBias=*/true);
+}
 
 }  // namespace rtgi
