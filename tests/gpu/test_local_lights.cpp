@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 using namespace rtgi;
 using namespace rtgi::test;
@@ -319,4 +320,33 @@ TEST_CASE("Emissive regions: a square emitter becomes a cosine-lobe light of its
     REQUIRE(far > 500);
     CHECK(bad == 0);
     CHECK(worstFar < 0.02);
+}
+
+TEST_CASE("The original Cornell box (emissive panel, no sun) runs with shadows and LPV on by default") {
+    const char* path = RTGI_SHARED_SCENES "/cornell-box/cornell-box.gltf";
+    if (!std::ifstream(path)) {
+        MESSAGE("skipped: " << path << " is not present");
+        return;
+    }
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    Scene s = loadGltf(path);
+    Settings st = smallLpvSettings();
+    st.lpv.mode = Toggle::Auto;
+    st.light.localShadowSize = 128;
+    auto r = renderFrames(s, st, {48, 36}, prof);
+    for (const char* p : {"shadow.local", "direct", "lpv.rsm", "lpv.inject", "lpv.propagate", "lpv.apply"})
+        CHECK_MESSAGE(r->findPass(p) != nullptr, p);
+    CHECK(r->localLightsShadowed() == 1);  // the panel, as one area light
+    FloatImage direct = readTexture(r->resources().direct), indirect = readTexture(r->resources().indirectDiffuse);
+    double d = 0, ir = 0, ig = 0;
+    for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 48; ++x) {
+            d += direct.at(x, y, 0);
+            ir += indirect.at(x, y, 0);
+            ig += indirect.at(x, y, 1);
+        }
+    CHECK(d > 0.0);
+    CHECK(ir > 0.0);
+    CHECK(ig > 0.0);
 }

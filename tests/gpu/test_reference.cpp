@@ -435,8 +435,14 @@ TEST_CASE("Reference AO: ray origins from the point's own magnitude: a plane far
     // Floor beside a wall, moved far away and shrunk: AO against the
     // quadrature in the corner's own coordinates (a scene-size offset would
     // lift the origins off the floor; a too small one would self-intersect).
-    for (auto [t, k] : {std::pair{glm::vec3(1000.0f, 500.0f, -2000.0f), 1.0f}, std::pair{glm::vec3(0.0f), 1e-3f}}) {
+    // Third case: the corner beside a 2 km quad 100 m below it (out of its
+    // rays' reach): a scene-diagonal offset (1e-4 × 2.8 km = 0.28 m) would
+    // lift every origin far off the floor; the point's own magnitude does not.
+    for (int c = 0; c < 3; ++c) {
+        glm::vec3 t = c == 0 ? glm::vec3(1000.0f, 500.0f, -2000.0f) : glm::vec3(0.0f);
+        float k = c == 1 ? 1e-3f : 1.0f;
         Scene s = movedCorner(t, k);
+        if (c == 2) addQuad(s, {-1000, -100, 1000}, {1000, -100, 1000}, {1000, -100, -1000}, {-1000, -100, -1000}, 0);
         Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 64);
         const double length = 0.5;
         st.ao.radius = float(length) * k;
