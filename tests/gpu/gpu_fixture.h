@@ -151,6 +151,39 @@ inline glm::dvec3 worldPosition(const Scene& scene, const Settings& s, glm::ivec
     return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
 }
 
+// Closed box [-1,1]^3 of inward-facing quads, albedo a, emission le, with a
+// camera inside it (furnace tests, closed-box flux oracles).
+inline Scene closedBoxScene(float albedo, float le) {
+    Scene s;
+    s.name = "test:closed-box";
+    Material m;
+    m.baseColor = glm::vec4(glm::vec3(albedo), 1);
+    m.emissive = glm::vec3(le);
+    m.roughness = 1.0f;
+    s.materials.push_back(m);
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {-1.0f, 1.0f}) {
+            glm::vec3 q[4];
+            const float uv[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+            for (int k = 0; k < 4; ++k) {
+                q[k][axis] = side;
+                q[k][(axis + 1) % 3] = uv[k][0];
+                q[k][(axis + 2) % 3] = uv[k][1];
+            }
+            glm::vec3 n = glm::cross(q[1] - q[0], q[3] - q[0]), c = 0.25f * (q[0] + q[1] + q[2] + q[3]);
+            if (glm::dot(n, -c) > 0) addQuad(s, q[0], q[1], q[2], q[3], 0);
+            else addQuad(s, q[0], q[3], q[2], q[1], 0);
+        }
+    Camera c;
+    c.position = {0.2f, 0.1f, 0.3f};
+    c.target = {-0.5f, -0.3f, -1.0f};
+    c.fovY = glm::radians(70.0f);
+    c.near = 0.05f;
+    c.far = 10.0f;
+    s.cameras.push_back(c);
+    return s;
+}
+
 // Irradiance at p (unit normal n) from a uniform Lambertian polygon of
 // radiance le with corners q (either winding), two-sided, unoccluded:
 // E = le/2 |Σ_i θ_i n·(v_i × v_{i+1})/|v_i × v_{i+1}||, v_i = q_i − p

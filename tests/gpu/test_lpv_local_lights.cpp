@@ -13,37 +13,6 @@ using namespace rtgi::test;
 
 namespace {
 
-// Closed box [-1,1]^3 of inward-facing quads, albedo a, camera inside.
-Scene closedBox(float albedo) {
-    Scene s;
-    s.name = "test:closed-box";
-    Material m;
-    m.baseColor = glm::vec4(glm::vec3(albedo), 1);
-    m.roughness = 1.0f;
-    s.materials.push_back(m);
-    for (int axis = 0; axis < 3; ++axis)
-        for (float side : {-1.0f, 1.0f}) {
-            glm::vec3 q[4];
-            const float uv[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-            for (int k = 0; k < 4; ++k) {
-                q[k][axis] = side;
-                q[k][(axis + 1) % 3] = uv[k][0];
-                q[k][(axis + 2) % 3] = uv[k][1];
-            }
-            glm::vec3 n = glm::cross(q[1] - q[0], q[3] - q[0]), c = 0.25f * (q[0] + q[1] + q[2] + q[3]);
-            if (glm::dot(n, -c) > 0) addQuad(s, q[0], q[1], q[2], q[3], 0);
-            else addQuad(s, q[0], q[3], q[2], q[1], 0);
-        }
-    Camera c;
-    c.position = {0.3f, -0.2f, 0.6f};
-    c.target = {-0.4f, -0.3f, -1.0f};
-    c.fovY = glm::radians(70.0f);
-    c.near = 0.01f;
-    c.far = 10.0f;
-    s.cameras.push_back(c);
-    return s;
-}
-
 // Total flux in the injection accumulation (lpv.pack off keeps it): every
 // texel added Φ/π·cosLobe(n), whose Y00 coefficient is Φ/(2√π).
 glm::dvec3 injectedFlux(Renderer& r) {
@@ -83,7 +52,7 @@ TEST_CASE("LPV local lights: injected flux of a point and a spot light in a clos
     gl::Profiler prof(false);
     const double rho = 0.5, I = 2.0;
     for (int kind = 0; kind < 2; ++kind) {
-        Scene s = closedBox(float(rho));
+        Scene s = closedBoxScene(float(rho), 0.0f);
         Light l;
         l.position = {0.1f, 0.2f, -0.15f};
         l.intensity = float(I);

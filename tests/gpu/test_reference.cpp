@@ -200,38 +200,10 @@ TEST_CASE("Reference AO: floor beside a wall equals quadrature over the same geo
 }
 
 namespace {
-// Closed box [-1,1]^3 of inward-facing quads, albedo a, emission Le.
+// Closed box [-1,1]^3 (gpu_fixture.h) seen from inside.
 Scene furnaceBox(float albedo, float le) {
-    Scene s;
+    Scene s = closedBoxScene(albedo, le);
     s.name = "test:furnace";
-    Material m;
-    m.baseColor = glm::vec4(glm::vec3(albedo), 1);
-    m.emissive = glm::vec3(le);
-    m.roughness = 1.0f;
-    s.materials.push_back(m);
-    auto inward = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
-        glm::vec3 n = glm::cross(b - a, d - a), center = 0.25f * (a + b + c + d);
-        if (glm::dot(n, -center) > 0) addQuad(s, a, b, c, d, 0);
-        else addQuad(s, a, d, c, b, 0);
-    };
-    for (int axis = 0; axis < 3; ++axis)
-        for (float side : {-1.0f, 1.0f}) {
-            glm::vec3 q[4];
-            const float uv[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-            for (int k = 0; k < 4; ++k) {
-                q[k][axis] = side;
-                q[k][(axis + 1) % 3] = uv[k][0];
-                q[k][(axis + 2) % 3] = uv[k][1];
-            }
-            inward(q[0], q[1], q[2], q[3]);
-        }
-    Camera c;
-    c.position = {0.2f, 0.1f, 0.3f};
-    c.target = {-0.5f, -0.3f, -1.0f};
-    c.fovY = glm::radians(70.0f);
-    c.near = 0.05f;
-    c.far = 10.0f;
-    s.cameras.push_back(c);
     return s;
 }
 }  // namespace
