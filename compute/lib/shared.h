@@ -22,7 +22,6 @@ using uint = std::uint32_t;
 #define RTGI_SSBO_LIGHTS 2      // GpuLight[]
 #define RTGI_TEX_MATERIALS 0    // sampler2DArray of base-colour textures (raster passes)
 #define RTGI_SSBO_LOCAL_SHADOW_MATRICES 10  // mat4[]: world -> clip of every local-light shadow layer
-#define RTGI_TEX_LOCAL_SHADOWS 6            // sampler2DArrayShadow of the local lights (post/direct.comp)
 #define RTGI_ATTR_POSITION 0
 #define RTGI_ATTR_NORMAL 1
 #define RTGI_ATTR_UV 2

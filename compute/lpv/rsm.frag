@@ -9,8 +9,8 @@
 #include "raster/material.glsl"
 #ifdef RTGI_RSM_LOCAL
 #include "lib/lights.glsl"
-layout(location = RTGI_RSM_LOC_LIGHT) uniform vec4 uLight[4];  // the GpuLight: positionRange, colorIntensity, directionType, cone
-layout(location = RTGI_RSM_LOC_FACE) uniform vec2 uFace;       // tan(half field of view), RSM side R
+layout(location = RTGI_LPV_RSM_LOC_LIGHT) uniform vec4 uLight[4];  // the GpuLight: positionRange, colorIntensity, directionType, cone
+layout(location = RTGI_LPV_RSM_LOC_FACE) uniform vec2 uFace;       // tan(half field of view), RSM side R
 #endif
 
 layout(location = 0) in vec3 vWorldPos;

@@ -11,6 +11,7 @@
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
+#include "compute/lib/raster_shared.h"
 
 #include <algorithm>
 
@@ -99,7 +100,7 @@ public:
             ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
             const gl::Program& prog =
                 ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-            prog.set(0, in.rsmViewProj);
+            prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
             rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
         }
@@ -119,9 +120,9 @@ public:
             if (!r.ubo) r.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms.local" + std::to_string(i), sizeof(lu));
             r.ubo.upload(&lu, sizeof(lu));
             const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(views[i].light)];
-            local.set(0, views[i].viewProj);
-            glProgramUniform4fv(local.id(), RTGI_RSM_LOC_LIGHT, 4, &g.positionRange.x);
-            local.set(RTGI_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
+            local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, views[i].viewProj);
+            glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
+            local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo.id());
             rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
         }
@@ -271,10 +272,10 @@ public:
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp", {{"RTGI_LPV_SLICE_GEOMETRY", ""}});
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.pack (geometry)
-        glBindTextureUnit(0, v.geometry.id());
-        glBindTextureUnit(1, v.geometryAlbedo.id());
-        glBindImageTexture(0, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog.set(0, d.z / 2);
+        glBindTextureUnit(RTGI_LPV_SLICE_TEX_A, v.geometry.id());
+        glBindTextureUnit(RTGI_LPV_SLICE_TEX_B, v.geometryAlbedo.id());
+        glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_Z, d.z / 2);
         gl::dispatch(prog, d.x, d.y);
         return {{"lpv.geometry.slice", &st_->geometrySlice, 1.0f}};
     }
@@ -306,9 +307,9 @@ public:
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
         const lpv::Rgb& r = *st_->result;
-        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(c, r[c].id());
-        glBindImageTexture(0, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog.set(0, v.grid.z / 2);
+        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(RTGI_LPV_SLICE_TEX_A + c, r[c].id());
+        glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_Z, v.grid.z / 2);
         gl::dispatch(prog, v.grid.x, v.grid.y);
         FloatImage img = readTexture(st_->lightSlice);
         float m = 0;

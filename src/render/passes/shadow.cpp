@@ -3,6 +3,7 @@
 // lights (render/lights.h), one layer of a D32F array each.
 #include "gl/profiler.h"
 #include "gl/program.h"
+#include "compute/lib/raster_shared.h"
 #include "render/gpu_scene.h"
 #include "render/lights.h"
 #include "render/passes/core_passes.h"
@@ -112,7 +113,7 @@ std::unique_ptr<Pass> makeLocalShadowPass() { return std::make_unique<LocalShado
 void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size) {
     const gl::Program& prog =
         ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
-    prog.set(0, viewProj);
+    prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, viewProj);
     rasterizeScene(ctx, prog, fbo, size, 0, /*depthBias=*/true);
 }
 
