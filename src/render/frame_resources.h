@@ -35,6 +35,7 @@ struct FrameResources {
     // every shadow layer, and the layered depth maps (shadow.local).
     gl::Buffer localLights;          // GpuLight[] (bound at RTGI_SSBO_LIGHTS by the real-time passes)
     int localLightCount = 0;
+    int localLightsCulled = 0;       // this frame: outside the view (influence sphere) or zero intensity
     gl::Buffer localShadowMatrices;  // mat4[] per layer
     struct LocalShadowView {
         glm::mat4 viewProj;

@@ -169,6 +169,7 @@ void Renderer::uploadFrameUniforms(const View& v) {
             res_.localRsmViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
     if (!mats.empty()) res_.localShadowMatrices.upload(mats.data(), std::int64_t(mats.size() * sizeof(glm::mat4)));
     localCulled_ = fl.culled;
+    res_.localLightsCulled = fl.culled;
     localShadowed_ = fl.shadowed;
     u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, res_.localLightCount);
     frameUbo_.upload(&u, sizeof(u));

@@ -97,12 +97,17 @@ public:
         }
         for (auto& v : r.localShadowViews) renderShadowDepth(ctx, v.viewProj, fbos_[std::size_t(v.layer)].id(), {n, n});
         layersDrawn_ = int(r.localShadowViews.size());
+        culled_ = r.localLightsCulled;
     }
-    std::vector<std::pair<std::string, double>> stats() override { return {{"layers", double(layersDrawn_)}}; }
+    // Lights left out this frame (their influence sphere misses the view
+    // frustum, or zero intensity) and the layers drawn for the others.
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"layers", double(layersDrawn_)}, {"lights_culled", double(culled_)}};
+    }
 
 private:
     std::vector<gl::FramebufferHandle> fbos_;
-    int layersDrawn_ = 0;
+    int layersDrawn_ = 0, culled_ = 0;
 };
 
 }  // namespace
