@@ -1,0 +1,139 @@
+// Light list of the real-time path without GL (render/lights.h,
+// scene/emitters.h): emissive regions (union-find over shared corners with
+// agreeing normals), area-light power, frustum culling of influence spheres,
+// shadow layer layout.
+#include "render/lights.h"
+#include "render/view.h"
+#include "scene/emitters.h"
+
+#include <doctest/doctest.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace rtgi;
+
+namespace {
+
+void quad(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int m) {
+    glm::vec3 n = glm::normalize(glm::cross(b - a, d - a));
+    auto base = std::uint32_t(s.vertices.size());
+    for (auto p : {a, b, c, d}) s.vertices.push_back({p, n, {0, 0}});
+    DrawRange r{std::uint32_t(s.indices.size()), 6, m};
+    for (auto i : {0u, 1u, 2u, 0u, 2u, 3u}) s.indices.push_back(base + i);
+    s.draws.push_back(r);
+}
+
+Scene emitterScene() {
+    Scene s;
+    Material white, lamp;
+    lamp.emissive = glm::vec3(2.0f, 1.0f, 0.5f);
+    s.materials = {white, lamp};
+    quad(s, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}, 0);  // floor, not emissive
+    // Panel A: two quads sharing an edge, facing down (1 m x 0.5 m at y = 3).
+    quad(s, {-1, 3, -0.5f}, {0, 3, -0.5f}, {0, 3, 0}, {-1, 3, 0}, 1);
+    quad(s, {0, 3, -0.5f}, {1, 3, -0.5f}, {1, 3, 0}, {0, 3, 0}, 1);
+    for (std::size_t i = 4; i < s.vertices.size(); ++i) s.vertices[i].normal = {0, -1, 0};
+    // Panel B: a separate 0.2 m square far away, facing +x.
+    quad(s, {4, 1, -0.1f}, {4, 1, 0.1f}, {4, 1.2f, 0.1f}, {4, 1.2f, -0.1f}, 1);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("emissive regions: connected coplanar triangles form one region with its area, centroid, normal, power") {
+    Scene s = emitterScene();
+    auto tris = emissiveTriangles(s, s.materials);
+    CHECK(tris.size() == 6);  // 2 + 2 + 2, the floor does not emit
+    double area = 0;
+    for (auto& t : tris) area += t.area;
+    CHECK(area == doctest::Approx(1.0 + 0.04));
+    auto regions = emissiveRegions(s, s.materials);
+    REQUIRE(regions.size() == 2);
+    std::sort(regions.begin(), regions.end(), [](auto& a, auto& b) { return a.area > b.area; });
+    const EmissiveRegion& a = regions[0];
+    CHECK(a.area == doctest::Approx(1.0));
+    CHECK(a.triangles == 4);
+    CHECK(a.centroid.x == doctest::Approx(0.0).scale(1.0));
+    CHECK(a.centroid.y == doctest::Approx(3.0));
+    CHECK(a.centroid.z == doctest::Approx(-0.25));
+    CHECK(a.normal.y == doctest::Approx(-1.0));  // the side the vertex normals point to
+    CHECK(a.power().x == doctest::Approx(M_PI * 2.0 * 1.0));
+    const EmissiveRegion& b = regions[1];
+    CHECK(b.area == doctest::Approx(0.04));
+    CHECK(std::abs(b.normal.x) == doctest::Approx(1.0));
+
+    // A folded pair (90° between the halves) is two regions even though it shares an edge.
+    Scene f;
+    Material lamp;
+    lamp.emissive = glm::vec3(1.0f);
+    f.materials = {lamp};
+    quad(f, {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, 0);
+    quad(f, {0, 0, 0}, {0, 0, -1}, {0, 1, -1}, {0, 1, 0}, 0);
+    CHECK(emissiveRegions(f, f.materials).size() == 2);
+}
+
+TEST_CASE("local lights: area lights from regions, culling by influence sphere, shadow layer layout") {
+    Scene s = emitterScene();
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.name = "spot";
+    spot.position = {0, 2, 2};
+    spot.direction = {0, -1, 0};
+    spot.intensity = 5.0f;
+    spot.outerCone = 0.5f;
+    s.lights.push_back(spot);
+    Light behind;
+    behind.type = LightType::Point;
+    behind.name = "behind";
+    behind.position = {0, 1, 30};
+    behind.range = 1.0f;
+    behind.intensity = 5.0f;
+    s.lights.push_back(behind);
+    Settings st;
+    LocalLights ll = resolveLocalLights(s, st);
+    REQUIRE(ll.lights.size() == 4);  // spot, point, 2 area lights
+    CHECK(ll.sceneLights == 2);
+    CHECK(maxShadowLayers(ll) == 1 + 6 + 6 + 6);
+    int areas = 0;
+    for (auto& l : ll.lights) areas += int(l.gpu.directionType.w) == RTGI_LIGHT_AREA;
+    CHECK(areas == 2);
+    st.light.emissiveLights = false;
+    CHECK(resolveLocalLights(s, st).lights.size() == 2);
+    CHECK(hasLocalLights(s, st));
+    st.light.emissiveLights = true;
+
+    // Camera at (0, 1.5, 8) looking at -z: the ranged light at z = 30 is behind it.
+    glm::mat4 view = glm::lookAt(glm::vec3(0, 1.5f, 8), glm::vec3(0, 1.5f, 0), glm::vec3(0, 1, 0));
+    glm::mat4 proj = glm::perspective(glm::radians(60.0f), 1.5f, 0.1f, 100.0f);
+    Aabb box = s.bounds();
+    FrameLights fl = frameLights(ll, proj * view, box, true, 256);
+    REQUIRE(fl.gpu.size() == 4);
+    CHECK(fl.culled == 1);
+    CHECK(fl.gpu[1].directionType.w == 0.0f);  // culled: the direct pass skips it
+    CHECK(fl.shadowed == 3);
+    CHECK(fl.views.size() == 1 + 6 + 6);
+    CHECK(fl.gpu[0].cone.z == 0.0f);   // the spot's map is layer 0
+    CHECK(fl.gpu[2].cone.z == 1.0f);   // then the cubes
+    CHECK(fl.gpu[3].cone.z == 7.0f);
+    for (std::size_t i = 0; i < fl.views.size(); ++i) CHECK(fl.views[i].layer == int(i));
+    // Every cube face's frustum holds the points along its axis, and the
+    // spot's holds its axis.
+    glm::vec3 p(fl.gpu[2].positionRange);
+    const glm::vec3 axis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int k = 0; k < 6; ++k) {
+        glm::vec4 c = fl.views[std::size_t(1 + k)].viewProj * glm::vec4(p + 0.5f * axis[k], 1.0f);
+        CHECK(std::abs(c.x / c.w) < 1e-4f);
+        CHECK(std::abs(c.y / c.w) < 1e-4f);
+        CHECK(c.z / c.w > -1.0f);
+        CHECK(c.z / c.w < 1.0f);
+    }
+    // No shadows requested: nothing gets a layer.
+    FrameLights plain = frameLights(ll, proj * view, box, false, 256);
+    CHECK(plain.views.empty());
+    for (auto& g : plain.gpu) CHECK(g.cone.z == -1.0f);
+    // A sphere straddling a frustum plane is kept, one fully outside is not.
+    CHECK(sphereInFrustum(proj * view, {0, 1.5f, 8.5f}, 1.0f));
+    CHECK_FALSE(sphereInFrustum(proj * view, {0, 1.5f, 12.0f}, 1.0f));
+}
