@@ -76,29 +76,96 @@ std::vector<EmissiveRegion> emissiveRegions(const Scene& scene, const std::vecto
                 glm::dvec3 na = glm::normalize(items[list[a]].t.cross), nb = glm::normalize(items[list[b]].t.cross);
                 if (glm::dot(na, nb) >= kRegionCos) parent[find(list[a])] = find(list[b]);
             }
-    std::map<std::size_t, EmissiveRegion> regions;
-    for (std::size_t i = 0; i < items.size(); ++i) {
-        auto [it, fresh] = regions.try_emplace(find(i));
-        EmissiveRegion& r = it->second;
-        if (fresh) r.normal = glm::dvec3(0.0);  // accumulated below
-        double a = 0.5 * glm::length(items[i].t.cross);
-        r.centroid += a * (items[i].t.p[0] + items[i].t.p[1] + items[i].t.p[2]) / 3.0;
-        r.normal += 0.5 * items[i].t.cross;
-        r.radiance += a * items[i].le;
-        r.area += a;
-        ++r.triangles;
-    }
+    std::map<std::size_t, std::vector<std::size_t>> groups;
+    for (std::size_t i = 0; i < items.size(); ++i) groups[find(i)].push_back(i);
+
     std::vector<EmissiveRegion> out;
-    for (auto& [root, r] : regions) {
-        r.centroid /= r.area;
-        r.radiance /= r.area;
-        double ln = glm::length(r.normal);
-        r.normal = ln > 0 ? r.normal / ln : glm::dvec3(0, 1, 0);
-        out.push_back(r);
-    }
-    for (std::size_t i = 0; i < items.size(); ++i) {
-        EmissiveRegion& r = out[std::size_t(std::distance(regions.begin(), regions.find(find(i))))];
-        for (auto& p : items[i].t.p) r.radius = std::max(r.radius, glm::length(p - r.centroid));
+    for (auto& [root, members] : groups) {
+        // The whole region: normal, and its in-plane extent along the
+        // principal axis t1 of its vertices (and t2 across it).
+        glm::dvec3 normal(0.0), centroid(0.0);
+        double area = 0;
+        for (std::size_t i : members) {
+            double a = 0.5 * glm::length(items[i].t.cross);
+            normal += 0.5 * items[i].t.cross;
+            centroid += a * (items[i].t.p[0] + items[i].t.p[1] + items[i].t.p[2]) / 3.0;
+            area += a;
+        }
+        double ln = glm::length(normal);
+        normal = ln > 0 ? normal / ln : glm::dvec3(0, 1, 0);
+        centroid /= area;
+        glm::dvec3 u = std::abs(normal.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+        u = glm::normalize(u - normal * glm::dot(u, normal));
+        glm::dvec3 v = glm::cross(normal, u);
+        // Second moments of the area (not of the vertices, so the triangulation
+        // does not tilt the axis): ∫ x xᵀ dA = A/12 (Σ pᵢpᵢᵀ + s sᵀ), s = Σ pᵢ.
+        double cuu = 0, cvv = 0, cuv = 0;
+        for (std::size_t i : members) {
+            double a = 0.5 * glm::length(items[i].t.cross), su = 0, sv = 0, uu = 0, vv = 0, uv = 0;
+            for (auto& p : items[i].t.p) {
+                double pu = glm::dot(p - centroid, u), pv = glm::dot(p - centroid, v);
+                su += pu, sv += pv, uu += pu * pu, vv += pv * pv, uv += pu * pv;
+            }
+            cuu += a / 12.0 * (uu + su * su);
+            cvv += a / 12.0 * (vv + sv * sv);
+            cuv += a / 12.0 * (uv + su * sv);
+        }
+        double angle = 0.5 * std::atan2(2.0 * cuv, cuu - cvv);
+        glm::dvec3 t1 = std::cos(angle) * u + std::sin(angle) * v, t2 = glm::cross(normal, t1);
+        double lo1 = 1e300, hi1 = -1e300, lo2 = 1e300, hi2 = -1e300;
+        for (std::size_t i : members)
+            for (auto& p : items[i].t.p) {
+                double a = glm::dot(p - centroid, t1), b = glm::dot(p - centroid, t2);
+                lo1 = std::min(lo1, a), hi1 = std::max(hi1, a), lo2 = std::min(lo2, b), hi2 = std::max(hi2, b);
+            }
+        // Elongated regions (strip lights) are cut across t1 into k slabs of
+        // about square shape, k = round(length / width) ≤ kMaxRegionPieces;
+        // each slab is one light (its clipped area, centroid, radiance).
+        double len = hi1 - lo1, width = std::max(hi2 - lo2, 1e-12 * len);
+        int k = int(std::clamp(std::round(len / width), 1.0, double(kMaxRegionPieces)));
+        std::vector<EmissiveRegion> pieces(static_cast<std::size_t>(k));
+        for (auto& r : pieces) r.normal = normal;
+        for (std::size_t i : members) {
+            const Item& it = items[i];
+            for (int piece = 0; piece < k; ++piece) {
+                // Sutherland–Hodgman: the triangle clipped to lo1 + [piece, piece+1]·len/k along t1.
+                std::vector<glm::dvec3> poly(it.t.p, it.t.p + 3);
+                const double bounds[2] = {lo1 + len * piece / k, lo1 + len * (piece + 1) / k};
+                for (int side = 0; side < 2 && k > 1; ++side) {
+                    std::vector<glm::dvec3> next;
+                    auto inside = [&](const glm::dvec3& p) {
+                        double sdist = glm::dot(p - centroid, t1) - bounds[side];
+                        return side == 0 ? sdist >= 0 : sdist <= 0;
+                    };
+                    for (std::size_t a = 0; a < poly.size(); ++a) {
+                        const glm::dvec3 &p = poly[a], &q = poly[(a + 1) % poly.size()];
+                        bool ip = inside(p), iq = inside(q);
+                        if (ip) next.push_back(p);
+                        if (ip != iq) {
+                            double dp = glm::dot(p - centroid, t1) - bounds[side], dq = glm::dot(q - centroid, t1) - bounds[side];
+                            next.push_back(p + (q - p) * (dp / (dp - dq)));
+                        }
+                    }
+                    poly = std::move(next);
+                    if (poly.size() < 3) break;
+                }
+                if (poly.size() < 3) continue;
+                EmissiveRegion& r = pieces[std::size_t(piece)];
+                for (std::size_t a = 1; a + 1 < poly.size(); ++a) {  // fan
+                    double at = 0.5 * glm::length(glm::cross(poly[a] - poly[0], poly[a + 1] - poly[0]));
+                    r.centroid += at * (poly[0] + poly[a] + poly[a + 1]) / 3.0;
+                    r.radiance += at * it.le;
+                    r.area += at;
+                }
+                ++r.triangles;
+            }
+        }
+        for (auto& r : pieces) {
+            if (!(r.area > 0)) continue;
+            r.centroid /= r.area;
+            r.radiance /= r.area;
+            out.push_back(r);
+        }
     }
     return out;
 }

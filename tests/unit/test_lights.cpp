@@ -31,9 +31,9 @@ Scene emitterScene() {
     lamp.emissive = glm::vec3(2.0f, 1.0f, 0.5f);
     s.materials = {white, lamp};
     quad(s, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}, 0);  // floor, not emissive
-    // Panel A: two quads sharing an edge, facing down (1 m x 0.5 m at y = 3).
-    quad(s, {-1, 3, -0.5f}, {0, 3, -0.5f}, {0, 3, 0}, {-1, 3, 0}, 1);
-    quad(s, {0, 3, -0.5f}, {1, 3, -0.5f}, {1, 3, 0}, {0, 3, 0}, 1);
+    // Panel A: two quads sharing an edge, facing down (1 m x 0.8 m at y = 3).
+    quad(s, {-0.5f, 3, -0.8f}, {0, 3, -0.8f}, {0, 3, 0}, {-0.5f, 3, 0}, 1);
+    quad(s, {0, 3, -0.8f}, {0.5f, 3, -0.8f}, {0.5f, 3, 0}, {0, 3, 0}, 1);
     for (std::size_t i = 4; i < s.vertices.size(); ++i) s.vertices[i].normal = {0, -1, 0};
     // Panel B: a separate 0.2 m square far away, facing +x.
     quad(s, {4, 1, -0.1f}, {4, 1, 0.1f}, {4, 1.2f, 0.1f}, {4, 1.2f, -0.1f}, 1);
@@ -48,18 +48,18 @@ TEST_CASE("emissive regions: connected coplanar triangles form one region with i
     CHECK(tris.size() == 6);  // 2 + 2 + 2, the floor does not emit
     double area = 0;
     for (auto& t : tris) area += t.area;
-    CHECK(area == doctest::Approx(1.0 + 0.04));
+    CHECK(area == doctest::Approx(0.8 + 0.04));
     auto regions = emissiveRegions(s, s.materials);
     REQUIRE(regions.size() == 2);
     std::sort(regions.begin(), regions.end(), [](auto& a, auto& b) { return a.area > b.area; });
     const EmissiveRegion& a = regions[0];
-    CHECK(a.area == doctest::Approx(1.0));
+    CHECK(a.area == doctest::Approx(0.8));
     CHECK(a.triangles == 4);
     CHECK(a.centroid.x == doctest::Approx(0.0).scale(1.0));
     CHECK(a.centroid.y == doctest::Approx(3.0));
-    CHECK(a.centroid.z == doctest::Approx(-0.25));
+    CHECK(a.centroid.z == doctest::Approx(-0.4));
     CHECK(a.normal.y == doctest::Approx(-1.0));  // the side the vertex normals point to
-    CHECK(a.power().x == doctest::Approx(M_PI * 2.0 * 1.0));
+    CHECK(a.power().x == doctest::Approx(M_PI * 2.0 * 0.8));
     const EmissiveRegion& b = regions[1];
     CHECK(b.area == doctest::Approx(0.04));
     CHECK(std::abs(b.normal.x) == doctest::Approx(1.0));
@@ -72,6 +72,33 @@ TEST_CASE("emissive regions: connected coplanar triangles form one region with i
     quad(f, {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, 0);
     quad(f, {0, 0, 0}, {0, 0, -1}, {0, 1, -1}, {0, 1, 0}, 0);
     CHECK(emissiveRegions(f, f.materials).size() == 2);
+}
+
+TEST_CASE("emissive regions: a strip light (one quad, 2 m x 0.25 m) is cut into 8 square slabs carrying its power") {
+    Scene s;
+    Material lamp;
+    lamp.emissive = glm::vec3(3.0f);
+    s.materials = {lamp};
+    quad(s, {-1, 2, 0}, {1, 2, 0}, {1, 2, -0.25f}, {-1, 2, -0.25f}, 0);  // two long triangles
+    auto regions = emissiveRegions(s, s.materials);
+    REQUIRE(regions.size() == 8);  // round(2 / 0.25) = 8 = kMaxRegionPieces
+    std::sort(regions.begin(), regions.end(), [](auto& a, auto& b) { return a.centroid.x < b.centroid.x; });
+    double power = 0;
+    for (int i = 0; i < 8; ++i) {
+        const EmissiveRegion& r = regions[std::size_t(i)];
+        CHECK(r.area == doctest::Approx(0.0625));
+        CHECK(r.centroid.x == doctest::Approx(-1.0 + 0.25 * (i + 0.5)));
+        CHECK(r.centroid.y == doctest::Approx(2.0));
+        CHECK(r.centroid.z == doctest::Approx(-0.125));
+        CHECK(r.radiance.x == doctest::Approx(3.0));
+        power += r.power().x;
+    }
+    CHECK(power == doctest::Approx(M_PI * 3.0 * 0.5));  // π·Le·A of the whole strip
+    // A 0.47 x 0.38 panel (the Cornell box's) stays one light.
+    Scene p;
+    p.materials = {lamp};
+    quad(p, {-0.24f, 1.98f, 0.16f}, {0.23f, 1.98f, 0.16f}, {0.23f, 1.98f, -0.22f}, {-0.24f, 1.98f, -0.22f}, 0);
+    CHECK(emissiveRegions(p, p.materials).size() == 1);
 }
 
 TEST_CASE("local lights: area lights from regions, culling by influence sphere, shadow layer layout") {
