@@ -5,6 +5,7 @@
 #include "render/lights.h"
 #include "render/view.h"
 #include "scene/emitters.h"
+#include "test_scenes.h"
 
 #include <doctest/doctest.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -13,30 +14,22 @@
 #include <cmath>
 
 using namespace rtgi;
+using rtgi::test::addQuad;
 
 namespace {
-
-void quad(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int m) {
-    glm::vec3 n = glm::normalize(glm::cross(b - a, d - a));
-    auto base = std::uint32_t(s.vertices.size());
-    for (auto p : {a, b, c, d}) s.vertices.push_back({p, n, {0, 0}});
-    DrawRange r{std::uint32_t(s.indices.size()), 6, m};
-    for (auto i : {0u, 1u, 2u, 0u, 2u, 3u}) s.indices.push_back(base + i);
-    s.draws.push_back(r);
-}
 
 Scene emitterScene() {
     Scene s;
     Material white, lamp;
     lamp.emissive = glm::vec3(2.0f, 1.0f, 0.5f);
     s.materials = {white, lamp};
-    quad(s, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}, 0);  // floor, not emissive
+    addQuad(s, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}, 0);  // floor, not emissive
     // Panel A: two quads sharing an edge, facing down (1 m x 0.8 m at y = 3).
-    quad(s, {-0.5f, 3, -0.8f}, {0, 3, -0.8f}, {0, 3, 0}, {-0.5f, 3, 0}, 1);
-    quad(s, {0, 3, -0.8f}, {0.5f, 3, -0.8f}, {0.5f, 3, 0}, {0, 3, 0}, 1);
+    addQuad(s, {-0.5f, 3, -0.8f}, {0, 3, -0.8f}, {0, 3, 0}, {-0.5f, 3, 0}, 1);
+    addQuad(s, {0, 3, -0.8f}, {0.5f, 3, -0.8f}, {0.5f, 3, 0}, {0, 3, 0}, 1);
     for (std::size_t i = 4; i < s.vertices.size(); ++i) s.vertices[i].normal = {0, -1, 0};
     // Panel B: a separate 0.2 m square far away, facing +x.
-    quad(s, {4, 1, -0.1f}, {4, 1, 0.1f}, {4, 1.2f, 0.1f}, {4, 1.2f, -0.1f}, 1);
+    addQuad(s, {4, 1, -0.1f}, {4, 1, 0.1f}, {4, 1.2f, 0.1f}, {4, 1.2f, -0.1f}, 1);
     return s;
 }
 
@@ -69,8 +62,8 @@ TEST_CASE("emissive regions: connected coplanar triangles form one region with i
     Material lamp;
     lamp.emissive = glm::vec3(1.0f);
     f.materials = {lamp};
-    quad(f, {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, 0);
-    quad(f, {0, 0, 0}, {0, 0, -1}, {0, 1, -1}, {0, 1, 0}, 0);
+    addQuad(f, {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, 0);
+    addQuad(f, {0, 0, 0}, {0, 0, -1}, {0, 1, -1}, {0, 1, 0}, 0);
     CHECK(emissiveRegions(f, f.materials).size() == 2);
 }
 
@@ -79,7 +72,7 @@ TEST_CASE("emissive regions: a strip light (one quad, 2 m x 0.25 m) is cut into 
     Material lamp;
     lamp.emissive = glm::vec3(3.0f);
     s.materials = {lamp};
-    quad(s, {-1, 2, 0}, {1, 2, 0}, {1, 2, -0.25f}, {-1, 2, -0.25f}, 0);  // two long triangles
+    addQuad(s, {-1, 2, 0}, {1, 2, 0}, {1, 2, -0.25f}, {-1, 2, -0.25f}, 0);  // two long triangles
     auto regions = emissiveRegions(s, s.materials);
     REQUIRE(regions.size() == 8);  // round(2 / 0.25) = 8 = kMaxRegionPieces
     std::sort(regions.begin(), regions.end(), [](auto& a, auto& b) { return a.centroid.x < b.centroid.x; });
@@ -97,7 +90,7 @@ TEST_CASE("emissive regions: a strip light (one quad, 2 m x 0.25 m) is cut into 
     // A 0.47 x 0.38 panel (the Cornell box's) stays one light.
     Scene p;
     p.materials = {lamp};
-    quad(p, {-0.24f, 1.98f, 0.16f}, {0.23f, 1.98f, 0.16f}, {0.23f, 1.98f, -0.22f}, {-0.24f, 1.98f, -0.22f}, 0);
+    addQuad(p, {-0.24f, 1.98f, 0.16f}, {0.23f, 1.98f, 0.16f}, {0.23f, 1.98f, -0.22f}, {-0.24f, 1.98f, -0.22f}, 0);
     CHECK(emissiveRegions(p, p.materials).size() == 1);
 }
 
