@@ -440,6 +440,7 @@ TEST_CASE("Reference AO: ray origins from the point's own magnitude: a plane far
         CHECK(outside <= n / 50);
         CHECK(std::abs(sumDiff / n) <= 3.0 * std::sqrt(sumVar) / n + 2e-3);
     }
+}
 
 TEST_CASE("Reference: progressive mode (rtgi-view's live comparison) converges to the all-at-once trace; a new view restarts it") {
     // Oracle: the normal trace of the same samples (sample i of a pixel is a
