@@ -108,4 +108,6 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 // uniform locations
 #define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
+#define RTGI_LPV_RSM_LOC_LIGHT 1  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 1-4
+#define RTGI_LPV_RSM_LOC_FACE  5  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
 #endif

@@ -6,9 +6,14 @@
 //     (diffuseAlbedo/π·E, the convention of res.indirectDiffuse). x1's own
 //     emission, its direct sun/punctual light and sky seen directly from x1
 //     (the compose pass's ambient term) are excluded.
-// Next-event estimation for the sun and punctual lights; emission and sky
-// are picked up by BRDF-sampled rays (no double counting). uSamples.w caps
-// the number of bounces after x1; Russian roulette from the third on.
+// Next-event estimation for the sun and punctual lights (shadow rays) and,
+// with RTGI_REF_EMITTER_NEE, for emissive triangles (area sampling, MIS with
+// the BRDF-sampled rays that hit them, ref_scene.glsl); sky is picked up by
+// BRDF-sampled rays. In the indirect kind with RTGI_REF_EMISSION_IS_DIRECT
+// (emissive.lights=on), emission seen directly from x1 is x1's direct light
+// (the real-time path turns emitters into lights of the direct pass) and is
+// left out. uSamples.w caps the number of bounces
+// after x1; Russian roulette from the third on.
 #include "lib/common.glsl"
 #include "lib/bvh_shared.h"
 #include "lib/depth.glsl"
@@ -16,6 +21,7 @@
 #include "lib/random.glsl"
 #include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
+#include "lib/lights.glsl"
 #include "lib/ref_scene.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
@@ -30,13 +36,16 @@ layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // �
 
 
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
-layout(location = RTGI_REF_LOC_RAY) uniform vec2 uRay;       // unused, origin offset along the normal
 
-// Radiance arriving along (ro, rd) at a surface; `fromFirst` marks the ray
-// leaving x1 (escaping it sees the sky directly).
-vec3 traceRadiance(vec3 ro, vec3 rd, vec3 throughput, inout Rng rng) {
+// Reconstruction of x1 from linear depth: its error is relative to the
+// camera position and the depth, so the origin offset scales with them.
+float gbufferMagnitude(float d) { return max(maxAbs(frame.cameraPos.xyz), d); }
+
+// Radiance arriving along (ro, rd) at a surface; the ray was sampled by the
+// BRDF at its origin with solid-angle pdf `pdf` (for the MIS weight of
+// emission it hits).
+vec3 traceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, inout Rng rng) {
     vec3 L = vec3(0.0);
-    float eps = uRay.y;
     for (uint bounce = 1u; bounce <= uSamples.w; ++bounce) {
         Hit h;
         if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
@@ -48,11 +57,19 @@ vec3 traceRadiance(vec3 ro, vec3 rd, vec3 throughput, inout Rng rng) {
         }
         Surface x = surfaceAt(h, ro, rd);
         vec3 v = -rd;
-        vec3 origin = x.position + x.geometric * eps;
-        L += throughput * (x.emission + directLight(x, v, origin));
+        vec3 origin = offsetRayOrigin(x.position, x.geometric, maxAbs(ro));
+        float misWeight = emissionMisWeight(pdf, h.t, rd, x.geometric);
+#ifndef RTGI_REF_FULL
+        if (bounce == 1u) misWeight = 1.0;  // x1 samples no emitters in the indirect kind
+#ifdef RTGI_REF_EMISSION_IS_DIRECT
+        if (bounce == 1u) misWeight = 0.0;  // emission seen from x1 is x1's direct light (emissive.lights=on)
+#endif
+#endif
+        L += throughput * x.emission * misWeight;
+        L += throughput * (directLight(x, v, origin) + sampleEmitters(x, v, origin, rng));
         if (bounce == uSamples.w) break;
         vec3 l, w;
-        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w)) break;
+        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w, pdf)) break;
         if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
         throughput *= w;
         if (bounce >= 3u) {
@@ -92,16 +109,18 @@ void main() {
         s.roughness = rm.x;
         s.metallic = rm.y;
         s.emission = texelFetch(uEmissive, p, 0).rgb;
-        vec3 origin = s.position + n * uRay.y;
+        vec3 origin = offsetRayOrigin(s.position, n, gbufferMagnitude(d));
         for (uint k = 0u; k < uSamples.y; ++k) {
             Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
 #ifdef RTGI_REF_FULL
-            vec3 L = s.emission + directLight(s, v, origin);
+            vec3 L = s.emission + directLight(s, v, origin) + sampleEmitters(s, v, origin, rng);
             vec3 l, w;
-            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w)) L += traceRadiance(origin, l, w, rng);
+            float pdf;
+            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w, pdf))
+                L += traceRadiance(origin, l, pdf, w, rng);
 #else
             vec3 l = cosineHemisphere(rngNext2(rng), n);
-            vec3 L = traceRadiance(origin, l, diffuseAlbedo(s.albedo, s.metallic), rng);
+            vec3 L = traceRadiance(origin, l, dot(n, l) * INV_PI, diffuseAlbedo(s.albedo, s.metallic), rng);
 #endif
             // A non-finite sample (degenerate geometry) is dropped, never accumulated.
             if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);

@@ -41,6 +41,7 @@ std::vector<std::unique_ptr<Pass>> frameScript() {
     std::vector<std::unique_ptr<Pass>> f;
     f.push_back(makeGBufferPass());  // rasterize depth, normals, albedo, material, emission, velocity
     f.push_back(makeShadowPass());   // sun shadow map (rasterized)
+    f.push_back(makeLocalShadowPass());  // spot / point / area-light shadow maps
     f.push_back(makeDirectPass());   // direct sun + punctual lights + emission (compute)
     f.push_back(makeBrdfLutPass());  // split-sum BRDF table, once, while SSR or LPV specular reads it
     appendAoPasses(f);               // ao.<variant> -> blur -> temporal -> upsample (+ bent normals / S3HO)

@@ -147,6 +147,10 @@ std::vector<SettingKey> buildKeys() {
             s.light.emissiveScale = parseFloat("emissive.scale", v, 0, 1e12), fmt(s.light.emissiveScale)),
         KEY("shadow.size", "sun shadow map side in texels", "16..16384",
             s.light.shadowSize = parseInt("shadow.size", v, 16, 16384), fmt(s.light.shadowSize)),
+        KEY("shadow.local_size", "side of each spot-light shadow map and point/area-light cube face", "16..8192",
+            s.light.localShadowSize = parseInt("shadow.local_size", v, 16, 8192), fmt(s.light.localShadowSize)),
+        KEY("emissive.lights", "each connected emissive region becomes a shadowed area light of the real-time path",
+            "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
         KEY("post.exposure", "exposure multiplier before tonemapping", "1e-12..1e12",
             s.post.exposure = parseFloat("post.exposure", v, 1e-12, 1e12), fmt(s.post.exposure)),
         KEY("passes.off", "comma-separated pass names forced off", "name,name,...", s.post.passesOff = v,
@@ -258,6 +262,10 @@ std::vector<SettingKey> buildKeys() {
             s.reference.seed = parseInt("reference.seed", v, 0, 2147483647), fmt(s.reference.seed)),
         KEY("reference.specular", "GGX lobe in the path tracer (off: Lambert only)", "on|off",
             s.reference.specular = parseBool("reference.specular", v), s.reference.specular ? "on" : "off"),
+        KEY("reference.light_sampling",
+            "next-event estimation of emissive triangles, MIS with BRDF sampling (off: emitters found by BRDF rays only)",
+            "on|off", s.reference.lightSampling = parseBool("reference.light_sampling", v),
+            s.reference.lightSampling ? "on" : "off"),
     };
 }
 

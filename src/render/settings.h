@@ -34,6 +34,10 @@ struct LightSettings {
     std::optional<float> sky;           // constant sky radiance override
     float emissiveScale = 1.0f;
     int shadowSize = 2048;
+    // Side of each spot light's shadow map and of each cube face of a point /
+    // area light (6 per light); 16 point lights at 2048² would need 1.6 GB.
+    int localShadowSize = 512;
+    bool emissiveLights = true;  // emissive regions become area lights of the real-time path
 };
 
 struct PostSettings {
@@ -103,6 +107,7 @@ struct ReferenceSettings {
     std::string cacheDir = defaultReferenceCacheDir();  // "off" = no cache
     int seed = 1;                         // fixed seed of the sample sequence
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
+    bool lightSampling = true;            // next-event estimation of emissive triangles with MIS (off: BRDF sampling only)
 };
 
 struct Settings {

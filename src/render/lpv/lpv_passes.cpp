@@ -6,6 +6,7 @@
 
 #include "gl/profiler.h"
 #include "render/gpu_scene.h"
+#include "render/lights.h"
 #include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
@@ -17,10 +18,22 @@
 namespace rtgi {
 namespace {
 
+// One RSM of the frame: its targets, its view-projection and its copy of the
+// uniform block (rsmViewProj / rsmInvViewProj of this RSM), so injection loops
+// over the list (docs/lpv.md "RSMs of local lights").
+struct LocalRsm {
+    lpv::Rsm rsm;
+    gl::FramebufferHandle fbo;
+    gl::Buffer ubo;
+};
+
 struct LpvState {
     lpv::Volumes volumes;
-    lpv::Rsm rsm;
+    lpv::Rsm rsm;  // the sun's (orthographic), when there is a sun
     gl::FramebufferHandle rsmFbo;
+    bool sunRsm = false;
+    std::vector<LocalRsm> local;  // one per face of a kept spot / point / area light
+    int localUsed = 0;            // how many of `local` this frame rendered
     gl::Buffer ubo, stats;
     lpv::Placement placement, previous;
     bool havePrevious = false;
@@ -62,9 +75,10 @@ public:
         const LpvSettings& ls = ctx.settings.lpv;
         st.placement = lpv::placeVolume(ls, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
         auto sun = resolveSun(ctx.scene, ctx.settings);
+        st.sunRsm = sun.has_value();
         lpv::UniformInputs in;
         in.placement = st.placement;
-        in.rsmViewProj = orthoLightViewProj(st.placement.box(), sun->towardSun);
+        in.rsmViewProj = orthoLightViewProj(st.placement.box(), sun ? sun->towardSun : glm::vec3(0, 1, 0));
         in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
         bool compatible = st.havePrevious && lpv::historyCompatible(st.placement, st.previous);
         in.historyValid = compatible && !ctx.view.cut;
@@ -76,30 +90,49 @@ public:
         st.havePrevious = true;
 
         int n = ls.rsm;
-        bool changed = st.rsm.flux.ensure(ctx.ledger, "lpv.rsm.flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
-        changed |= st.rsm.normal.ensure(ctx.ledger, "lpv.rsm.normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
-        changed |= st.rsm.depth.ensure(ctx.ledger, "lpv.rsm.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
-        if (changed || !st.rsmFbo) {
-            GLuint f = 0;
-            glCreateFramebuffers(1, &f);
-            st.rsmFbo = gl::FramebufferHandle(f);
-            st.rsmFbo.label("lpv.rsm.fbo");
-            glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, st.rsm.flux.id(), 0);
-            glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, st.rsm.normal.id(), 0);
-            glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, st.rsm.depth.id(), 0);
-            const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-            glNamedFramebufferDrawBuffers(f, 2, bufs);
-            if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-                throw std::runtime_error("lpv.rsm: framebuffer incomplete");
+        if (st.sunRsm) {
+            ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
+            const gl::Program& prog =
+                ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
+            prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+            rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
         }
-        const gl::Program& prog =
-            ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
+        // Local lights: one perspective RSM per spot light, six per point /
+        // area light, each with its own uniform block (its view-projection).
+        const auto& views = ctx.res.localRsmViews;
+        if (st.local.size() < views.size()) st.local.resize(views.size());
+        st.localUsed = int(views.size());
+        const gl::Program& local = ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag",
+                                                       {{"RTGI_LIGHT_VIEW", ""}, {"RTGI_RSM_LOCAL", ""}});
+        for (std::size_t i = 0; i < views.size(); ++i) {
+            LocalRsm& r = st.local[i];
+            ensureTargets(ctx, r.rsm, r.fbo, "lpv.rsm.local" + std::to_string(i), n);
+            gpu::LpvUniforms lu = u;
+            lu.rsmViewProj = views[i].viewProj;
+            lu.rsmInvViewProj = glm::inverse(views[i].viewProj);
+            if (!r.ubo) r.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms.local" + std::to_string(i), sizeof(lu));
+            r.ubo.upload(&lu, sizeof(lu));
+            const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(views[i].light)];
+            local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, views[i].viewProj);
+            glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
+            local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo.id());
+            rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
+        }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
-        rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
-    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"rsms", double(st_->localUsed + (st_->sunRsm ? 1 : 0))}};
+    }
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         d.output("lpv.rsm.flux", &st_->rsm.flux).output("lpv.rsm.normal", &st_->rsm.normal, Check::signedValues);
+        // One flux map per local-light face; the frame renders the kept ones (culling).
+        const int faces = maxShadowLayers(resolveLocalLights(scene, s));
+        for (int i = 0; i < faces; ++i)
+            d.output("lpv.rsm.local" + std::to_string(i) + ".flux", [st = st_, i]() -> const gl::Texture* {
+                return i < st->localUsed ? &st->local[std::size_t(i)].rsm.flux : nullptr;
+            });
         d.debugImage("lpv.rsm.flux", [this] {
             return DebugImage{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)};
         });
@@ -107,7 +140,26 @@ public:
     }
 
 private:
+    static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
+                              int n) {
+        bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
+        changed |= rsm.normal.ensure(ctx.ledger, label + ".normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
+        changed |= rsm.depth.ensure(ctx.ledger, label + ".depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
+        if (!changed && fbo) return;
+        GLuint f = 0;
+        glCreateFramebuffers(1, &f);
+        fbo = gl::FramebufferHandle(f);
+        fbo.label((label + ".fbo").c_str());
+        glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, rsm.flux.id(), 0);
+        glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, rsm.normal.id(), 0);
+        glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, rsm.depth.id(), 0);
+        const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(f, 2, bufs);
+        if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("lpv.rsm: framebuffer incomplete");
+    }
     float maxFlux() const {
+        if (!st_->rsm.flux) return 0.0f;
         FloatImage img = readTexture(st_->rsm.flux);
         float m = 0;
         for (std::size_t i = 0; i < img.data.size(); i += 4)
@@ -127,12 +179,22 @@ public:
         st.volumes.ensureLight(ctx.ledger, st.placement.grid,
                                ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
+        // Every RSM of the frame adds into the same accumulation.
         if (ls.path == LpvSettings::Path::Raster) {
-            lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes);
+            bool first = true;
+            if (st.sunRsm) lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, first), first = false;
+            for (int i = 0; i < st.localUsed; ++i, first = false)
+                lpv::injectRaster(ctx.programs, st.local[std::size_t(i)].ubo, st.local[std::size_t(i)].rsm, ls.rsm,
+                                  st.volumes, first);
+            if (first) lpv::injectRaster(ctx.programs, st.ubo, st.rsm, 0, st.volumes, true);  // clears only
         } else {
             st.stats.clearZero();
-            lpv::injectCompute(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, st.stats);
+            if (st.sunRsm) lpv::injectCompute(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, st.stats);
+            for (int i = 0; i < st.localUsed; ++i)
+                lpv::injectCompute(ctx.programs, st.local[std::size_t(i)].ubo, st.local[std::size_t(i)].rsm, ls.rsm,
+                                   st.volumes, st.stats);
         }
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
     }
     std::vector<std::pair<std::string, double>> stats() override {
         if (!st_->stats) return {};
@@ -185,7 +247,9 @@ public:
         st.volumes.ensureGeometry(ctx.ledger);
         const GBuffer& g = ctx.res.gbuffer;
         lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
-        lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, ctx.settings.lpv.rsm, gb, st.volumes);
+        // Blocking potential from the sun's orthographic RSM (its texel areas)
+        // and the G-buffer; local lights' perspective RSMs are not used here.
+        lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, st.sunRsm ? ctx.settings.lpv.rsm : 0, gb, st.volumes);
     }
     DebugImage geometrySlice() const {
         const lpv::Volumes& v = st_->volumes;
@@ -304,13 +368,14 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
 
 Need lpvFamily(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return Need::no("lpv=off");
-    if (!lpvActive(scene, s)) return Need::no("the scene has no directional light (no RSM, no LPV)");
+    if (!lpvActive(scene, s))
+        return Need::no("the scene has no light: no sun, and no point, spot or emissive-region light (no RSM, no LPV)");
     return Need::yes();
 }
 
 bool lpvActive(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return false;
-    return resolveSun(scene, s).has_value();
+    return resolveSun(scene, s).has_value() || hasLocalLights(scene, s);
 }
 
 bool lpvSpecularActive(const Scene& scene, const Settings& s) {
