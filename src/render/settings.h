@@ -96,8 +96,16 @@ struct ReferenceSettings {
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
 };
 
+// Visibility: hardware rasterization or the compute rasterizer (docs/visibility.md).
+struct RasterSettings {
+    enum class Path { Hardware, Compute } path = Path::Hardware;
+    Toggle atomic64 = Toggle::Auto;  // 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists)
+    int binScale = 1;                // multiplier on the compute rasterizer's bin capacities
+};
+
 struct Settings {
     CameraSettings camera;
+    RasterSettings raster;
     LightSettings light;
     PostSettings post;
     LpvSettings lpv;
@@ -137,6 +145,7 @@ Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignment
                            const std::string& sceneName);
 
 const char* toString(Toggle t);
+const char* toString(RasterSettings::Path p);
 const char* toString(AoSettings::Variant v);
 const char* toString(SsrSettings::Tracer t);
 

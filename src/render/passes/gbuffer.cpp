@@ -5,12 +5,30 @@
 #include "render/passes/core_passes.h"
 
 namespace rtgi {
+
+bool ensureGBuffer(FrameContext& ctx) {
+    GBuffer& g = ctx.res.gbuffer;
+    const glm::ivec2 s = ctx.view.size;
+    bool changed = false;
+    changed |= g.depth.ensure(ctx.ledger, "gbuffer.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, s.x, s.y});
+    changed |= g.linearDepth.ensure(ctx.ledger, "gbuffer.linearDepth", {GL_TEXTURE_2D, GL_R32F, s.x, s.y});
+    changed |= g.normal.ensure(ctx.ledger, "gbuffer.normal", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+    changed |= g.albedo.ensure(ctx.ledger, "gbuffer.albedo", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
+    changed |= g.material.ensure(ctx.ledger, "gbuffer.material", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
+    changed |= g.emissive.ensure(ctx.ledger, "gbuffer.emissive", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
+    changed |= g.velocity.ensure(ctx.ledger, "gbuffer.velocity", {GL_TEXTURE_2D, GL_RG16F, s.x, s.y});
+    return changed;
+}
+
 namespace {
 
 class GBufferPass final : public Pass {
 public:
     std::string name() const override { return "gbuffer"; }
-    Need needed(const Scene&, const Settings&) const override { return Need::yes(); }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (s.raster.path != RasterSettings::Path::Hardware) return Need::no("raster.path=compute (visibility.raster)");
+        return Need::yes();
+    }
     std::vector<std::string> writes() const override {
         return {"gbuffer.depth", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo",
                 "gbuffer.material", "gbuffer.emissive", "gbuffer.velocity"};
@@ -19,14 +37,7 @@ public:
     void execute(FrameContext& ctx) override {
         GBuffer& g = ctx.res.gbuffer;
         const glm::ivec2 s = ctx.view.size;
-        bool changed = false;
-        changed |= g.depth.ensure(ctx.ledger, "gbuffer.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, s.x, s.y});
-        changed |= g.linearDepth.ensure(ctx.ledger, "gbuffer.linearDepth", {GL_TEXTURE_2D, GL_R32F, s.x, s.y});
-        changed |= g.normal.ensure(ctx.ledger, "gbuffer.normal", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        changed |= g.albedo.ensure(ctx.ledger, "gbuffer.albedo", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-        changed |= g.material.ensure(ctx.ledger, "gbuffer.material", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-        changed |= g.emissive.ensure(ctx.ledger, "gbuffer.emissive", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
-        changed |= g.velocity.ensure(ctx.ledger, "gbuffer.velocity", {GL_TEXTURE_2D, GL_RG16F, s.x, s.y});
+        bool changed = ensureGBuffer(ctx);
         if (changed || !fbo_) {
             GLuint f = 0;
             glCreateFramebuffers(1, &f);

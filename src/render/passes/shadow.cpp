@@ -27,6 +27,15 @@ glm::mat4 orthoLightViewProj(const Aabb& box, glm::vec3 towardLight) {
     return proj * view;
 }
 
+bool ensureShadowMap(FrameContext& ctx) {
+    int n = ctx.settings.light.shadowSize;
+    if (!ctx.res.shadowMap.ensure(ctx.ledger, "shadow.map", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n})) return false;
+    ctx.res.shadowMap.setSampling(GL_LINEAR, GL_LINEAR);
+    glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    return true;
+}
+
 namespace {
 
 class ShadowPass final : public Pass {
@@ -34,16 +43,14 @@ public:
     std::string name() const override { return "shadow"; }
     Need needed(const Scene& scene, const Settings& settings) const override {
         if (!resolveSun(scene, settings)) return Need::no("the scene has no directional light");
+        if (settings.raster.path != RasterSettings::Path::Hardware) return Need::no("raster.path=compute (shadow.raster)");
         return Need::yes();
     }
     std::vector<std::string> writes() const override { return {"shadowMap"}; }
 
     void execute(FrameContext& ctx) override {
         int n = ctx.settings.light.shadowSize;
-        if (ctx.res.shadowMap.ensure(ctx.ledger, "shadow.map", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}) || !fbo_) {
-            ctx.res.shadowMap.setSampling(GL_LINEAR, GL_LINEAR);
-            glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-            glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+        if (ensureShadowMap(ctx) || !fbo_) {
             GLuint f = 0;
             glCreateFramebuffers(1, &f);
             fbo_ = gl::FramebufferHandle(f);

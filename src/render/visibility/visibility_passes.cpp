@@ -1,0 +1,136 @@
+// visibility.raster, visibility.resolve and shadow.raster: the camera's
+// G-buffer and the sun's shadow map through the compute rasterizer.
+#include "render/visibility/visibility_passes.h"
+
+#include "gl/profiler.h"
+#include "render/gpu_scene.h"
+#include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
+
+#include "compute/lib/visibility_shared.h"
+
+namespace rtgi {
+namespace {
+
+bool computePath(const Settings& s) { return s.raster.path == RasterSettings::Path::Compute; }
+
+std::vector<std::pair<std::string, double>> counterStats(const VisibilityTarget& t) {
+    if (!t.counters) return {};
+    VisibilityCounters c = t.readCounters();
+    return {{"triangles", t.triangles},          {"culled", c.culledCount},
+            {"small", c.smallCount},             {"large", c.largeCount},
+            {"bin_entries", c.nodeCount},        {"atomic64", t.atomic64 ? 1.0 : 0.0}};
+}
+
+struct VisibilityState {
+    VisibilityTarget target{"visibility"};
+};
+
+// visibility.raster: the camera's visibility buffer.
+class VisibilityRasterPass final : public Pass {
+public:
+    explicit VisibilityRasterPass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
+    std::string name() const override { return "visibility.raster"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!computePath(s)) return Need::no("raster.path=hardware (gbuffer)");
+        return Need::yes();
+    }
+    std::vector<std::string> writes() const override { return {"visibility"}; }
+    void execute(FrameContext& ctx) override {
+        rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, ctx.view.viewProj(), ctx.view.size, st_->target,
+                            visibilityOptions(ctx.settings));
+        if (!st_->target.checked) {  // one stall, on the first frame (warm-up)
+            st_->target.checkOverflow(name());
+            st_->target.checked = true;
+        }
+    }
+    std::vector<std::pair<std::string, double>> stats() override {
+        st_->target.checkOverflow(name());
+        return counterStats(st_->target);
+    }
+
+private:
+    std::shared_ptr<VisibilityState> st_;
+};
+
+// visibility.resolve: visibility buffer -> G-buffer targets (imageStore) and
+// the D32F depth (full-screen gl_FragDepth copy).
+class VisibilityResolvePass final : public Pass {
+public:
+    explicit VisibilityResolvePass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
+    std::string name() const override { return "visibility.resolve"; }
+    Need needed(const Scene&, const Settings& s) const override {
+        if (!computePath(s)) return Need::no("raster.path=hardware (gbuffer)");
+        return Need::yes();
+    }
+    std::vector<std::string> reads() const override { return {"visibility"}; }
+    std::vector<std::string> writes() const override {
+        return {"gbuffer.depth", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo",
+                "gbuffer.material", "gbuffer.emissive", "gbuffer.velocity"};
+    }
+    void execute(FrameContext& ctx) override {
+        ensureGBuffer(ctx);
+        GBuffer& g = ctx.res.gbuffer;
+        VisibilityTarget& t = st_->target;
+        const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
+        bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
+        glBindImageTexture(RTGI_VIS_IMG_LINEAR_DEPTH, g.linearDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindImageTexture(RTGI_VIS_IMG_NORMAL, g.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindImageTexture(RTGI_VIS_IMG_ALBEDO, g.albedo.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(RTGI_VIS_IMG_MATERIAL, g.material.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(RTGI_VIS_IMG_EMISSIVE, g.emissive.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
+        glBindImageTexture(RTGI_VIS_IMG_VELOCITY, g.velocity.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
+        gl::dispatch(prog, t.size.x, t.size.y);
+        copyVisibilityDepth(ctx.programs, t, g.depth);
+        // Consumers sample these as textures; the next passes' barriers are theirs,
+        // but image stores need this one before any texture fetch.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+
+private:
+    std::shared_ptr<VisibilityState> st_;
+};
+
+// shadow.raster: the sun's depth map (same light frustum and slope-scaled
+// bias as the hardware pass `shadow`).
+class ShadowRasterPass final : public Pass {
+public:
+    std::string name() const override { return "shadow.raster"; }
+    Need needed(const Scene& scene, const Settings& s) const override {
+        if (!resolveSun(scene, s)) return Need::no("the scene has no directional light");
+        if (!computePath(s)) return Need::no("raster.path=hardware (shadow)");
+        return Need::yes();
+    }
+    std::vector<std::string> writes() const override { return {"shadowMap"}; }
+    void execute(FrameContext& ctx) override {
+        ensureShadowMap(ctx);
+        int n = ctx.settings.light.shadowSize;
+        VisibilityOptions o = visibilityOptions(ctx.settings);
+        o.depthBias = true;
+        rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, ctx.res.shadowViewProj, {n, n}, target_, o);
+        copyVisibilityDepth(ctx.programs, target_, ctx.res.shadowMap);
+        if (!target_.checked) {
+            target_.checkOverflow(name());
+            target_.checked = true;
+        }
+    }
+    std::vector<std::pair<std::string, double>> stats() override {
+        target_.checkOverflow(name());
+        return counterStats(target_);
+    }
+
+private:
+    VisibilityTarget target_{"shadow.raster"};
+};
+
+}  // namespace
+
+void appendVisibilityPasses(std::vector<std::unique_ptr<Pass>>& frame) {
+    auto st = std::make_shared<VisibilityState>();
+    frame.push_back(std::make_unique<VisibilityRasterPass>(st));
+    frame.push_back(std::make_unique<VisibilityResolvePass>(st));
+}
+
+std::unique_ptr<Pass> makeShadowRasterPass() { return std::make_unique<ShadowRasterPass>(); }
+
+}  // namespace rtgi
