@@ -9,6 +9,7 @@
 #include "lib/depth.glsl"
 #include "lib/ao_shared.h"
 #include "lib/ao.glsl"
+#include "lib/sampling.glsl"
 #include "lib/noise.glsl"
 #include "lib/sh.glsl"
 
@@ -29,16 +30,16 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
-layout(binding = 0) uniform sampler2D uDepth;    // AO-resolution linear depth (0 = sky)
-layout(binding = 1) uniform sampler2D uNormal;   // AO-resolution view-space normals
-layout(binding = 2) uniform sampler2DArray uNoise;
-layout(binding = 3) uniform sampler2D uRadiusScale;
-layout(binding = 4) uniform sampler2D uShadowMap;
-layout(binding = 5) uniform sampler2D uAlbedo;   // full resolution (gtao multi-bounce)
-layout(r16f, binding = 0) uniform writeonly image2D uAo;
-layout(rgba16f, binding = 1) uniform writeonly image2D uDirectional;
-layout(location = 0) uniform mat4 uViewToShadow;  // shadowViewProj * invView
-layout(location = 1) uniform mat4 uShadowToView;  // its inverse
+layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;    // AO-resolution linear depth (0 = sky)
+layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;   // AO-resolution view-space normals
+layout(binding = RTGI_AO_ESTIMATE_TEX_NOISE) uniform sampler2DArray uNoise;
+layout(binding = RTGI_AO_TEX_RADIUS_SCALE) uniform sampler2D uRadiusScale;
+layout(binding = RTGI_AO_TEX_SHADOW_MAP) uniform sampler2D uShadowMap;
+layout(binding = RTGI_AO_ESTIMATE_TEX_ALBEDO) uniform sampler2D uAlbedo;   // full resolution (gtao multi-bounce)
+layout(r16f, binding = RTGI_AO_IMG_AO) uniform writeonly image2D uAo;
+layout(rgba16f, binding = RTGI_AO_IMG_DIRECTIONAL) uniform writeonly image2D uDirectional;
+layout(location = RTGI_AO_LOC_VIEW_TO_SHADOW) uniform mat4 uViewToShadow;  // shadowViewProj * invView
+layout(location = RTGI_AO_LOC_SHADOW_TO_VIEW) uniform mat4 uShadowToView;  // its inverse
 
 ivec2 aoSize() { return ao.size.xy; }
 float tanHalfFov() { return ao.focal.z; }
@@ -92,7 +93,7 @@ float pointOcclusion(vec3 P, vec3 S, float R) {
 // Directional occlusion from cosine-distributed, normal-oriented samples
 // (seed 000 4.3): xyz bent normal (eq. 17) or 4 SH coefficients of V(l)(n.l)+.
 vec4 directional(vec3 P, vec3 n, float R, vec4 bn) {
-    mat3 basis = aoBasis(n, vec3(cos(6.2831853 * bn.z), sin(6.2831853 * bn.z), 0.0));
+    mat3 basis = aoBasis(n, vec3(cos(TWO_PI * bn.z), sin(TWO_PI * bn.z), 0.0));
     int count = ao.counts.x;
     vec3 bent = vec3(0.0);
     vec4 sh = vec4(0.0);
@@ -134,7 +135,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     float v = sum / float(ao.counts.x);
     return ao.flags.x != 0 ? halfSpaceNormalize(v) : v;
 #elif AO_VARIANT == RTGI_AO_SSAO_SPHERE || AO_VARIANT == RTGI_AO_SSAO_HEMISPHERE
-    float a = 6.2831853 * bn.x;
+    float a = TWO_PI * bn.x;
 #if AO_VARIANT == RTGI_AO_SSAO_SPHERE
     mat3 basis = aoBasis(vec3(0, 0, 1), vec3(cos(a), sin(a), 0.0));  // rotation about the view axis
 #else
@@ -158,7 +159,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
 #elif AO_VARIANT == RTGI_AO_VO
     // Loos & Sloan line samples in pairs p, -p; rotation over 180 degrees.
     vec2 rUv = aoTextureRadius(R, d, ao.focal.xy);
-    float a = 3.14159265 * bn.x;
+    float a = PI * bn.x;
     mat2 rot = mat2(cos(a), sin(a), -sin(a), cos(a));
     float vis = 0.0;
     int pairs = int(ao.misc.z);
@@ -188,7 +189,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     float sumAo = 0.0;
     for (int k = 0; k < dirs; ++k) {
         // Rotation over 360/N_d and step jitter from the per-pixel noise (seed 003 5.3).
-        float phi = 6.2831853 * (float(k) + bn.x) / float(dirs);
+        float phi = TWO_PI * (float(k) + bn.x) / float(dirs);
         vec2 dir = vec2(cos(phi), sin(phi));
         float tanT;
         if (ao.flags.y != 0) {
@@ -231,7 +232,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     int slices = ao.counts.y, steps = ao.counts.z;
     float vis = 0.0, open = 0.0;
     for (int k = 0; k < slices; ++k) {
-        float phi = 3.14159265 * (float(k) + bn.x) / float(slices);
+        float phi = PI * (float(k) + bn.x) / float(slices);
         vec3 dir = vec3(cos(phi), sin(phi), 0.0);
         vec3 ortho = dir - dot(dir, V) * V;
         vec3 axis = normalize(cross(ortho, V));
@@ -240,7 +241,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
         if (projLen < 1e-4) continue;  // normal along the slice axis: the slice sees no hemisphere
         float cosN = clamp(dot(projN, V) / projLen, 0.0, 1.0);
         float nAngle = (dot(ortho, projN) >= 0.0 ? 1.0 : -1.0) * acos(cosN);
-        float low0 = cos(nAngle + 1.5707963), low1 = cos(nAngle - 1.5707963);
+        float low0 = cos(nAngle + HALF_PI), low1 = cos(nAngle - HALF_PI);
         float hc0 = low0, hc1 = low1;
         for (int j = 0; j < steps; ++j) {
             float s = (float(j) + bn.y) / float(steps);
@@ -261,10 +262,10 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
                 if (side == 0) hc0 = max(hc0, shc); else hc1 = max(hc1, shc);
             }
         }
-        float h0 = nAngle + max(-acos(clamp(hc1, -1.0, 1.0)) - nAngle, -1.5707963);
-        float h1 = nAngle + min(acos(clamp(hc0, -1.0, 1.0)) - nAngle, 1.5707963);
+        float h0 = nAngle + max(-acos(clamp(hc1, -1.0, 1.0)) - nAngle, -HALF_PI);
+        float h1 = nAngle + min(acos(clamp(hc0, -1.0, 1.0)) - nAngle, HALF_PI);
         vis += gtaoSliceVisibility(h0, h1, nAngle, projLen);
-        open += gtaoSliceVisibility(nAngle - 1.5707963, nAngle + 1.5707963, nAngle, projLen);
+        open += gtaoSliceVisibility(nAngle - HALF_PI, nAngle + HALF_PI, nAngle, projLen);
     }
     // Self-normalized slice quadrature: a few slices integrate the unoccluded
     // hemisphere only approximately (to 1 +- 0.05 for tilted normals); dividing

@@ -6,14 +6,15 @@
 // belongs to a point a quarter texel away would put every position off the
 // surface (self-occlusion on planes, docs/ao.md "Reconstruction").
 #include "lib/common.glsl"
+#include "lib/ao_shared.h"
 #include "lib/depth.glsl"
 #include "lib/ao.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D uDepth;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(r32f, binding = 0) uniform writeonly image2D uHalfDepth;
-layout(rgba16f, binding = 1) uniform writeonly image2D uHalfNormal;
+layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;
+layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;
+layout(r32f, binding = RTGI_AO_IMG_HALF_DEPTH) uniform writeonly image2D uHalfDepth;
+layout(rgba16f, binding = RTGI_AO_IMG_HALF_NORMAL) uniform writeonly image2D uHalfNormal;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

@@ -11,17 +11,17 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
-layout(binding = 0) uniform sampler2D uDepth;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(binding = 2) uniform sampler2D uAlbedo;
-layout(binding = 3) uniform sampler2D uMaterial;
-layout(binding = 4) uniform sampler2D uHistory;   // previous frame HDR (post.history)
-layout(binding = 5) uniform sampler2D uVelocity;
-layout(binding = 6) uniform sampler2DArray uNoise;
-layout(r11f_g11f_b10f, binding = 0) uniform writeonly image2D uNearField;
-layout(rgba16f, binding = 1) uniform image2D uIndirect;
-layout(location = 0) uniform int uAccumulate;  // 1: add into uIndirect, 0: overwrite it
-layout(location = 1) uniform int uHistoryValid;
+layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;
+layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_AO_NEARFIELD_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_AO_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_AO_TEX_HISTORY) uniform sampler2D uHistory;   // previous frame HDR (post.history)
+layout(binding = RTGI_AO_TEX_VELOCITY) uniform sampler2D uVelocity;
+layout(binding = RTGI_AO_NEARFIELD_TEX_NOISE) uniform sampler2DArray uNoise;
+layout(r11f_g11f_b10f, binding = RTGI_AO_IMG_NEAR_FIELD) uniform writeonly image2D uNearField;
+layout(rgba16f, binding = RTGI_AO_IMG_INDIRECT) uniform image2D uIndirect;
+layout(location = RTGI_AO_LOC_ACCUMULATE) uniform int uAccumulate;  // 1: add into uIndirect, 0: overwrite it
+layout(location = RTGI_AO_LOC_HISTORY_VALID) uniform int uHistoryValid;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -35,7 +35,7 @@ void main() {
         vec3 P = viewPositionFromDepth(uv, d, tanHalf, aspect);
         vec3 n = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
         vec4 bn = blueNoise(uNoise, p, frameIndex());
-        float a = 6.2831853 * bn.x;
+        float a = TWO_PI * bn.x;
         mat3 basis = aoBasis(n, vec3(cos(a), sin(a), 0.0));
         vec3 rho = diffuseAlbedo(texelFetch(uAlbedo, p, 0).rgb, texelFetch(uMaterial, p, 0).g);
         float R = ao.radius.x;

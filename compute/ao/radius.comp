@@ -13,10 +13,10 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
-layout(binding = 0) uniform sampler2D uDepth;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(r16f, binding = 0) uniform writeonly image2D uScale;
-layout(rgba8, binding = 1) uniform writeonly image2D uScaleColor;
+layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;
+layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;
+layout(r16f, binding = RTGI_AO_IMG_SCALE) uniform writeonly image2D uScale;
+layout(rgba8, binding = RTGI_AO_IMG_SCALE_COLOR) uniform writeonly image2D uScaleColor;
 
 vec3 scaleColor(float s) {
     const vec3 red = vec3(0.9, 0.1, 0.1), yellow = vec3(1.0, 0.9, 0.1), green = vec3(0.2, 0.8, 0.2),

@@ -2,6 +2,7 @@
 // FILTER_FORMAT is the image format of the output (r16f for AO, rgba16f for
 // SSR). Run twice: uDirection (1,0) then (0,1).
 #include "lib/depth.glsl"
+#include "lib/filter_shared.h"
 #include "lib/filter.glsl"
 
 #ifndef FILTER_FORMAT
@@ -10,13 +11,13 @@
 #define BLUR_RADIUS 4
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D uValue;
-layout(binding = 1) uniform sampler2D uDepth;
-layout(binding = 2) uniform sampler2D uNormal;
-layout(FILTER_FORMAT, binding = 0) uniform writeonly image2D uOut;
-layout(location = 0) uniform ivec2 uDirection;
-layout(location = 1) uniform float uDepthThreshold;   // relative depth difference
-layout(location = 2) uniform float uNormalThreshold;  // minimum cosine between normals
+layout(binding = RTGI_FILTER_TEX_VALUE) uniform sampler2D uValue;
+layout(binding = RTGI_FILTER_BLUR_TEX_DEPTH) uniform sampler2D uDepth;
+layout(binding = RTGI_FILTER_TEX_NORMAL) uniform sampler2D uNormal;
+layout(FILTER_FORMAT, binding = RTGI_FILTER_IMG_OUT) uniform writeonly image2D uOut;
+layout(location = RTGI_FILTER_LOC_DIRECTION) uniform ivec2 uDirection;
+layout(location = RTGI_FILTER_LOC_DEPTH_THRESHOLD) uniform float uDepthThreshold;   // relative depth difference
+layout(location = RTGI_FILTER_LOC_NORMAL_THRESHOLD) uniform float uNormalThreshold;  // minimum cosine between normals
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

@@ -2,6 +2,7 @@
 // any value texture (FILTER_FORMAT). Keeps its own history of value and
 // linear depth; uReset (camera cut / no history) takes the current value.
 #include "lib/depth.glsl"
+#include "lib/filter_shared.h"
 #include "lib/filter.glsl"
 
 #ifndef FILTER_FORMAT
@@ -9,14 +10,14 @@
 #endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D uCurrent;
-layout(binding = 1) uniform sampler2D uHistory;       // previous output (bilinear)
-layout(binding = 2) uniform sampler2D uDepth;         // current linear depth, filter resolution
-layout(binding = 3) uniform sampler2D uHistoryDepth;  // previous linear depth, filter resolution (bilinear)
-layout(binding = 4) uniform sampler2D uVelocity;      // G-buffer velocity: previous - current uv
-layout(FILTER_FORMAT, binding = 0) uniform writeonly image2D uOut;
-layout(r32f, binding = 1) uniform writeonly image2D uOutDepth;
-layout(location = 0) uniform int uReset;
+layout(binding = RTGI_FILTER_TEX_CURRENT) uniform sampler2D uCurrent;
+layout(binding = RTGI_FILTER_TEX_HISTORY) uniform sampler2D uHistory;       // previous output (bilinear)
+layout(binding = RTGI_FILTER_TEMPORAL_TEX_DEPTH) uniform sampler2D uDepth;         // current linear depth, filter resolution
+layout(binding = RTGI_FILTER_TEX_HISTORY_DEPTH) uniform sampler2D uHistoryDepth;  // previous linear depth, filter resolution (bilinear)
+layout(binding = RTGI_FILTER_TEX_VELOCITY) uniform sampler2D uVelocity;      // G-buffer velocity: previous - current uv
+layout(FILTER_FORMAT, binding = RTGI_FILTER_IMG_OUT) uniform writeonly image2D uOut;
+layout(r32f, binding = RTGI_FILTER_IMG_OUT_DEPTH) uniform writeonly image2D uOutDepth;
+layout(location = RTGI_FILTER_LOC_RESET) uniform int uReset;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

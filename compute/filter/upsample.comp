@@ -1,6 +1,7 @@
 // Half -> full resolution (SPEC 6.4): joint bilateral upsampling of any value
 // texture (FILTER_FORMAT), or plain bilinear when UPSAMPLE_DEPTH_AWARE is 0.
 #include "lib/depth.glsl"
+#include "lib/filter_shared.h"
 #include "lib/filter.glsl"
 
 #ifndef FILTER_FORMAT
@@ -11,10 +12,10 @@
 #endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D uLow;
-layout(binding = 1) uniform sampler2D uLowDepth;
-layout(binding = 2) uniform sampler2D uFullDepth;
-layout(FILTER_FORMAT, binding = 0) uniform writeonly image2D uOut;
+layout(binding = RTGI_FILTER_TEX_LOW) uniform sampler2D uLow;
+layout(binding = RTGI_FILTER_TEX_LOW_DEPTH) uniform sampler2D uLowDepth;
+layout(binding = RTGI_FILTER_TEX_FULL_DEPTH) uniform sampler2D uFullDepth;
+layout(FILTER_FORMAT, binding = RTGI_FILTER_IMG_OUT) uniform writeonly image2D uOut;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

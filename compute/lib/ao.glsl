@@ -3,6 +3,7 @@
 // camera at the origin looking down -z; "depth" = positive distance along -z.
 #pragma once
 #include "lib/depth.glsl"
+#include "lib/math.glsl"
 
 // Seed 003 eq. 5.3: a view-space radius R at depth z covers
 // 0.5 * R * focal / z in texture space, focal = (cot(fovY/2)/aspect, cot(fovY/2)).
@@ -71,12 +72,6 @@ mat3 aoBasis(vec3 n, vec3 tangentHint) {
     return mat3(t, cross(n, t), n);
 }
 
-// Cosine-weighted direction on the +z hemisphere for u in [0,1)^2 (pdf cos/pi).
-vec3 cosineHemisphere(vec2 u) {
-    float r = sqrt(u.x), phi = 6.28318530717958648 * u.y;
-    return vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
-}
-
 // Seed 000 eq. 16 for one sender sample: rho/pi * L * (1 - V) * A_s cos(s) cos(r) / d^2,
 // with the distance clamped to 0.25 R (the sender disc area A_s = pi R^2 / N
 // makes the point-to-disc form factor invalid closer than that).
@@ -85,7 +80,7 @@ vec3 nearFieldSample(vec3 rho, vec3 senderRadiance, vec3 toSender, vec3 senderNo
     float d2 = max(dot(toSender, toSender), 0.0625 * R * R);
     vec3 l = toSender * inversesqrt(max(dot(toSender, toSender), 1e-12));
     float cosS = max(0.0, dot(senderNormal, -l)), cosR = max(0.0, dot(receiverNormal, l));
-    return rho * 0.31830988618379067 * senderRadiance * senderArea * cosS * cosR / d2;
+    return rho * INV_PI * senderRadiance * senderArea * cosS * cosR / d2;
 }
 
 // Depth along the ray through uv of the plane through the view-space point Q

@@ -37,4 +37,34 @@ RTGI_STRUCT(AoParams) {
 #ifndef RTGI_GLSL
 }  // namespace rtgi::gpu
 #endif
+
+// ---- slots of compute/ao/ (docs/architecture.md, "Binding slots") ----
+// RTGI_<FAMILY>[_<PASS>]_<TEX|IMG|LOC|SSBO>_<ROLE>; the pass appears only where the
+// family's passes give the same role different slots.
+// texture units (sampler bindings)
+#define RTGI_AO_TEX_DEPTH            0  // ao/ao.comp ao/downsample.comp ao/nearfield.comp ao/radius.comp
+#define RTGI_AO_TEX_NORMAL           1  // ao/ao.comp ao/downsample.comp ao/nearfield.comp ao/radius.comp
+#define RTGI_AO_ESTIMATE_TEX_NOISE   2  // ao/ao.comp
+#define RTGI_AO_TEX_RADIUS_SCALE     3  // ao/ao.comp
+#define RTGI_AO_TEX_SHADOW_MAP       4  // ao/ao.comp
+#define RTGI_AO_ESTIMATE_TEX_ALBEDO  5  // ao/ao.comp
+#define RTGI_AO_NEARFIELD_TEX_ALBEDO 2  // ao/nearfield.comp
+#define RTGI_AO_TEX_MATERIAL         3  // ao/nearfield.comp
+#define RTGI_AO_TEX_HISTORY          4  // ao/nearfield.comp
+#define RTGI_AO_TEX_VELOCITY         5  // ao/nearfield.comp
+#define RTGI_AO_NEARFIELD_TEX_NOISE  6  // ao/nearfield.comp
+// image units
+#define RTGI_AO_IMG_AO          0  // ao/ao.comp
+#define RTGI_AO_IMG_DIRECTIONAL 1  // ao/ao.comp
+#define RTGI_AO_IMG_HALF_DEPTH  0  // ao/downsample.comp
+#define RTGI_AO_IMG_HALF_NORMAL 1  // ao/downsample.comp
+#define RTGI_AO_IMG_NEAR_FIELD  0  // ao/nearfield.comp
+#define RTGI_AO_IMG_INDIRECT    1  // ao/nearfield.comp
+#define RTGI_AO_IMG_SCALE       0  // ao/radius.comp
+#define RTGI_AO_IMG_SCALE_COLOR 1  // ao/radius.comp
+// uniform locations
+#define RTGI_AO_LOC_VIEW_TO_SHADOW 0  // ao/ao.comp
+#define RTGI_AO_LOC_SHADOW_TO_VIEW 1  // ao/ao.comp
+#define RTGI_AO_LOC_ACCUMULATE     0  // ao/nearfield.comp
+#define RTGI_AO_LOC_HISTORY_VALID  1  // ao/nearfield.comp
 #endif

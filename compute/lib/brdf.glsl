@@ -1,11 +1,12 @@
 // Lambert + GGX (Trowbridge-Reitz) with Smith height-correlated visibility
 // and Schlick Fresnel; roughness is perceptual (alpha = roughness^2).
 #pragma once
+#include "lib/math.glsl"
 
 float ggxD(float NdotH, float alpha) {
     float a2 = alpha * alpha;
     float t = NdotH * NdotH * (a2 - 1.0) + 1.0;
-    return a2 / max(3.14159265358979 * t * t, 1e-12);
+    return a2 / max(PI * t * t, 1e-12);
 }
 
 // Smith-GGX height-correlated visibility V = G / (4 NdotL NdotV).
@@ -30,7 +31,7 @@ vec2 hammersley(uint i, uint n) { return vec2((float(i) + 0.5) / float(n), float
 // GGX half vector in tangent space (z = normal) distributed with pdf
 // D(h)·(n·h) [Walter et al. 2007, eq. 35-36]; xi uniform in [0,1)^2.
 vec3 importanceSampleGgx(vec2 xi, float alpha) {
-    float phi = 2.0 * 3.14159265358979 * xi.y;
+    float phi = TWO_PI * xi.y;
     float cosTheta = sqrt((1.0 - xi.x) / max(1.0 + (alpha * alpha - 1.0) * xi.x, 1e-12));
     float sinTheta = sqrt(max(1.0 - cosTheta * cosTheta, 0.0));
     return vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta);
@@ -69,11 +70,11 @@ vec3 evalBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, float roughness, float met
     float alpha = ggxAlpha(roughness);
     vec3 F = fresnelSchlick(specularF0(albedo, metallic), dot(v, h));
     vec3 spec = F * ggxD(max(dot(n, h), 0.0), alpha) * smithVisibility(NdotV, NdotL, alpha);
-    vec3 diff = diffuseAlbedo(albedo, metallic) * 0.31830988618379067;
+    vec3 diff = diffuseAlbedo(albedo, metallic) * INV_PI;
     return (diff + spec) * NdotL;
 }
 
 // Diffuse part of evalBrdfCos alone (diffuse-only radiance, ssr.diffuse_history).
 vec3 evalDiffuseCos(vec3 n, vec3 l, vec3 albedo, float metallic) {
-    return diffuseAlbedo(albedo, metallic) * 0.31830988618379067 * max(dot(n, l), 0.0);
+    return diffuseAlbedo(albedo, metallic) * INV_PI * max(dot(n, l), 0.0);
 }

@@ -44,4 +44,26 @@ RTGI_BVH_STRUCT(BvhTriangle) {
 #ifndef RTGI_GLSL
 }  // namespace rtgi::gpu
 #endif
+
+// ---- slots of compute/ref/ (docs/architecture.md, "Binding slots") ----
+// RTGI_<FAMILY>[_<PASS>]_<TEX|IMG|LOC|SSBO>_<ROLE>; the pass appears only where the
+// family's passes give the same role different slots.
+// texture units (sampler bindings)
+#define RTGI_REF_AO_TEX_LINEAR_DEPTH   0  // ref/ao.comp
+#define RTGI_REF_AO_TEX_NORMAL         1  // ref/ao.comp
+#define RTGI_REF_PATH_TEX_LINEAR_DEPTH 1  // ref/path.comp
+#define RTGI_REF_PATH_TEX_NORMAL       2  // ref/path.comp
+#define RTGI_REF_TEX_ALBEDO            3  // ref/path.comp
+#define RTGI_REF_TEX_MATERIAL          4  // ref/path.comp
+#define RTGI_REF_TEX_EMISSIVE          5  // ref/path.comp
+// image units
+#define RTGI_REF_IMG_ACCUM    0  // ref/ao.comp ref/path.comp ref/resolve.comp
+#define RTGI_REF_IMG_ACCUM_SQ 1  // ref/ao.comp ref/path.comp ref/resolve.comp
+#define RTGI_REF_IMG_MEAN     2  // ref/resolve.comp
+#define RTGI_REF_IMG_STD_ERR  3  // ref/resolve.comp
+#define RTGI_REF_IMG_LDR      4  // ref/resolve.comp
+// uniform locations
+#define RTGI_REF_LOC_SAMPLES 0  // ref/ao.comp ref/path.comp
+#define RTGI_REF_LOC_RAY     1  // ref/ao.comp ref/path.comp
+#define RTGI_REF_LOC_COUNT   0  // ref/trace_test.comp
 #endif

@@ -1,11 +1,10 @@
 // Frame constants and the conventions every pass shares.
 #pragma once
 #include "lib/shared.h"
+#include "lib/math.glsl"
 
 layout(std140, binding = RTGI_UBO_FRAME) uniform FrameBlock { FrameUniforms frame; };
 
-const float PI = 3.14159265358979323846;
-const float INV_PI = 0.31830988618379067154;
 
 ivec2 frameSize() { return frame.size.xy; }
 bool cameraCut() { return frame.size.w != 0; }

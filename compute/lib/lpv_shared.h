@@ -5,11 +5,7 @@
 #ifndef RTGI_LPV_SHARED_H
 #define RTGI_LPV_SHARED_H
 
-// ---- real SH bands 0-1, order (Y00, Y1-1, Y10, Y11), SPEC 3 / seed eq. 10 ----
-#define RTGI_SH_Y00 0.28209479177387814    // 1 / (2 sqrt(pi))
-#define RTGI_SH_Y1 0.48860251190291992     // sqrt(3) / (2 sqrt(pi))
-#define RTGI_SH_COS_C0 0.88622692545275801  // sqrt(pi) / 2: clamped cosine, band 0 [KD10]
-#define RTGI_SH_COS_C1 1.0233267079464885   // sqrt(pi / 3): clamped cosine, band 1
+// SH constants: lib/sh_shared.h (lib/sh.glsl in GLSL, lpv_math.h in C++).
 
 // ---- propagation faces (unit cells; a neighbour one cell behind the destination) ----
 // Front face (square at distance 1.5): 4 asin(1/10). Side faces: (2 pi / 3 - front) / 4
@@ -52,4 +48,64 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #ifndef RTGI_GLSL
 }  // namespace rtgi::gpu
 #endif
+
+// ---- slots of compute/lpv/ (docs/architecture.md, "Binding slots") ----
+// RTGI_<FAMILY>[_<PASS>]_<TEX|IMG|LOC|SSBO>_<ROLE>; the pass appears only where the
+// family's passes give the same role different slots.
+// texture units (sampler bindings)
+#define RTGI_LPV_TEX_LINEAR_DEPTH    0  // lpv/apply.comp lpv/inject_geometry.comp
+#define RTGI_LPV_TEX_VIEW_NORMAL     1  // lpv/apply.comp lpv/inject_geometry.comp
+#define RTGI_LPV_TEX_ALBEDO          2  // lpv/apply.comp lpv/inject_geometry.comp
+#define RTGI_LPV_TEX_MATERIAL        3  // lpv/apply.comp lpv/inject_geometry.comp
+#define RTGI_LPV_TEX_LIGHT_R         4  // lpv/apply.comp
+#define RTGI_LPV_TEX_LIGHT_G         5  // lpv/apply.comp
+#define RTGI_LPV_TEX_LIGHT_B         6  // lpv/apply.comp
+#define RTGI_LPV_TEX_BRDF_LUT        7  // lpv/apply.comp
+#define RTGI_LPV_TEX_DIRECTIONAL     8  // lpv/apply.comp
+#define RTGI_LPV_TEX_FLUX            0  // lpv/inject.comp lpv/inject_geometry.comp lpv/inject_raster.vert
+#define RTGI_LPV_TEX_NORMAL          1  // lpv/inject.comp lpv/inject_geometry.comp lpv/inject_raster.vert
+#define RTGI_LPV_TEX_DEPTH           2  // lpv/inject.comp lpv/inject_geometry.comp lpv/inject_raster.vert
+#define RTGI_LPV_TEX_SRC_R           0  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_TEX_SRC_G           1  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_TEX_SRC_B           2  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_TEX_GEOMETRY        3  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_TEX_GEOMETRY_ALBEDO 4  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_SLICE_TEX_A         0  // lpv/slice.comp
+#define RTGI_LPV_SLICE_TEX_B         1  // lpv/slice.comp
+#define RTGI_LPV_SLICE_TEX_C         2  // lpv/slice.comp
+#define RTGI_LPV_TEX_CUR_R           0  // lpv/temporal.comp
+#define RTGI_LPV_TEX_CUR_G           1  // lpv/temporal.comp
+#define RTGI_LPV_TEX_CUR_B           2  // lpv/temporal.comp
+#define RTGI_LPV_TEX_PREV_R          3  // lpv/temporal.comp
+#define RTGI_LPV_TEX_PREV_G          4  // lpv/temporal.comp
+#define RTGI_LPV_TEX_PREV_B          5  // lpv/temporal.comp
+// image units
+#define RTGI_LPV_IMG_INDIRECT                       0  // lpv/apply.comp
+#define RTGI_LPV_IMG_SPECULAR                       1  // lpv/apply.comp
+#define RTGI_LPV_INJECT_IMG_INJECT_R                0  // lpv/inject.comp
+#define RTGI_LPV_INJECT_IMG_INJECT_G                1  // lpv/inject.comp
+#define RTGI_LPV_INJECT_IMG_INJECT_B                2  // lpv/inject.comp
+#define RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM 0  // lpv/inject_geometry.comp
+#define RTGI_LPV_IMG_GEOMETRY                       0  // lpv/pack.comp
+#define RTGI_LPV_IMG_VOL_R                          0  // lpv/pack.comp
+#define RTGI_LPV_IMG_GEOMETRY_ALBEDO                1  // lpv/pack.comp
+#define RTGI_LPV_IMG_VOL_G                          1  // lpv/pack.comp
+#define RTGI_LPV_IMG_VOL_B                          2  // lpv/pack.comp
+#define RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM            2  // lpv/pack.comp
+#define RTGI_LPV_PACK_IMG_INJECT_R                  3  // lpv/pack.comp
+#define RTGI_LPV_PACK_IMG_INJECT_G                  4  // lpv/pack.comp
+#define RTGI_LPV_PACK_IMG_INJECT_B                  5  // lpv/pack.comp
+#define RTGI_LPV_IMG_DST_R                          0  // lpv/propagate.comp
+#define RTGI_LPV_IMG_DST_G                          1  // lpv/propagate.comp
+#define RTGI_LPV_IMG_DST_B                          2  // lpv/propagate.comp
+#define RTGI_LPV_IMG_ACCUM_R                        3  // lpv/propagate.comp
+#define RTGI_LPV_IMG_ACCUM_G                        4  // lpv/propagate.comp
+#define RTGI_LPV_IMG_ACCUM_B                        5  // lpv/propagate.comp
+#define RTGI_LPV_IMG_SLICE                          0  // lpv/slice.comp
+#define RTGI_LPV_IMG_OUT_R                          0  // lpv/temporal.comp
+#define RTGI_LPV_IMG_OUT_G                          1  // lpv/temporal.comp
+#define RTGI_LPV_IMG_OUT_B                          2  // lpv/temporal.comp
+// uniform locations
+#define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
 #endif

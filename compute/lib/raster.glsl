@@ -9,31 +9,31 @@
 // attributes fetched again in a resolve). Must be the first include of a
 // shader: it carries the #extension lines.
 #extension GL_ARB_gpu_shader_int64 : require
-#ifdef RTGI_VIS_ATOMIC64
+#ifdef RTGI_VISIBILITY_ATOMIC64
 #extension GL_NV_shader_atomic_int64 : require
 #endif
 #pragma once
 #include "lib/visibility_shared.h"
 #include "lib/shared.h"
 
-layout(location = RTGI_VIS_LOC_VIEWPROJ) uniform mat4 uViewProj;
-layout(location = RTGI_VIS_LOC_SIZE) uniform ivec2 uSize;
-layout(location = RTGI_VIS_LOC_TRIANGLES) uniform int uTriangles;
-layout(location = RTGI_VIS_LOC_PHASE) uniform int uPhase;
-layout(location = RTGI_VIS_LOC_FLAGS) uniform int uFlags;
-layout(location = RTGI_VIS_LOC_CAPACITY) uniform ivec2 uCapacity;
+layout(location = RTGI_VISIBILITY_LOC_VIEW_PROJ) uniform mat4 uViewProj;
+layout(location = RTGI_VISIBILITY_LOC_SIZE) uniform ivec2 uSize;
+layout(location = RTGI_VISIBILITY_LOC_TRIANGLES) uniform int uTriangles;
+layout(location = RTGI_VISIBILITY_LOC_PHASE) uniform int uPhase;
+layout(location = RTGI_VISIBILITY_LOC_FLAGS) uniform int uFlags;
+layout(location = RTGI_VISIBILITY_LOC_CAPACITY) uniform ivec2 uCapacity;
 
-layout(std430, binding = RTGI_VIS_SSBO_VERTICES) readonly buffer VisVertices { float visVertexData[]; };
-layout(std430, binding = RTGI_VIS_SSBO_INDICES) readonly buffer VisIndices { uint visIndex[]; };
-layout(std430, binding = RTGI_VIS_SSBO_VISBUF) buffer VisBuffer {
-#ifdef RTGI_VIS_ATOMIC64
+layout(std430, binding = RTGI_VISIBILITY_SSBO_VERTICES) readonly buffer VisVertices { float visVertexData[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_INDICES) readonly buffer VisIndices { uint visIndex[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_VISBUF) buffer VisBuffer {
+#ifdef RTGI_VISIBILITY_ATOMIC64
     uint64_t vis[];  // (depth bits << 32) | triangle id; min = nearest, ties to the lowest id
 #else
     uint vis[];      // [0, N): depth bits; [N, 2N): triangle id
 #endif
 };
-#ifdef RTGI_VIS_COUNT_HITS
-layout(std430, binding = RTGI_VIS_SSBO_HITS) buffer VisHits { uint visHits[]; };  // tests: writes per pixel
+#ifdef RTGI_VISIBILITY_COUNT_HITS
+layout(std430, binding = RTGI_VISIBILITY_SSBO_HITS) buffer VisHits { uint visHits[]; };  // tests: writes per pixel
 #endif
 
 // ---- scene ----------------------------------------------------------------------
@@ -51,10 +51,10 @@ uint visPixelCount() { return uint(uSize.x) * uint(uSize.y); }
 // the hardware's GL_LESS with the scene drawn in index order (first drawn wins).
 void visWrite(uint pixel, float depth, uint id) {
     uint d = floatBitsToUint(depth);
-#ifdef RTGI_VIS_COUNT_HITS
+#ifdef RTGI_VISIBILITY_COUNT_HITS
     if (uPhase == 0) atomicAdd(visHits[pixel], 1u);
 #endif
-#ifdef RTGI_VIS_ATOMIC64
+#ifdef RTGI_VISIBILITY_ATOMIC64
     uint64_t packed = (uint64_t(d) << 32) | uint64_t(id);
     if (packed < vis[pixel]) atomicMin(vis[pixel], packed);  // plain read first: most fragments lose
 #else
@@ -70,7 +70,7 @@ void visWrite(uint pixel, float depth, uint id) {
 
 // False for an empty pixel.
 bool visRead(uint pixel, out float depth, out uint id) {
-#ifdef RTGI_VIS_ATOMIC64
+#ifdef RTGI_VISIBILITY_ATOMIC64
     uint64_t v = vis[pixel];
     id = uint(v & 0xffffffffUL);
     depth = uintBitsToFloat(uint(v >> 32));
@@ -78,17 +78,17 @@ bool visRead(uint pixel, out float depth, out uint id) {
     id = vis[visPixelCount() + pixel];
     depth = uintBitsToFloat(vis[pixel]);
 #endif
-    return id != RTGI_VIS_EMPTY;
+    return id != RTGI_VISIBILITY_EMPTY;
 }
 
 void visClear(uint pixel) {
-#ifdef RTGI_VIS_ATOMIC64
+#ifdef RTGI_VISIBILITY_ATOMIC64
     vis[pixel] = ~0UL;
 #else
-    vis[pixel] = RTGI_VIS_EMPTY;
-    vis[visPixelCount() + pixel] = RTGI_VIS_EMPTY;
+    vis[pixel] = RTGI_VISIBILITY_EMPTY;
+    vis[visPixelCount() + pixel] = RTGI_VISIBILITY_EMPTY;
 #endif
-#ifdef RTGI_VIS_COUNT_HITS
+#ifdef RTGI_VISIBILITY_COUNT_HITS
     visHits[pixel] = 0u;
 #endif
 }
@@ -96,7 +96,7 @@ void visClear(uint pixel) {
 // ---- clipping ---------------------------------------------------------------------------
 // Signed distance of a clip-space vertex to plane k (>= 0 inside): the near
 // plane z >= -w as the hardware clips it, then a guard band of
-// RTGI_VIS_GUARD_BAND pixels on each side (keeps fixed point in range; edges
+// RTGI_VISIBILITY_GUARD_BAND pixels on each side (keeps fixed point in range; edges
 // only move outside the viewport there). The far plane is tested per pixel.
 float visPlane(vec4 c, int k, vec2 guard) {
     if (k == 0) return c.z + c.w;
@@ -106,7 +106,7 @@ float visPlane(vec4 c, int k, vec2 guard) {
     return guard.y * c.w + c.y;
 }
 
-vec2 visGuardNdc() { return 1.0 + 2.0 * RTGI_VIS_GUARD_BAND / vec2(uSize); }
+vec2 visGuardNdc() { return 1.0 + 2.0 * RTGI_VISIBILITY_GUARD_BAND / vec2(uSize); }
 
 // Sutherland-Hodgman against the five planes; returns the vertex count of the
 // convex polygon (0: nothing left; at most 3 + 5 = 8).
@@ -136,11 +136,11 @@ int visClip(vec4 c0, vec4 c1, vec4 c2, out vec4 poly[8]) {
 }
 
 // ---- triangle setup ----------------------------------------------------------------------
-// Window position in fixed point (RTGI_VIS_SUBPIXEL_BITS) and window depth
+// Window position in fixed point (RTGI_VISIBILITY_SUBPIXEL_BITS) and window depth
 // (glDepthRange 0..1: z_ndc * 0.5 + 0.5, the D32F convention of the G-buffer).
 ivec2 visSnap(vec4 c) {
     vec2 w = (c.xy / c.w * 0.5 + 0.5) * vec2(uSize);
-    return ivec2(floor(w * float(1 << RTGI_VIS_SUBPIXEL_BITS) + 0.5));
+    return ivec2(floor(w * float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS) + 0.5));
 }
 float visWindowDepth(vec4 c) { return c.z / c.w * 0.5 + 0.5; }
 
@@ -177,7 +177,7 @@ bool visSetup(ivec2 p0, ivec2 p1, ivec2 p2, vec3 z, uint id, out VisRasterTri t)
     if (area == 0L) return false;
     if (area < 0L) {
         // Clockwise in window space = back face (glFrontFace GL_CCW).
-        if ((uFlags & RTGI_VIS_FLAG_CULL_BACK) != 0) return false;
+        if ((uFlags & RTGI_VISIBILITY_FLAG_CULL_BACK) != 0) return false;
         ivec2 tp = p1;
         p1 = p2;
         p2 = tp;
@@ -191,20 +191,20 @@ bool visSetup(ivec2 p0, ivec2 p1, ivec2 p2, vec3 z, uint id, out VisRasterTri t)
     t.z = z;
     t.id = id;
     // Pixels whose centre (x + 0.5) * 2^bits lies in the box.
-    const int half_ = 1 << (RTGI_VIS_SUBPIXEL_BITS - 1);
+    const int half_ = 1 << (RTGI_VISIBILITY_SUBPIXEL_BITS - 1);
     ivec2 lo = min(p0, min(p1, p2)) - half_, hi = max(p0, max(p1, p2)) - half_;
     // ceil / floor division by 2^bits (arithmetic shift floors, also for negatives)
-    ivec2 first = (lo + ((1 << RTGI_VIS_SUBPIXEL_BITS) - 1)) >> RTGI_VIS_SUBPIXEL_BITS;
-    ivec2 last = hi >> RTGI_VIS_SUBPIXEL_BITS;
+    ivec2 first = (lo + ((1 << RTGI_VISIBILITY_SUBPIXEL_BITS) - 1)) >> RTGI_VISIBILITY_SUBPIXEL_BITS;
+    ivec2 last = hi >> RTGI_VISIBILITY_SUBPIXEL_BITS;
     first = max(first, ivec2(0));
     last = min(last, uSize - 1);
     t.box = ivec4(first, last);
     if (any(greaterThan(first, last))) return false;
     t.bias = 0.0;
-    if ((uFlags & RTGI_VIS_FLAG_DEPTH_BIAS) != 0) {
+    if ((uFlags & RTGI_VISIBILITY_FLAG_DEPTH_BIAS) != 0) {
         // glPolygonOffset(1.5, 2.0): 1.5 * max |dz/dx|, |dz/dy| per pixel + 2 r,
         // r = 2^(exponent(max z) - 23) for a float depth buffer (GL 4.5 §14.6.5).
-        float s = float(1 << RTGI_VIS_SUBPIXEL_BITS) * float(t.invArea);
+        float s = float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS) * float(t.invArea);
         float dzdx = s * (float(t.A.y) * (z.y - z.x) + float(t.A.z) * (z.z - z.x));
         float dzdy = s * (float(t.B.y) * (z.y - z.x) + float(t.B.z) * (z.z - z.x));
         float zmax = max(z.x, max(z.y, z.z));
@@ -217,8 +217,8 @@ bool visSetup(ivec2 p0, ivec2 p1, ivec2 p2, vec3 z, uint id, out VisRasterTri t)
 
 // Fixed-point sample position of a pixel centre.
 i64vec2 visSample(int x, int y) {
-    const int half_ = 1 << (RTGI_VIS_SUBPIXEL_BITS - 1);
-    return i64vec2((x << RTGI_VIS_SUBPIXEL_BITS) + half_, (y << RTGI_VIS_SUBPIXEL_BITS) + half_);
+    const int half_ = 1 << (RTGI_VISIBILITY_SUBPIXEL_BITS - 1);
+    return i64vec2((x << RTGI_VISIBILITY_SUBPIXEL_BITS) + half_, (y << RTGI_VISIBILITY_SUBPIXEL_BITS) + half_);
 }
 
 // Tests one pixel and writes it to the visibility buffer when covered.

@@ -1,8 +1,13 @@
 // Scene access and light transport pieces of the reference path tracer:
 // surface data at a BVH hit (GpuScene vertex/index buffers, material
 // table), next-event estimation of the sun and punctual lights with shadow
-// rays, BRDF sampling. Needs common.glsl, brdf.glsl, random.glsl, bvh.glsl.
+// rays, BRDF sampling.
 #pragma once
+#include "lib/common.glsl"
+#include "lib/brdf.glsl"
+#include "lib/random.glsl"
+#include "lib/sampling.glsl"
+#include "lib/bvh.glsl"
 
 layout(std430, binding = RTGI_SSBO_MATERIALS) readonly buffer RefMaterialBlock { GpuMaterial materials[]; };
 layout(std430, binding = RTGI_SSBO_LIGHTS) readonly buffer RefLightBlock { GpuLight lights[]; };
@@ -112,7 +117,7 @@ bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, in
     float choose = rngNext(rng);
     vec2 u = rngNext2(rng);
     if (choose < pSpec) {
-        float phi = 6.28318530717958647692 * u.x;
+        float phi = TWO_PI * u.x;
         float cosT = sqrt((1.0 - u.y) / (1.0 + (alpha * alpha - 1.0) * u.y));
         float sinT = sqrt(max(1.0 - cosT * cosT, 0.0));
         vec3 h = basisAround(n) * vec3(sinT * cos(phi), sinT * sin(phi), cosT);

@@ -1,7 +1,7 @@
 // The one SH library (bands 0-1): basis, clamped-cosine lobe, evaluation,
-// irradiance, reflection and rotation. Constants from lib/lpv_shared.h.
+// irradiance, reflection and rotation. Constants from lib/sh_shared.h.
 #pragma once
-#include "lib/lpv_shared.h"
+#include "lib/sh_shared.h"
 
 // Basis functions at unit direction d (seed eq. 10, SPEC 3).
 vec4 shBasis(vec3 d) { return vec4(RTGI_SH_Y00, -RTGI_SH_Y1 * d.y, RTGI_SH_Y1 * d.z, -RTGI_SH_Y1 * d.x); }

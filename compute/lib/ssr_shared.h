@@ -27,4 +27,39 @@ RTGI_STRUCT(SsrUniforms) {
 #ifndef RTGI_GLSL
 }  // namespace rtgi::gpu
 #endif
+
+// ---- slots of compute/ssr/ (docs/architecture.md, "Binding slots") ----
+// RTGI_<FAMILY>[_<PASS>]_<TEX|IMG|LOC|SSBO>_<ROLE>; the pass appears only where the
+// family's passes give the same role different slots.
+// texture units (sampler bindings)
+#define RTGI_SSR_HIZ_TEX_LINEAR_DEPTH   0  // ssr/hiz.comp
+#define RTGI_SSR_TEX_HIT                0  // ssr/resolve.comp
+#define RTGI_SSR_TEX_CONFIDENCE         1  // ssr/resolve.comp
+#define RTGI_SSR_TEX_VELOCITY           2  // ssr/resolve.comp
+#define RTGI_SSR_TEX_HISTORY            3  // ssr/resolve.comp
+#define RTGI_SSR_TEX_REFLECTION         0  // ssr/shade.comp
+#define RTGI_SSR_TEX_BRDF_LUT           1  // ssr/shade.comp
+#define RTGI_SSR_SHADE_TEX_LINEAR_DEPTH 2  // ssr/shade.comp
+#define RTGI_SSR_SHADE_TEX_NORMAL       3  // ssr/shade.comp
+#define RTGI_SSR_TEX_ALBEDO             4  // ssr/shade.comp
+#define RTGI_SSR_SHADE_TEX_MATERIAL     5  // ssr/shade.comp
+#define RTGI_SSR_TRACE_TEX_LINEAR_DEPTH 0  // ssr/trace.comp
+#define RTGI_SSR_TRACE_TEX_NORMAL       1  // ssr/trace.comp
+#define RTGI_SSR_TRACE_TEX_MATERIAL     2  // ssr/trace.comp
+#define RTGI_SSR_TEX_HIZ                3  // ssr/trace.comp
+#define RTGI_SSR_TEX_NOISE              4  // ssr/trace.comp
+// image units
+#define RTGI_SSR_IMG_TARGET       0  // ssr/hiz.comp
+#define RTGI_SSR_IMG_SOURCE       1  // ssr/hiz.comp
+#define RTGI_SSR_IMG_RESOLVED     0  // ssr/resolve.comp
+#define RTGI_SSR_IMG_SPECULAR     0  // ssr/shade.comp
+#define RTGI_SSR_IMG_OCCLUSION    1  // ssr/shade.comp
+#define RTGI_SSR_IMG_HIT          0  // ssr/trace.comp
+#define RTGI_SSR_IMG_CONFIDENCE   1  // ssr/trace.comp
+#define RTGI_SSR_IMG_HIT_DISTANCE 2  // ssr/trace.comp
+#define RTGI_SSR_IMG_TRACE_DEPTH  3  // ssr/trace.comp
+#define RTGI_SSR_IMG_TRACE_NORMAL 4  // ssr/trace.comp
+// uniform locations
+#define RTGI_SSR_LOC_HAVE_HISTORY 0  // ssr/resolve.comp
+#define RTGI_SSR_LOC_HAVE_LPV     0  // ssr/shade.comp
 #endif

@@ -9,22 +9,23 @@
 // Hooks: RTGI_LPV_BENT_NORMAL looks up along the AO pass's bent normal;
 // RTGI_LPV_S3HO integrates against the SH visibility instead of the cosine.
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
 
-layout(binding = 0) uniform sampler2D uLinearDepth;
-layout(binding = 1) uniform sampler2D uViewNormal;
-layout(binding = 2) uniform sampler2D uAlbedo;
-layout(binding = 3) uniform sampler2D uMaterial;
-layout(binding = 4) uniform sampler3D uLightR;
-layout(binding = 5) uniform sampler3D uLightG;
-layout(binding = 6) uniform sampler3D uLightB;
-layout(binding = 7) uniform sampler2D uBrdfLut;
-layout(binding = 8) uniform sampler2D uDirectional;  // bent normal (xyz, view) or S3HO SH (view)
-layout(rgba16f, binding = 0) uniform writeonly image2D uIndirect;
-layout(rgba16f, binding = 1) uniform writeonly image2D uSpecular;
+layout(binding = RTGI_LPV_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_LPV_TEX_VIEW_NORMAL) uniform sampler2D uViewNormal;
+layout(binding = RTGI_LPV_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_LPV_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_LPV_TEX_LIGHT_R) uniform sampler3D uLightR;
+layout(binding = RTGI_LPV_TEX_LIGHT_G) uniform sampler3D uLightG;
+layout(binding = RTGI_LPV_TEX_LIGHT_B) uniform sampler3D uLightB;
+layout(binding = RTGI_LPV_TEX_BRDF_LUT) uniform sampler2D uBrdfLut;
+layout(binding = RTGI_LPV_TEX_DIRECTIONAL) uniform sampler2D uDirectional;  // bent normal (xyz, view) or S3HO SH (view)
+layout(rgba16f, binding = RTGI_LPV_IMG_INDIRECT) uniform writeonly image2D uIndirect;
+layout(rgba16f, binding = RTGI_LPV_IMG_SPECULAR) uniform writeonly image2D uSpecular;
 
 // Trilinear lookup; outside the grid there is no LPV light.
 bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {

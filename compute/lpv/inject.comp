@@ -6,15 +6,16 @@
 // consumed). Texels outside the grid are counted.
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;
 
-layout(binding = 0) uniform sampler2D uFlux;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(binding = 2) uniform sampler2D uDepth;
-layout(r32f, binding = 0) uniform image3D uInjectR;
-layout(r32f, binding = 1) uniform image3D uInjectG;
-layout(r32f, binding = 2) uniform image3D uInjectB;
+layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
+layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2D uDepth;
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_R) uniform image3D uInjectR;
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_G) uniform image3D uInjectG;
+layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_B) uniform image3D uInjectB;
 layout(std430, binding = RTGI_SSBO_LPV_STATS) buffer Stats { uint droppedTexels; };
 
 #define LPV_REDUCE_CHANNELS 12  // colour * 4 + SH coefficient

@@ -8,23 +8,24 @@
 // at quarter resolution (every second pixel in x and y, seed 5.2.3).
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;
 
-layout(r32f, binding = 0) uniform image3D uGeometryAccum;
+layout(r32f, binding = RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM) uniform image3D uGeometryAccum;
 
 #ifdef RTGI_LPV_GV_GBUFFER
-layout(binding = 0) uniform sampler2D uLinearDepth;
-layout(binding = 1) uniform sampler2D uViewNormal;
-layout(binding = 2) uniform sampler2D uAlbedo;
-layout(binding = 3) uniform sampler2D uMaterial;
+layout(binding = RTGI_LPV_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_LPV_TEX_VIEW_NORMAL) uniform sampler2D uViewNormal;
+layout(binding = RTGI_LPV_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_LPV_TEX_MATERIAL) uniform sampler2D uMaterial;
 const int kStride = 2;
 #else
-layout(binding = 0) uniform sampler2D uFlux;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(binding = 2) uniform sampler2D uDepth;
+layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
+layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2D uDepth;
 #endif
 
 #define LPV_REDUCE_CHANNELS RTGI_LPV_GV_CHANNELS

@@ -2,10 +2,11 @@
 // texel; the geometry stage moves it to its cell's layer, additive blending
 // sums the coefficients. Same math as inject.comp.
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 
-layout(binding = 0) uniform sampler2D uFlux;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(binding = 2) uniform sampler2D uDepth;
+layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
+layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2D uDepth;
 
 layout(location = 0) flat out ivec4 vCell;  // xyz cell, w = 1 when injected
 layout(location = 1) flat out vec4 vR;

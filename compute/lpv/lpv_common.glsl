@@ -3,6 +3,7 @@
 #pragma once
 #include "lib/common.glsl"
 #include "lib/sh.glsl"
+#include "lib/lpv_shared.h"
 
 layout(std140, binding = RTGI_UBO_LPV) uniform LpvBlock { LpvUniforms lpv; };
 

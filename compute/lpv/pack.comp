@@ -6,13 +6,14 @@
 // so the next injection starts from zero without a clear of the whole volume
 // (docs/lpv.md, "Costs").
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
 #ifdef RTGI_LPV_PACK_GEOMETRY
-layout(r32f, binding = 2) uniform image3D uGeometryAccum;
-layout(RTGI_LPV_FORMAT, binding = 0) uniform writeonly image3D uGeometry;
-layout(rgba16f, binding = 1) uniform writeonly image3D uGeometryAlbedo;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM) uniform image3D uGeometryAccum;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_GEOMETRY) uniform writeonly image3D uGeometry;
+layout(rgba16f, binding = RTGI_LPV_IMG_GEOMETRY_ALBEDO) uniform writeonly image3D uGeometryAlbedo;
 
 void main() {
     ivec3 g = ivec3(gl_GlobalInvocationID);
@@ -28,12 +29,12 @@ void main() {
     imageStore(uGeometryAlbedo, g, vec4(albedo, 1.0));
 }
 #else
-layout(r32f, binding = 3) uniform image3D uInjectR;
-layout(r32f, binding = 4) uniform image3D uInjectG;
-layout(r32f, binding = 5) uniform image3D uInjectB;
-layout(RTGI_LPV_FORMAT, binding = 0) uniform writeonly image3D uVolR;
-layout(RTGI_LPV_FORMAT, binding = 1) uniform writeonly image3D uVolG;
-layout(RTGI_LPV_FORMAT, binding = 2) uniform writeonly image3D uVolB;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_R) uniform image3D uInjectR;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_G) uniform image3D uInjectG;
+layout(r32f, binding = RTGI_LPV_PACK_IMG_INJECT_B) uniform image3D uInjectB;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_VOL_R) uniform writeonly image3D uVolR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_VOL_G) uniform writeonly image3D uVolG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_VOL_B) uniform writeonly image3D uVolB;
 
 // The 4 coefficients of cell c in one accumulation texture, zeroed behind (the invocation owns them).
 #define LPV_CONSUME(img, c, out4)                                  \

@@ -2,22 +2,23 @@
 // adds it into the accumulated volume in the same dispatch (fused, SPEC 3.5);
 // the first step writes accum = step[0] + step[1].
 #include "lpv/propagate.glsl"
+#include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
-layout(binding = 0) uniform sampler3D uSrcR;
-layout(binding = 1) uniform sampler3D uSrcG;
-layout(binding = 2) uniform sampler3D uSrcB;
-layout(binding = 3) uniform sampler3D uGeometry;
-layout(binding = 4) uniform sampler3D uGeometryAlbedo;
-layout(RTGI_LPV_FORMAT, binding = 0) uniform writeonly image3D uDstR;
-layout(RTGI_LPV_FORMAT, binding = 1) uniform writeonly image3D uDstG;
-layout(RTGI_LPV_FORMAT, binding = 2) uniform writeonly image3D uDstB;
-layout(RTGI_LPV_FORMAT, binding = 3) uniform image3D uAccumR;
-layout(RTGI_LPV_FORMAT, binding = 4) uniform image3D uAccumG;
-layout(RTGI_LPV_FORMAT, binding = 5) uniform image3D uAccumB;
+layout(binding = RTGI_LPV_TEX_SRC_R) uniform sampler3D uSrcR;
+layout(binding = RTGI_LPV_TEX_SRC_G) uniform sampler3D uSrcG;
+layout(binding = RTGI_LPV_TEX_SRC_B) uniform sampler3D uSrcB;
+layout(binding = RTGI_LPV_TEX_GEOMETRY) uniform sampler3D uGeometry;
+layout(binding = RTGI_LPV_TEX_GEOMETRY_ALBEDO) uniform sampler3D uGeometryAlbedo;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_R) uniform writeonly image3D uDstR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_G) uniform writeonly image3D uDstG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_B) uniform writeonly image3D uDstB;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_R) uniform image3D uAccumR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_G) uniform image3D uAccumG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_B) uniform image3D uAccumB;
 
-layout(location = 0) uniform int uIteration;
+layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);

@@ -2,13 +2,14 @@
 // lpv/propagate.glsl; outputs 0-2 write volume k, 3-5 add into the
 // accumulated volume through additive blending.
 #include "lpv/propagate.glsl"
+#include "lib/lpv_shared.h"
 
-layout(binding = 0) uniform sampler3D uSrcR;
-layout(binding = 1) uniform sampler3D uSrcG;
-layout(binding = 2) uniform sampler3D uSrcB;
-layout(binding = 3) uniform sampler3D uGeometry;
-layout(binding = 4) uniform sampler3D uGeometryAlbedo;
-layout(location = 0) uniform int uIteration;
+layout(binding = RTGI_LPV_TEX_SRC_R) uniform sampler3D uSrcR;
+layout(binding = RTGI_LPV_TEX_SRC_G) uniform sampler3D uSrcG;
+layout(binding = RTGI_LPV_TEX_SRC_B) uniform sampler3D uSrcB;
+layout(binding = RTGI_LPV_TEX_GEOMETRY) uniform sampler3D uGeometry;
+layout(binding = RTGI_LPV_TEX_GEOMETRY_ALBEDO) uniform sampler3D uGeometryAlbedo;
+layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 
 layout(location = 0) out vec4 outR;
 layout(location = 1) out vec4 outG;

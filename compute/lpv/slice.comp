@@ -2,14 +2,15 @@
 // coefficient of R, G, B (the cell's mean intensity) as colour. Geometry
 // (RTGI_LPV_SLICE_GEOMETRY): band-0 blocking and the mean albedo.
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
 
-layout(binding = 0) uniform sampler3D uA;
-layout(binding = 1) uniform sampler3D uB;
-layout(binding = 2) uniform sampler3D uC;
-layout(rgba32f, binding = 0) uniform writeonly image2D uSlice;
-layout(location = 0) uniform int uZ;
+layout(binding = RTGI_LPV_SLICE_TEX_A) uniform sampler3D uA;
+layout(binding = RTGI_LPV_SLICE_TEX_B) uniform sampler3D uB;
+layout(binding = RTGI_LPV_SLICE_TEX_C) uniform sampler3D uC;
+layout(rgba32f, binding = RTGI_LPV_IMG_SLICE) uniform writeonly image2D uSlice;
+layout(location = RTGI_LPV_LOC_Z) uniform int uZ;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

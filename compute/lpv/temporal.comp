@@ -1,18 +1,19 @@
 // lpv.temporal: blends the accumulated volume with the previous frame's
 // result re-indexed by the integer cell shift of the snapped grid (seed 3.7).
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
-layout(binding = 0) uniform sampler3D uCurR;
-layout(binding = 1) uniform sampler3D uCurG;
-layout(binding = 2) uniform sampler3D uCurB;
-layout(binding = 3) uniform sampler3D uPrevR;
-layout(binding = 4) uniform sampler3D uPrevG;
-layout(binding = 5) uniform sampler3D uPrevB;
-layout(RTGI_LPV_FORMAT, binding = 0) uniform writeonly image3D uOutR;
-layout(RTGI_LPV_FORMAT, binding = 1) uniform writeonly image3D uOutG;
-layout(RTGI_LPV_FORMAT, binding = 2) uniform writeonly image3D uOutB;
+layout(binding = RTGI_LPV_TEX_CUR_R) uniform sampler3D uCurR;
+layout(binding = RTGI_LPV_TEX_CUR_G) uniform sampler3D uCurG;
+layout(binding = RTGI_LPV_TEX_CUR_B) uniform sampler3D uCurB;
+layout(binding = RTGI_LPV_TEX_PREV_R) uniform sampler3D uPrevR;
+layout(binding = RTGI_LPV_TEX_PREV_G) uniform sampler3D uPrevG;
+layout(binding = RTGI_LPV_TEX_PREV_B) uniform sampler3D uPrevB;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_OUT_R) uniform writeonly image3D uOutR;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_OUT_G) uniform writeonly image3D uOutG;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_OUT_B) uniform writeonly image3D uOutB;
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);

@@ -3,10 +3,11 @@
 // centres ((i + 0.5) / size), so bilinear lookups at (n·v, roughness) are
 // exact there. Computed once per configuration.
 #include "lib/brdf.glsl"
+#include "lib/post_shared.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rg16f, binding = 0) uniform writeonly image2D uLut;
-layout(location = 0) uniform int uSamples;
+layout(rg16f, binding = RTGI_POST_IMG_LUT) uniform writeonly image2D uLut;
+layout(location = RTGI_POST_LOC_SAMPLES) uniform int uSamples;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

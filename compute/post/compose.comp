@@ -5,25 +5,26 @@
 // RTGI_DIFFUSE_ONLY (ssr.diffuse_history): no specular term, no tonemapping,
 // the result goes to an RGBA16F history image.
 #include "lib/common.glsl"
+#include "lib/post_shared.h"
 #include "lib/brdf.glsl"
 #include "lib/tonemap.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = 0) uniform sampler2D uDirect;
-layout(binding = 1) uniform sampler2D uAlbedo;
-layout(binding = 2) uniform sampler2D uMaterial;
-layout(binding = 3) uniform sampler2D uIndirect;
-layout(binding = 4) uniform sampler2D uSpecular;
-layout(binding = 5) uniform sampler2D uAo;
+layout(binding = RTGI_POST_TEX_DIRECT) uniform sampler2D uDirect;
+layout(binding = RTGI_POST_COMPOSE_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_POST_COMPOSE_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_POST_TEX_INDIRECT) uniform sampler2D uIndirect;
+layout(binding = RTGI_POST_TEX_SPECULAR) uniform sampler2D uSpecular;
+layout(binding = RTGI_POST_TEX_AO) uniform sampler2D uAo;
 #ifdef RTGI_DIFFUSE_ONLY
-layout(rgba16f, binding = 0) uniform writeonly image2D uHdr;
+layout(rgba16f, binding = RTGI_POST_IMG_HDR) uniform writeonly image2D uHdr;
 #else
-layout(rgba32f, binding = 0) uniform writeonly image2D uHdr;
-layout(rgba8, binding = 1) uniform writeonly image2D uLdr;
+layout(rgba32f, binding = RTGI_POST_IMG_HDR) uniform writeonly image2D uHdr;
+layout(rgba8, binding = RTGI_POST_IMG_LDR) uniform writeonly image2D uLdr;
 #endif
 
-layout(location = 0) uniform ivec4 uHave;  // indirect, specular, ao, ao already applied to indirect
+layout(location = RTGI_POST_LOC_HAVE) uniform ivec4 uHave;  // indirect, specular, ao, ao already applied to indirect
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

@@ -2,20 +2,21 @@
 // (unshadowed), emission; sky radiance where no geometry was rasterized.
 // RTGI_DIFFUSE_ONLY drops the specular lobe (ssr.diffuse_history).
 #include "lib/common.glsl"
+#include "lib/post_shared.h"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = 0) uniform sampler2D uLinearDepth;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(binding = 2) uniform sampler2D uAlbedo;
-layout(binding = 3) uniform sampler2D uMaterial;
-layout(binding = 4) uniform sampler2D uEmissive;
-layout(binding = 5) uniform sampler2DShadow uShadowMap;
-layout(rgba16f, binding = 0) uniform writeonly image2D uDirect;
+layout(binding = RTGI_POST_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_POST_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_POST_DIRECT_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_POST_DIRECT_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_POST_TEX_EMISSIVE) uniform sampler2D uEmissive;
+layout(binding = RTGI_POST_TEX_SHADOW_MAP) uniform sampler2DShadow uShadowMap;
+layout(rgba16f, binding = RTGI_POST_IMG_DIRECT) uniform writeonly image2D uDirect;
 
-layout(location = 0) uniform int uHasShadowMap;
+layout(location = RTGI_POST_LOC_HAS_SHADOW_MAP) uniform int uHasShadowMap;
 
 #ifdef RTGI_DIFFUSE_ONLY
 vec3 lightBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, vec2 rm) { return evalDiffuseCos(n, l, albedo, rm.y); }

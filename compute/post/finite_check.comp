@@ -1,14 +1,15 @@
 // --check: counts NaN, ±Inf, negative values (where impossible) and fp16
 // saturation (|x| >= 65504) over every texel/channel of one output.
+#include "lib/post_shared.h"
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #ifdef RTGI_VOLUME
-layout(binding = 0) uniform sampler3D uSource;
+layout(binding = RTGI_POST_TEX_SOURCE) uniform sampler3D uSource;
 #else
-layout(binding = 0) uniform sampler2D uSource;
+layout(binding = RTGI_POST_TEX_SOURCE) uniform sampler2D uSource;
 #endif
-layout(std430, binding = 0) buffer Counts { uint nanCount, infCount, negativeCount, saturatedCount; };
-layout(location = 0) uniform int uChannels;
-layout(location = 1) uniform int uMayBeNegative;
+layout(std430, binding = RTGI_POST_SSBO_COUNTS) buffer Counts { uint nanCount, infCount, negativeCount, saturatedCount; };
+layout(location = RTGI_POST_LOC_CHANNELS) uniform int uChannels;
+layout(location = RTGI_POST_LOC_MAY_BE_NEGATIVE) uniform int uMayBeNegative;
 void main() {
 #ifdef RTGI_VOLUME
     ivec3 p = ivec3(gl_GlobalInvocationID);

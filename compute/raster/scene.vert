@@ -1,13 +1,14 @@
 // Vertex stage of every scene rasterization (G-buffer, shadow map, RSM).
 // RTGI_VP_UNIFORM selects a light's view-projection instead of the camera's.
 #include "lib/common.glsl"
+#include "lib/raster_shared.h"
 
 layout(location = RTGI_ATTR_POSITION) in vec3 inPosition;
 layout(location = RTGI_ATTR_NORMAL) in vec3 inNormal;
 layout(location = RTGI_ATTR_UV) in vec2 inUv;
 layout(location = RTGI_ATTR_MATERIAL) in uint inMaterial;
 
-layout(location = 0) uniform mat4 uLightViewProj;  // used by shadow/RSM variants
+layout(location = RTGI_RASTER_LOC_LIGHT_VIEW_PROJ) uniform mat4 uLightViewProj;  // used by shadow/RSM variants
 
 layout(location = 0) out vec3 vWorldPos;
 layout(location = 1) out vec3 vNormal;

@@ -3,20 +3,22 @@
 // when nothing is hit. Adds this dispatch's samples to the accumulation
 // images (one invocation owns its pixel: plain load/store, no atomics).
 #include "lib/common.glsl"
+#include "lib/bvh_shared.h"
 #include "lib/depth.glsl"
 #include "lib/random.glsl"
+#include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
 
-layout(binding = 0) uniform sampler2D uLinearDepth;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(rgba32f, binding = 0) uniform image2D uAccum;    // Σx (rgb), sample count (a)
-layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // Σx² (rgb)
+layout(binding = RTGI_REF_AO_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_REF_AO_TEX_NORMAL) uniform sampler2D uNormal;
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // Σx (rgb), sample count (a)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // Σx² (rgb)
 
 
-layout(location = 0) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed
-layout(location = 1) uniform vec2 uRay;       // maximum ray length, origin offset along the normal
+layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed
+layout(location = RTGI_REF_LOC_RAY) uniform vec2 uRay;       // maximum ray length, origin offset along the normal
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

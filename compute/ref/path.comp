@@ -10,25 +10,27 @@
 // are picked up by BRDF-sampled rays (no double counting). uSamples.w caps
 // the number of bounces after x1; Russian roulette from the third on.
 #include "lib/common.glsl"
+#include "lib/bvh_shared.h"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 #include "lib/random.glsl"
+#include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
 #include "lib/ref_scene.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
 
-layout(binding = 1) uniform sampler2D uLinearDepth;
-layout(binding = 2) uniform sampler2D uNormal;
-layout(binding = 3) uniform sampler2D uAlbedo;
-layout(binding = 4) uniform sampler2D uMaterial;
-layout(binding = 5) uniform sampler2D uEmissive;
-layout(rgba32f, binding = 0) uniform image2D uAccum;    // Σx (rgb), sample count (a)
-layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // Σx² (rgb)
+layout(binding = RTGI_REF_PATH_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_REF_PATH_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_REF_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_REF_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_REF_TEX_EMISSIVE) uniform sampler2D uEmissive;
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // Σx (rgb), sample count (a)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // Σx² (rgb)
 
 
-layout(location = 0) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
-layout(location = 1) uniform vec2 uRay;       // unused, origin offset along the normal
+layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
+layout(location = RTGI_REF_LOC_RAY) uniform vec2 uRay;       // unused, origin offset along the normal
 
 // Radiance arriving along (ro, rd) at a surface; `fromFirst` marks the ray
 // leaving x1 (escaping it sees the sky directly).

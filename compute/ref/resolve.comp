@@ -9,15 +9,15 @@
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
 
 #ifdef RTGI_REF_TONEMAP_ONLY
-layout(rgba32f, binding = 2) uniform readonly image2D uMean;
+layout(rgba32f, binding = RTGI_REF_IMG_MEAN) uniform readonly image2D uMean;
 #else
-layout(rgba32f, binding = 0) uniform readonly image2D uAccum;    // Σx (rgb), sample count (a)
-layout(rgba32f, binding = 1) uniform readonly image2D uAccumSq;  // Σx² (rgb)
-layout(rgba32f, binding = 2) uniform writeonly image2D uMean;    // rgb mean, a = 1
-layout(rgba32f, binding = 3) uniform writeonly image2D uStdErr;  // rgb standard error, a = 1
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform readonly image2D uAccum;    // Σx (rgb), sample count (a)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform readonly image2D uAccumSq;  // Σx² (rgb)
+layout(rgba32f, binding = RTGI_REF_IMG_MEAN) uniform writeonly image2D uMean;    // rgb mean, a = 1
+layout(rgba32f, binding = RTGI_REF_IMG_STD_ERR) uniform writeonly image2D uStdErr;  // rgb standard error, a = 1
 #endif
 #ifdef RTGI_REF_RADIANCE
-layout(rgba8, binding = 4) uniform writeonly image2D uLdr;
+layout(rgba8, binding = RTGI_REF_IMG_LDR) uniform writeonly image2D uLdr;
 #endif
 
 void main() {

@@ -2,6 +2,7 @@
 // rays (origin.xyz, tMax in w; direction.xyz), written back for comparison
 // with a brute-force loop over all triangles on the CPU.
 #include "lib/common.glsl"
+#include "lib/bvh_shared.h"
 #include "lib/bvh.glsl"
 
 layout(local_size_x = 64) in;
@@ -11,7 +12,7 @@ struct TestRay {
     vec4 direction;  // xyz; out: x = closest t (-1 miss), y = triangle id bits, z = any-hit (0/1)
 };
 layout(std430, binding = RTGI_SSBO_REF_RAYS) buffer RayBlock { TestRay rays[]; };
-layout(location = 0) uniform uint uCount;
+layout(location = RTGI_REF_LOC_COUNT) uniform uint uCount;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

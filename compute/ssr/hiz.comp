@@ -4,16 +4,17 @@
 // level L has an odd width / height and this is its last texel, so that
 // every level-L texel belongs to some parent (no depth is ever dropped).
 #include "lib/common.glsl"
+#include "lib/ssr_shared.h"
 #include "lib/ssr.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #ifdef RTGI_HIZ_COPY
-layout(binding = 0) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_SSR_HIZ_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
 #else
-layout(r32f, binding = 1) uniform readonly image2D uSource;
+layout(r32f, binding = RTGI_SSR_IMG_SOURCE) uniform readonly image2D uSource;
 #endif
-layout(r32f, binding = 0) uniform writeonly image2D uTarget;
+layout(r32f, binding = RTGI_SSR_IMG_TARGET) uniform writeonly image2D uTarget;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

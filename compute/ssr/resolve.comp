@@ -8,13 +8,13 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
-layout(binding = 0) uniform sampler2D uHit;
-layout(binding = 1) uniform sampler2D uConfidence;
-layout(binding = 2) uniform sampler2D uVelocity;
-layout(binding = 3) uniform sampler2D uHistory;  // bilinear
-layout(rgba16f, binding = 0) uniform writeonly image2D uResolved;
+layout(binding = RTGI_SSR_TEX_HIT) uniform sampler2D uHit;
+layout(binding = RTGI_SSR_TEX_CONFIDENCE) uniform sampler2D uConfidence;
+layout(binding = RTGI_SSR_TEX_VELOCITY) uniform sampler2D uVelocity;
+layout(binding = RTGI_SSR_TEX_HISTORY) uniform sampler2D uHistory;  // bilinear
+layout(rgba16f, binding = RTGI_SSR_IMG_RESOLVED) uniform writeonly image2D uResolved;
 
-layout(location = 0) uniform int uHaveHistory;
+layout(location = RTGI_SSR_LOC_HAVE_HISTORY) uniform int uHaveHistory;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

@@ -11,16 +11,16 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
-layout(binding = 0) uniform sampler2D uReflection;  // full resolution
-layout(binding = 1) uniform sampler2D uBrdfLut;     // bilinear, (n·v, roughness)
-layout(binding = 2) uniform sampler2D uLinearDepth;
-layout(binding = 3) uniform sampler2D uNormal;
-layout(binding = 4) uniform sampler2D uAlbedo;
-layout(binding = 5) uniform sampler2D uMaterial;
-layout(rgba16f, binding = 0) uniform image2D uSpecular;  // LPV specular in (when uHaveLpv), result out
-layout(r16f, binding = 1) uniform writeonly image2D uOcclusion;
+layout(binding = RTGI_SSR_TEX_REFLECTION) uniform sampler2D uReflection;  // full resolution
+layout(binding = RTGI_SSR_TEX_BRDF_LUT) uniform sampler2D uBrdfLut;     // bilinear, (n·v, roughness)
+layout(binding = RTGI_SSR_SHADE_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_SSR_SHADE_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_SSR_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_SSR_SHADE_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(rgba16f, binding = RTGI_SSR_IMG_SPECULAR) uniform image2D uSpecular;  // LPV specular in (when uHaveLpv), result out
+layout(r16f, binding = RTGI_SSR_IMG_OCCLUSION) uniform writeonly image2D uOcclusion;
 
-layout(location = 0) uniform int uHaveLpv;
+layout(location = RTGI_SSR_LOC_HAVE_LPV) uniform int uHaveLpv;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);

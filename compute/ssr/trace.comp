@@ -14,17 +14,17 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
-layout(binding = 0) uniform sampler2D uLinearDepth;
-layout(binding = 1) uniform sampler2D uNormal;
-layout(binding = 2) uniform sampler2D uMaterial;
-layout(binding = 3) uniform sampler2D uHiz;
-layout(binding = 4) uniform sampler2DArray uNoise;  // res.blueNoise
-layout(rg16f, binding = 0) uniform writeonly image2D uHit;
-layout(r16f, binding = 1) uniform writeonly image2D uConfidence;
-layout(r16f, binding = 2) uniform writeonly image2D uHitDistance;
+layout(binding = RTGI_SSR_TRACE_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_SSR_TRACE_TEX_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_SSR_TRACE_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_SSR_TEX_HIZ) uniform sampler2D uHiz;
+layout(binding = RTGI_SSR_TEX_NOISE) uniform sampler2DArray uNoise;  // res.blueNoise
+layout(rg16f, binding = RTGI_SSR_IMG_HIT) uniform writeonly image2D uHit;
+layout(r16f, binding = RTGI_SSR_IMG_CONFIDENCE) uniform writeonly image2D uConfidence;
+layout(r16f, binding = RTGI_SSR_IMG_HIT_DISTANCE) uniform writeonly image2D uHitDistance;
 #ifdef RTGI_SSR_HALF
-layout(r32f, binding = 3) uniform writeonly image2D uTraceDepth;
-layout(rgba16f, binding = 4) uniform writeonly image2D uTraceNormal;
+layout(r32f, binding = RTGI_SSR_IMG_TRACE_DEPTH) uniform writeonly image2D uTraceDepth;
+layout(rgba16f, binding = RTGI_SSR_IMG_TRACE_NORMAL) uniform writeonly image2D uTraceNormal;
 #endif
 
 void main() {

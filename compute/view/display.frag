@@ -3,11 +3,12 @@
 // 0 display-ready (ldr), 1 linear radiance x scale -> sRGB, 2 signed vector
 // x 0.5 + 0.5, 3 one channel x scale (grey), 4 linear depth / far.
 #include "lib/tonemap.glsl"
+#include "lib/view_shared.h"
 
-layout(binding = 0) uniform sampler2D uImage;
-layout(location = 0) uniform int uMode;
-layout(location = 1) uniform float uScale;
-layout(location = 2) uniform float uFar;
+layout(binding = RTGI_VIEW_TEX_IMAGE) uniform sampler2D uImage;
+layout(location = RTGI_VIEW_LOC_MODE) uniform int uMode;
+layout(location = RTGI_VIEW_LOC_SCALE) uniform float uScale;
+layout(location = RTGI_VIEW_LOC_FAR) uniform float uFar;
 
 layout(location = 0) in vec2 vUv;
 layout(location = 0) out vec4 outColor;

@@ -1,7 +1,8 @@
 // Overlay text and panels of rtgi-view: triangles in window pixels (stb_easy_font
 // quads split in two on the CPU), pulled from a buffer by gl_VertexID.
-layout(std430, binding = 0) readonly buffer Positions { vec2 positions[]; };
-layout(location = 0) uniform vec2 uWindowSize;
+#include "lib/view_shared.h"
+layout(std430, binding = RTGI_VIEW_SSBO_POSITIONS) readonly buffer Positions { vec2 positions[]; };
+layout(location = RTGI_VIEW_LOC_WINDOW_SIZE) uniform vec2 uWindowSize;
 
 void main() {
     vec2 p = positions[gl_VertexID] / uWindowSize;

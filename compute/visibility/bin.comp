@@ -6,26 +6,26 @@
 // most-inside sample (exact for the box, conservative inside it).
 #include "lib/raster.glsl"
 
-layout(local_size_x = RTGI_VIS_BIN_GROUP) in;
+layout(local_size_x = RTGI_VISIBILITY_BIN_GROUP) in;
 
-layout(std430, binding = RTGI_VIS_SSBO_LARGE) readonly buffer Large { VisTriangle large[]; };
-layout(std430, binding = RTGI_VIS_SSBO_TILEHEADS) buffer TileHeads { uint tileHead[]; };
-layout(std430, binding = RTGI_VIS_SSBO_NODES) writeonly buffer Nodes { uvec2 nodes[]; };
-layout(std430, binding = RTGI_VIS_SSBO_COUNTERS) buffer Counters { VisCounters counters; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_LARGE) readonly buffer Large { VisTriangle large[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_TILEHEADS) buffer TileHeads { uint tileHead[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_NODES) writeonly buffer Nodes { uvec2 nodes[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_COUNTERS) buffer Counters { VisCounters counters; };
 
 void main() {
     uint count = min(counters.largeCount, uint(uCapacity.x));
-    ivec2 tiles = (uSize + RTGI_VIS_TILE - 1) / RTGI_VIS_TILE;
+    ivec2 tiles = (uSize + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
     for (uint tri = gl_WorkGroupID.x; tri < count; tri += gl_NumWorkGroups.x) {
         VisTriangle r = large[tri];
         VisRasterTri t;
         if (!visSetup(r.p01.xy, r.p01.zw, r.p2i.xy, r.z.xyz, uint(r.p2i.z), t)) continue;
-        ivec2 t0 = t.box.xy / RTGI_VIS_TILE, t1 = t.box.zw / RTGI_VIS_TILE;
+        ivec2 t0 = t.box.xy / RTGI_VISIBILITY_TILE, t1 = t.box.zw / RTGI_VISIBILITY_TILE;
         int w = t1.x - t0.x + 1, n = w * (t1.y - t0.y + 1);
-        for (int k = int(gl_LocalInvocationIndex); k < n; k += RTGI_VIS_BIN_GROUP) {
+        for (int k = int(gl_LocalInvocationIndex); k < n; k += RTGI_VISIBILITY_BIN_GROUP) {
             ivec2 tile = t0 + ivec2(k % w, k / w);
             // The tile's pixel range clipped to the triangle's box.
-            ivec2 lo = max(tile * RTGI_VIS_TILE, t.box.xy), hi = min(tile * RTGI_VIS_TILE + RTGI_VIS_TILE - 1, t.box.zw);
+            ivec2 lo = max(tile * RTGI_VISIBILITY_TILE, t.box.xy), hi = min(tile * RTGI_VISIBILITY_TILE + RTGI_VISIBILITY_TILE - 1, t.box.zw);
             i64vec2 slo = visSample(lo.x, lo.y), shi = visSample(hi.x, hi.y);
             bool reject = false;
             for (int e = 0; e < 3; ++e) {

@@ -3,13 +3,13 @@
 
 layout(local_size_x = 256) in;
 
-layout(std430, binding = RTGI_VIS_SSBO_TILEHEADS) writeonly buffer TileHeads { uint tileHead[]; };
-layout(std430, binding = RTGI_VIS_SSBO_COUNTERS) writeonly buffer Counters { VisCounters counters; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_TILEHEADS) writeonly buffer TileHeads { uint tileHead[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_COUNTERS) writeonly buffer Counters { VisCounters counters; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     if (i < visPixelCount()) visClear(i);
-    ivec2 tiles = (uSize + RTGI_VIS_TILE - 1) / RTGI_VIS_TILE;
-    if (i < uint(tiles.x * tiles.y)) tileHead[i] = RTGI_VIS_EMPTY;
+    ivec2 tiles = (uSize + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
+    if (i < uint(tiles.x * tiles.y)) tileHead[i] = RTGI_VISIBILITY_EMPTY;
     if (i == 0u) counters = VisCounters(0u, 0u, 0u, 0u);
 }

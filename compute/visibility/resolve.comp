@@ -8,12 +8,12 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = RTGI_VIS_IMG_LINEAR_DEPTH, r32f) uniform writeonly image2D outLinearDepth;
-layout(binding = RTGI_VIS_IMG_NORMAL, rgba16f) uniform writeonly image2D outNormal;
-layout(binding = RTGI_VIS_IMG_ALBEDO, rgba8) uniform writeonly image2D outAlbedo;
-layout(binding = RTGI_VIS_IMG_MATERIAL, rgba8) uniform writeonly image2D outMaterial;
-layout(binding = RTGI_VIS_IMG_EMISSIVE, r11f_g11f_b10f) uniform writeonly image2D outEmissive;
-layout(binding = RTGI_VIS_IMG_VELOCITY, rg16f) uniform writeonly image2D outVelocity;
+layout(binding = RTGI_VISIBILITY_IMG_LINEAR_DEPTH, r32f) uniform writeonly image2D outLinearDepth;
+layout(binding = RTGI_VISIBILITY_IMG_NORMAL, rgba16f) uniform writeonly image2D outNormal;
+layout(binding = RTGI_VISIBILITY_IMG_ALBEDO, rgba8) uniform writeonly image2D outAlbedo;
+layout(binding = RTGI_VISIBILITY_IMG_MATERIAL, rgba8) uniform writeonly image2D outMaterial;
+layout(binding = RTGI_VISIBILITY_IMG_EMISSIVE, r11f_g11f_b10f) uniform writeonly image2D outEmissive;
+layout(binding = RTGI_VISIBILITY_IMG_VELOCITY, rg16f) uniform writeonly image2D outVelocity;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

@@ -5,8 +5,8 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = RTGI_VIS_IMG_RSM_FLUX, rgba32f) uniform writeonly image2D outFlux;
-layout(binding = RTGI_VIS_IMG_RSM_NORMAL, rgba16f) uniform writeonly image2D outNormal;
+layout(binding = RTGI_VISIBILITY_IMG_RSM_FLUX, rgba32f) uniform writeonly image2D outFlux;
+layout(binding = RTGI_VISIBILITY_IMG_RSM_NORMAL, rgba16f) uniform writeonly image2D outNormal;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);

@@ -1,16 +1,16 @@
 // visibility.raster, step 2 (one thread per scene triangle): transform, clip
 // against the near plane and the guard band, snap to fixed point, cull
 // (frustum, back face when asked, zero area, no pixel centre covered), then
-// rasterize small triangles (pixel box <= RTGI_VIS_SMALL^2) here and append
+// rasterize small triangles (pixel box <= RTGI_VISIBILITY_SMALL^2) here and append
 // the others to the large-triangle list for binning (Laine & Karras 2011 §4).
 // 32-bit path, phase 1: only the small triangles again (the large list and
 // its bins are reused).
 #include "lib/raster.glsl"
 
-layout(local_size_x = RTGI_VIS_SETUP_GROUP) in;
+layout(local_size_x = RTGI_VISIBILITY_SETUP_GROUP) in;
 
-layout(std430, binding = RTGI_VIS_SSBO_LARGE) writeonly buffer Large { VisTriangle large[]; };
-layout(std430, binding = RTGI_VIS_SSBO_COUNTERS) buffer Counters { VisCounters counters; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_LARGE) writeonly buffer Large { VisTriangle large[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_COUNTERS) buffer Counters { VisCounters counters; };
 
 shared uint sSmall, sCulled;
 
@@ -21,7 +21,7 @@ void emit(vec4 c0, vec4 c1, vec4 c2, uint id, inout bool any_, inout bool small)
     if (!visSetup(p0, p1, p2, z, id, t)) return;
     any_ = true;
     ivec2 extent = t.box.zw - t.box.xy + 1;
-    if (extent.x <= RTGI_VIS_SMALL && extent.y <= RTGI_VIS_SMALL) {
+    if (extent.x <= RTGI_VISIBILITY_SMALL && extent.y <= RTGI_VISIBILITY_SMALL) {
         for (int y = t.box.y; y <= t.box.w; ++y)
             for (int x = t.box.x; x <= t.box.z; ++x) visRasterPixel(t, x, y);
         return;

@@ -3,18 +3,18 @@
 // (Laine & Karras 2011 §4.4 fine raster, one pixel per thread).
 #include "lib/raster.glsl"
 
-layout(local_size_x = RTGI_VIS_TILE, local_size_y = RTGI_VIS_TILE) in;
+layout(local_size_x = RTGI_VISIBILITY_TILE, local_size_y = RTGI_VISIBILITY_TILE) in;
 
-layout(std430, binding = RTGI_VIS_SSBO_LARGE) readonly buffer Large { VisTriangle large[]; };
-layout(std430, binding = RTGI_VIS_SSBO_TILEHEADS) readonly buffer TileHeads { uint tileHead[]; };
-layout(std430, binding = RTGI_VIS_SSBO_NODES) readonly buffer Nodes { uvec2 nodes[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_LARGE) readonly buffer Large { VisTriangle large[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_TILEHEADS) readonly buffer TileHeads { uint tileHead[]; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_NODES) readonly buffer Nodes { uvec2 nodes[]; };
 
 void main() {
-    ivec2 tiles = (uSize + RTGI_VIS_TILE - 1) / RTGI_VIS_TILE;
+    ivec2 tiles = (uSize + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
     uint node = tileHead[gl_WorkGroupID.y * uint(tiles.x) + gl_WorkGroupID.x];
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     bool inTarget = all(lessThan(pixel, uSize));
-    while (node != RTGI_VIS_EMPTY) {
+    while (node != RTGI_VISIBILITY_EMPTY) {
         uvec2 nd = nodes[node];
         node = nd.y;
         if (!inTarget) continue;

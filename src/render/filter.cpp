@@ -1,5 +1,7 @@
 #include "render/filter.h"
 
+#include "compute/lib/filter_shared.h"
+
 namespace rtgi {
 
 namespace {
@@ -13,18 +15,18 @@ void separableBlur(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const s
     tmp.ensure(ledger, label + ".tmp", {GL_TEXTURE_2D, fmt.internal, w, h});
     out.ensure(ledger, label, {GL_TEXTURE_2D, fmt.internal, w, h});
     const gl::Program& prog = programs.compute("filter/blur.comp", formatDefines(fmt));
-    prog.set(1, t.depth);
-    prog.set(2, t.normal);
-    glBindTextureUnit(1, depth.id());
-    glBindTextureUnit(2, normal.id());
+    prog.set(RTGI_FILTER_LOC_DEPTH_THRESHOLD, t.depth);
+    prog.set(RTGI_FILTER_LOC_NORMAL_THRESHOLD, t.normal);
+    glBindTextureUnit(RTGI_FILTER_BLUR_TEX_DEPTH, depth.id());
+    glBindTextureUnit(RTGI_FILTER_TEX_NORMAL, normal.id());
     const gl::Texture* src[2] = {&in, &tmp};
     gl::Texture* dst[2] = {&tmp, &out};
     for (int pass = 0; pass < 2; ++pass) {
         // Producer: the previous pass / dispatch wrote src with image stores.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        prog.set(0, pass == 0 ? glm::ivec2(1, 0) : glm::ivec2(0, 1));
-        glBindTextureUnit(0, src[pass]->id());
-        glBindImageTexture(0, dst[pass]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
+        prog.set(RTGI_FILTER_LOC_DIRECTION, pass == 0 ? glm::ivec2(1, 0) : glm::ivec2(0, 1));
+        glBindTextureUnit(RTGI_FILTER_TEX_VALUE, src[pass]->id());
+        glBindImageTexture(RTGI_FILTER_IMG_OUT, dst[pass]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
         gl::dispatch(prog, w, h);
     }
 }
@@ -47,14 +49,14 @@ const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLed
     const gl::Program& prog = programs.compute("filter/temporal.comp", formatDefines(fmt));
     // Producer: the value pass before (image stores) and last frame's run.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(0, current.id());
-    glBindTextureUnit(1, value_[prev].id());
-    glBindTextureUnit(2, depth.id());
-    glBindTextureUnit(3, depth_[prev].id());
-    glBindTextureUnit(4, velocity.id());
-    prog.set(0, (reset || !valid_) ? 1 : 0);
-    glBindImageTexture(0, value_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
-    glBindImageTexture(1, depth_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindTextureUnit(RTGI_FILTER_TEX_CURRENT, current.id());
+    glBindTextureUnit(RTGI_FILTER_TEX_HISTORY, value_[prev].id());
+    glBindTextureUnit(RTGI_FILTER_TEMPORAL_TEX_DEPTH, depth.id());
+    glBindTextureUnit(RTGI_FILTER_TEX_HISTORY_DEPTH, depth_[prev].id());
+    glBindTextureUnit(RTGI_FILTER_TEX_VELOCITY, velocity.id());
+    prog.set(RTGI_FILTER_LOC_RESET, (reset || !valid_) ? 1 : 0);
+    glBindImageTexture(RTGI_FILTER_IMG_OUT, value_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
+    glBindImageTexture(RTGI_FILTER_IMG_OUT_DEPTH, depth_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     gl::dispatch(prog, w, h);
     cur_ = next;
     valid_ = true;
@@ -71,10 +73,10 @@ void upsample(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::s
     // Producer: the low-resolution pass before (image stores).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     low.setSampling(GL_LINEAR, GL_LINEAR);
-    glBindTextureUnit(0, low.id());
-    glBindTextureUnit(1, lowDepth.id());
-    glBindTextureUnit(2, fullDepth.id());
-    glBindImageTexture(0, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
+    glBindTextureUnit(RTGI_FILTER_TEX_LOW, low.id());
+    glBindTextureUnit(RTGI_FILTER_TEX_LOW_DEPTH, lowDepth.id());
+    glBindTextureUnit(RTGI_FILTER_TEX_FULL_DEPTH, fullDepth.id());
+    glBindImageTexture(RTGI_FILTER_IMG_OUT, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
     gl::dispatch(prog, out.width(), out.height());
 }
 

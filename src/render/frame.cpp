@@ -2,6 +2,7 @@
 // the scene + settings do not need is dropped by the Renderer (and listed
 // under "skipped" with its reason) before anything is allocated.
 #include "gl/program.h"
+#include "compute/lib/post_shared.h"
 #include "render/ao/ao_passes.h"
 #include "render/lpv/lpv_passes.h"
 #include "render/passes/core_passes.h"
@@ -40,8 +41,8 @@ public:
         const gl::Program& prog = ctx.programs.compute("post/copy.comp");
         // Producer: post.compose (image store into hdr).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, ctx.res.hdr.id());
-        glBindImageTexture(0, ctx.res.history.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindTextureUnit(RTGI_POST_TEX_SOURCE, ctx.res.hdr.id());
+        glBindImageTexture(RTGI_POST_IMG_TARGET, ctx.res.history.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, s.x, s.y);
         ctx.res.historyValid = true;
     }

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include "render/passes/core_passes.h"
+#include "compute/lib/post_shared.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -182,10 +183,10 @@ FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger,
     counts.clearZero();
     glMemoryBarrier(GL_ALL_BARRIER_BITS);  // producer: whichever pass wrote t just before
     glUseProgram(prog.id());
-    glBindTextureUnit(0, t.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, counts.id());
-    prog.set(0, channels);
-    prog.set(1, mayBeNegative ? 1 : 0);
+    glBindTextureUnit(RTGI_POST_TEX_SOURCE, t.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_POST_SSBO_COUNTS, counts.id());
+    prog.set(RTGI_POST_LOC_CHANNELS, channels);
+    prog.set(RTGI_POST_LOC_MAY_BE_NEGATIVE, mayBeNegative ? 1 : 0);
     glDispatchCompute(gl::groupCount(t.width(), 8), gl::groupCount(t.height(), 8), GLuint(volume ? t.depth() : 1));
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::uint32_t c[4];

@@ -1,5 +1,7 @@
 #include "view/display.h"
 
+#include "compute/lib/view_shared.h"
+
 #include <stb_easy_font.h>
 
 #include <algorithm>
@@ -73,13 +75,13 @@ void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& im
     glDisable(GL_SCISSOR_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glUseProgram(prog.id());
-    prog.set(0, img.mode);
-    prog.set(1, img.scale);
-    prog.set(2, farPlane);
+    prog.set(RTGI_VIEW_LOC_MODE, img.mode);
+    prog.set(RTGI_VIEW_LOC_SCALE, img.scale);
+    prog.set(RTGI_VIEW_LOC_FAR, farPlane);
     // Producer: the renderer's passes wrote this texture with imageStore or as a render target.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     img.tex->setSampling(GL_LINEAR, GL_LINEAR);
-    glBindTextureUnit(0, img.tex->id());
+    glBindTextureUnit(RTGI_VIEW_TEX_IMAGE, img.tex->id());
     glBindVertexArray(vao_.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -151,12 +153,12 @@ void ScreenPainter::drawText(gl::ProgramCache& programs, glm::ivec2 viewport, co
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glUseProgram(prog.id());
-    prog.set(0, glm::vec2(viewport));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions_.id());
+    prog.set(RTGI_VIEW_LOC_WINDOW_SIZE, glm::vec2(viewport));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIEW_SSBO_POSITIONS, positions_.id());
     glBindVertexArray(vao_.id());
-    prog.set(1, glm::vec4(0.0f, 0.0f, 0.0f, 0.6f));
+    prog.set(RTGI_VIEW_LOC_COLOR, glm::vec4(0.0f, 0.0f, 0.0f, 0.6f));
     glDrawArrays(GL_TRIANGLES, 0, 6);
-    prog.set(1, glm::vec4(1.0f, 1.0f, 0.85f, 1.0f));
+    prog.set(RTGI_VIEW_LOC_COLOR, glm::vec4(1.0f, 1.0f, 0.85f, 1.0f));
     glDrawArrays(GL_TRIANGLES, 6, GLsizei(tris.size()));
     glDisable(GL_BLEND);
 }

@@ -5,6 +5,7 @@
 // GL_NV_shader_atomic_int64 (benchmarks/device/raster.sh).
 #include "gpu_fixture.h"
 
+#include "compute/lib/raster_shared.h"
 #include "compute/lib/visibility_shared.h"
 #include "gl/profiler.h"
 #include "gl/program.h"
@@ -26,7 +27,7 @@ namespace {
 
 struct VisPixel {
     float depth = 1.0f;
-    std::uint32_t id = RTGI_VIS_EMPTY;
+    std::uint32_t id = RTGI_VISIBILITY_EMPTY;
 };
 
 std::vector<VisPixel> readVisibility(const VisibilityTarget& t) {
@@ -65,7 +66,7 @@ Scene triangleScene(const std::vector<glm::vec3>& positions) {
 // top-left rule in y-down order on counter-clockwise (y-up) edges, near-plane clipping. ----
 struct OraclePixel {
     double depth = 2.0, second = 2.0;  // nearest and second-nearest depth
-    std::uint32_t id = RTGI_VIS_EMPTY;
+    std::uint32_t id = RTGI_VISIBILITY_EMPTY;
     double edgeDistance = 1e30;        // to the nearest edge of a covering or near-missing triangle (pixels)
 };
 
@@ -169,7 +170,7 @@ void compareWithOracle(const Scene& scene, const glm::mat4& viewProj, glm::ivec2
             const VisPixel& g = got[std::size_t(y * size.x + x)];
             if (o2.edgeDistance < band) continue;
             ++compared;
-            bool oc = o2.id != RTGI_VIS_EMPTY, gc = g.id != RTGI_VIS_EMPTY;
+            bool oc = o2.id != RTGI_VISIBILITY_EMPTY, gc = g.id != RTGI_VISIBILITY_EMPTY;
             if (oc != gc) {
                 INFO("coverage at " << x << "," << y << ": oracle id " << o2.id << ", compute " << g.id);
                 CHECK(oc == gc);
@@ -292,7 +293,7 @@ TEST_CASE("visibility: the oracle's fill rule sees a changed tie rule") {
     a.triangle(p(0.5, 0.5), p(6.5, 6.5), p(0.5, 6.5), 1);
     int count[2] = {0, 0};
     for (auto& px : a.px)
-        if (px.id != RTGI_VIS_EMPTY) ++count[px.id];
+        if (px.id != RTGI_VISIBILITY_EMPTY) ++count[px.id];
     // Diagonal centres (1,1)..(5,5) belong to exactly one of the two.
     CHECK(count[0] + count[1] == 36);  // 6x6 centres in [0.5, 6.5], each once (edges x=0.5.. are left/bottom)
 }
@@ -384,14 +385,14 @@ std::vector<std::uint32_t> hardwareIds(gl::ProgramCache& programs, gl::MemoryLed
     glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth.id(), 0);
     glNamedFramebufferDrawBuffer(f, GL_COLOR_ATTACHMENT0);
     const gl::Program& prog = programs.raster("raster/scene.vert", "visibility/hardware_id.frag", {{"RTGI_LIGHT_VIEW", ""}});
-    prog.set(0, viewProj);
+    prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, viewProj);
     glBindFramebuffer(GL_FRAMEBUFFER, f);
     glViewport(0, 0, size.x, size.y);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
-    const GLuint empty[4] = {RTGI_VIS_EMPTY, 0, 0, 0};
+    const GLuint empty[4] = {RTGI_VISIBILITY_EMPTY, 0, 0, 0};
     glClearNamedFramebufferuiv(f, GL_COLOR, 0, empty);
     glClearNamedFramebufferfi(f, GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glUseProgram(prog.id());
@@ -441,6 +442,9 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     gl::Profiler p1(false), p2(false);
     auto a = renderFrames(scene, hw, size, p1, 1);
     FloatImage ia = readTexture(a->resources().ldr);
+    std::vector<FloatImage> rsmA;
+    if (Pass* rp = a->findPass("lpv.rsm"))
+        for (auto& d : rp->debugImages()) rsmA.push_back(readTexture(*d.tex));
     FloatImage sa, sb;
     bool shadow = bool(a->resources().shadowMap);
     if (shadow) sa = readTexture(a->resources().shadowMap);
@@ -450,6 +454,19 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     CHECK(b->findPass("visibility.raster") != nullptr);
     CHECK(b->findPass("gbuffer") == nullptr);
     FloatImage ib = readTexture(b->resources().ldr);
+    if (Pass* rp = b->findPass("lpv.rsm")) {
+        auto dbg = rp->debugImages();
+        for (std::size_t k = 0; k < dbg.size(); ++k) {
+            FloatImage r = readTexture(*dbg[k].tex);
+            int diff = 0;
+            for (std::size_t i = 0; i < r.data.size(); ++i)
+                if (std::abs(r.data[i] - rsmA[k].data[i]) > 1e-4f * (1 + std::abs(r.data[i]))) {
+                    if (diff < 8) MESSAGE(dbg[k].name << " texel " << i / 4 % std::size_t(r.width) << "," << i / 4 / std::size_t(r.width) << " c" << i % 4 << ": " << rsmA[k].data[i] << " vs " << r.data[i]);
+                    ++diff;
+                }
+            MESSAGE(scene.name << " " << dbg[k].name << " differing values " << diff);
+        }
+    }
     double e = rmse(ia, ib);
     INFO(scene.name << ": final image RMSE " << e);
     CHECK(e <= 1e-3);

@@ -4,6 +4,7 @@
 // last stage of the chain writes res.ao (R16F, full resolution).
 #include "render/ao/ao_passes.h"
 
+#include "gl/bindings.h"
 #include "gl/program.h"
 #include "render/ao/ao_params.h"
 #include "render/filter.h"
@@ -111,10 +112,10 @@ public:
         const gl::Program& prog = ctx.programs.compute("ao/downsample.comp");
         // Producer: gbuffer (framebuffer writes).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, ctx.res.gbuffer.linearDepth.id());
-        glBindTextureUnit(1, ctx.res.gbuffer.normal.id());
-        glBindImageTexture(0, c.halfDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        glBindImageTexture(1, c.halfNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindTextureUnit(RTGI_AO_TEX_DEPTH, ctx.res.gbuffer.linearDepth.id());
+        glBindTextureUnit(RTGI_AO_TEX_NORMAL, ctx.res.gbuffer.normal.id());
+        glBindImageTexture(RTGI_AO_IMG_HALF_DEPTH, c.halfDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindImageTexture(RTGI_AO_IMG_HALF_NORMAL, c.halfNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, a.x, a.y);
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
@@ -142,10 +143,10 @@ public:
         c.bindParams(ctx);
         // Producer: ao.downsample or gbuffer.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, c.depth(ctx).id());
-        glBindTextureUnit(1, c.normal(ctx).id());
-        glBindImageTexture(0, c.radiusScale.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-        glBindImageTexture(1, c.radiusColor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindTextureUnit(RTGI_AO_TEX_DEPTH, c.depth(ctx).id());
+        glBindTextureUnit(RTGI_AO_TEX_NORMAL, c.normal(ctx).id());
+        glBindImageTexture(RTGI_AO_IMG_SCALE, c.radiusScale.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        glBindImageTexture(RTGI_AO_IMG_SCALE_COLOR, c.radiusColor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
         gl::dispatch(prog, a.x, a.y);
     }
     std::vector<DebugImage> debugImages() const override {
@@ -203,22 +204,23 @@ public:
         const gl::Texture& noise = ensureBlueNoise(ctx.res, ctx.ledger);
         if (light) {
             glm::mat4 toShadow = ctx.res.shadowViewProj * glm::inverse(ctx.view.view);
-            prog.set(0, toShadow);
-            prog.set(1, glm::inverse(toShadow));
+            prog.set(RTGI_AO_LOC_VIEW_TO_SHADOW, toShadow);
+            prog.set(RTGI_AO_LOC_SHADOW_TO_VIEW, glm::inverse(toShadow));
         }
         // Producers: ao.downsample / ao.radius (image stores), gbuffer, shadow.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, c.depth(ctx).id());
-        glBindTextureUnit(1, c.normal(ctx).id());
-        glBindTextureUnit(2, noise.id());
-        glBindTextureUnit(3, radius == 2 ? c.radiusScale.id() : 0);
-        glBindTextureUnit(4, light ? ctx.res.shadowMap.id() : 0);
-        glBindTextureUnit(5, ctx.res.gbuffer.albedo.id());
-        glBindImageTexture(0, out.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-        if (dirTex) glBindImageTexture(1, dirTex->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(prog, a.x, a.y);
-        glBindTextureUnit(3, 0);
-        glBindTextureUnit(4, 0);
+        {
+            gl::ScopedBindings b;
+            b.texture(RTGI_AO_TEX_DEPTH, c.depth(ctx))
+                .texture(RTGI_AO_TEX_NORMAL, c.normal(ctx))
+                .texture(RTGI_AO_ESTIMATE_TEX_NOISE, noise)
+                .texture(RTGI_AO_TEX_RADIUS_SCALE, radius == 2 ? &c.radiusScale : nullptr)
+                .texture(RTGI_AO_TEX_SHADOW_MAP, light ? &ctx.res.shadowMap : nullptr)
+                .texture(RTGI_AO_ESTIMATE_TEX_ALBEDO, ctx.res.gbuffer.albedo)
+                .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
+            if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
+            gl::dispatch(prog, a.x, a.y);
+        }
         c.current = &out;
         written_ = &out;
         lastDirectional_ = dirTex;
@@ -365,21 +367,21 @@ public:
         c.bindParams(ctx);
         const gl::Texture& noise = ensureBlueNoise(r, ctx.ledger);
         bool history = bool(r.history) && r.historyValid;
-        prog.set(0, accumulate ? 1 : 0);
-        prog.set(1, history ? 1 : 0);
+        prog.set(RTGI_AO_LOC_ACCUMULATE, accumulate ? 1 : 0);
+        prog.set(RTGI_AO_LOC_HISTORY_VALID, history ? 1 : 0);
         // Producers: gbuffer, post.history (last frame), lpv.apply (image stores).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glBindTextureUnit(0, r.gbuffer.linearDepth.id());
-        glBindTextureUnit(1, r.gbuffer.normal.id());
-        glBindTextureUnit(2, r.gbuffer.albedo.id());
-        glBindTextureUnit(3, r.gbuffer.material.id());
-        glBindTextureUnit(4, history ? r.history.id() : 0);
-        glBindTextureUnit(5, r.gbuffer.velocity.id());
-        glBindTextureUnit(6, noise.id());
-        glBindImageTexture(0, c.nearField.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
-        glBindImageTexture(1, r.indirectDiffuse.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        gl::ScopedBindings b;
+        b.texture(RTGI_AO_TEX_DEPTH, r.gbuffer.linearDepth)
+            .texture(RTGI_AO_TEX_NORMAL, r.gbuffer.normal)
+            .texture(RTGI_AO_NEARFIELD_TEX_ALBEDO, r.gbuffer.albedo)
+            .texture(RTGI_AO_TEX_MATERIAL, r.gbuffer.material)
+            .texture(RTGI_AO_TEX_HISTORY, history ? &r.history : nullptr)
+            .texture(RTGI_AO_TEX_VELOCITY, r.gbuffer.velocity)
+            .texture(RTGI_AO_NEARFIELD_TEX_NOISE, noise)
+            .image(RTGI_AO_IMG_NEAR_FIELD, c.nearField, GL_WRITE_ONLY, GL_R11F_G11F_B10F)
+            .image(RTGI_AO_IMG_INDIRECT, r.indirectDiffuse, GL_READ_WRITE, GL_RGBA16F);
         gl::dispatch(prog, s.x, s.y);
-        glBindTextureUnit(4, 0);
     }
     std::vector<DebugImage> debugImages() const override { return {{"ao.nearfield", &chain_->nearField, 1.0f}}; }
     std::vector<Output> checkedOutputs(const FrameResources& r) const override {

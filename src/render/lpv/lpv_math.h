@@ -6,6 +6,7 @@
 #include "scene/scene.h"
 
 #include "compute/lib/lpv_shared.h"
+#include "compute/lib/sh_shared.h"
 
 namespace rtgi::gpu {
 static_assert(sizeof(LpvUniforms) == 2 * 64 + 6 * 16, "LpvUniforms must match std140 layout");

@@ -11,7 +11,7 @@
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
 #include "render/visibility/visibility.h"
-
+#include "compute/lib/raster_shared.h"
 #include "compute/lib/visibility_shared.h"
 
 #include <algorithm>
@@ -100,8 +100,8 @@ public:
             }
             const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", visibilityDefines(t));
             bindVisibility(resolve, ctx.gpuScene, in.rsmViewProj, t);
-            glBindImageTexture(RTGI_VIS_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glBindImageTexture(RTGI_VIS_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
             gl::dispatch(resolve, n, n);
             copyVisibilityDepth(ctx.programs, t, st.rsm.depth);
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -122,7 +122,7 @@ public:
         }
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(0, in.rsmViewProj);
+        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
         rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
     std::vector<Output> checkedOutputs(const FrameResources&) const override {
@@ -230,10 +230,10 @@ public:
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp", {{"RTGI_LPV_SLICE_GEOMETRY", ""}});
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.pack (geometry)
-        glBindTextureUnit(0, v.geometry.id());
-        glBindTextureUnit(1, v.geometryAlbedo.id());
-        glBindImageTexture(0, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog.set(0, d.z / 2);
+        glBindTextureUnit(RTGI_LPV_SLICE_TEX_A, v.geometry.id());
+        glBindTextureUnit(RTGI_LPV_SLICE_TEX_B, v.geometryAlbedo.id());
+        glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_Z, d.z / 2);
         gl::dispatch(prog, d.x, d.y);
         return {{"lpv.geometry.slice", &st_->geometrySlice, 1.0f}};
     }
@@ -265,9 +265,9 @@ public:
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
         const lpv::Rgb& r = *st_->result;
-        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(c, r[c].id());
-        glBindImageTexture(0, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        prog.set(0, v.grid.z / 2);
+        for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(RTGI_LPV_SLICE_TEX_A + c, r[c].id());
+        glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_Z, v.grid.z / 2);
         gl::dispatch(prog, v.grid.x, v.grid.y);
         FloatImage img = readTexture(st_->lightSlice);
         float m = 0;

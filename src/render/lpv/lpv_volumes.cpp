@@ -1,5 +1,6 @@
 #include "render/lpv/lpv_volumes.h"
 
+#include "gl/bindings.h"
 #include "gl/profiler.h"
 #include "render/lpv/lpv_math.h"
 
@@ -20,6 +21,14 @@ bool ensureRgb(gl::MemoryLedger& ledger, Rgb& t, const std::string& label, const
     }
     return changed;
 }
+
+// The r, g, b volumes of a pass sit at consecutive slots (compute/lib/lpv_shared.h).
+static_assert(RTGI_LPV_TEX_SRC_B == RTGI_LPV_TEX_SRC_R + 2 && RTGI_LPV_TEX_CUR_B == RTGI_LPV_TEX_CUR_R + 2 &&
+              RTGI_LPV_TEX_PREV_B == RTGI_LPV_TEX_PREV_R + 2 && RTGI_LPV_TEX_LIGHT_B == RTGI_LPV_TEX_LIGHT_R + 2 &&
+              RTGI_LPV_IMG_DST_B == RTGI_LPV_IMG_DST_R + 2 && RTGI_LPV_IMG_ACCUM_B == RTGI_LPV_IMG_ACCUM_R + 2 &&
+              RTGI_LPV_IMG_OUT_B == RTGI_LPV_IMG_OUT_R + 2 && RTGI_LPV_IMG_VOL_B == RTGI_LPV_IMG_VOL_R + 2 &&
+              RTGI_LPV_INJECT_IMG_INJECT_B == RTGI_LPV_INJECT_IMG_INJECT_R + 2 &&
+              RTGI_LPV_PACK_IMG_INJECT_B == RTGI_LPV_PACK_IMG_INJECT_R + 2);
 
 void bindRgbTextures(const Rgb& t, GLuint firstUnit) {
     for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(firstUnit + c, t[c].id());
@@ -135,10 +144,10 @@ void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm&
     // Producers: lpv.rsm (framebuffer writes); the zeroing of the accumulation by the previous
     // lpv.pack (image stores) or its clear at allocation.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindTextureUnit(0, rsm.flux.id());
-    glBindTextureUnit(1, rsm.normal.id());
-    glBindTextureUnit(2, rsm.depth.id());
-    bindRgbImages(v.inject, 0, GL_READ_WRITE, GL_R32F);
+    glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
+    glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
+    glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
+    bindRgbImages(v.inject, RTGI_LPV_INJECT_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LPV_STATS, stats.id());
     gl::dispatch(prog, rsmSize, rsmSize);
 }
@@ -148,8 +157,8 @@ void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
     bindUbo(ubo);
     // Producer: lpv.inject (image atomics).
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    bindRgbImages(v.inject, 3, GL_READ_WRITE, GL_R32F);
-    bindRgbImages(v.step[0], 0, GL_WRITE_ONLY, v.format);
+    bindRgbImages(v.inject, RTGI_LPV_PACK_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
+    bindRgbImages(v.step[0], RTGI_LPV_IMG_VOL_R, GL_WRITE_ONLY, v.format);
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
 }
 
@@ -163,9 +172,9 @@ void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& 
     // Producer: lpv.rsm (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     rasterState(v, v.injectFbo.id(), true);
-    glBindTextureUnit(0, rsm.flux.id());
-    glBindTextureUnit(1, rsm.normal.id());
-    glBindTextureUnit(2, rsm.depth.id());
+    glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
+    glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
+    glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
     glUseProgram(prog.id());
     glBindVertexArray(v.emptyVao.id());
     glDrawArrays(GL_POINTS, 0, rsmSize * rsmSize);
@@ -179,18 +188,19 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     // Producers: lpv.rsm and gbuffer (framebuffer writes); the zeroing of the accumulation by
     // the previous geometry pack (image stores) or its clear at allocation.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindImageTexture(0, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
+                       GL_R32F);
     const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
-    glBindTextureUnit(0, rsm.flux.id());
-    glBindTextureUnit(1, rsm.normal.id());
-    glBindTextureUnit(2, rsm.depth.id());
+    glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
+    glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
+    glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
     gl::dispatch(fromRsm, rsmSize, rsmSize);
     if (gb.linearDepth) {
         const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", {{"RTGI_LPV_GV_GBUFFER", ""}});
-        glBindTextureUnit(0, gb.linearDepth->id());
-        glBindTextureUnit(1, gb.normal->id());
-        glBindTextureUnit(2, gb.albedo->id());
-        glBindTextureUnit(3, gb.material->id());
+        glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth->id());
+        glBindTextureUnit(RTGI_LPV_TEX_VIEW_NORMAL, gb.normal->id());
+        glBindTextureUnit(RTGI_LPV_TEX_ALBEDO, gb.albedo->id());
+        glBindTextureUnit(RTGI_LPV_TEX_MATERIAL, gb.material->id());
         gl::dispatch(fromGBuffer, (gb.size.x + 1) / 2, (gb.size.y + 1) / 2);
     }
     const gl::Program& pack =
@@ -201,26 +211,26 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
         }());
     // Producer: the geometry injection dispatches above (image atomics).
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    glBindImageTexture(2, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
-    glBindImageTexture(0, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
-    glBindImageTexture(1, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    glBindImageTexture(RTGI_LPV_IMG_GEOMETRY, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
+    glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_ALBEDO, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations) {
     const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format));
     bindUbo(ubo);
-    glBindTextureUnit(3, v.geometry.id());
-    glBindTextureUnit(4, v.geometryAlbedo.id());
-    bindRgbImages(v.accum, 3, GL_READ_WRITE, v.format);
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+    bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        bindRgbTextures(v.step[std::size_t(src)], 0);
-        bindRgbImages(v.step[std::size_t(dst)], 0, GL_WRITE_ONLY, v.format);
-        prog.set(0, k);
+        bindRgbTextures(v.step[std::size_t(src)], RTGI_LPV_TEX_SRC_R);
+        bindRgbImages(v.step[std::size_t(dst)], RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, v.format);
+        prog.set(RTGI_LPV_LOC_ITERATION, k);
         gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
         src = dst;
     }
@@ -234,16 +244,16 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
     bindUbo(ubo);
     glUseProgram(prog.id());
     glBindVertexArray(v.emptyVao.id());
-    glBindTextureUnit(3, v.geometry.id());
-    glBindTextureUnit(4, v.geometryAlbedo.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
         int dst = 1 - src;
         rasterState(v, v.propagateFbo[std::size_t(dst)].id(), false);
         // Producer: the previous draw's framebuffer writes into step[src].
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-        bindRgbTextures(v.step[std::size_t(src)], 0);
-        prog.set(0, k);
+        bindRgbTextures(v.step[std::size_t(src)], RTGI_LPV_TEX_SRC_R);
+        prog.set(RTGI_LPV_LOC_ITERATION, k);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 3, v.grid.z);
         gl::Profiler::noteDispatch();
         src = dst;
@@ -257,9 +267,9 @@ void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v
     bindUbo(ubo);
     // Producer: lpv.propagate (image stores / blended framebuffer writes into accum).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    bindRgbTextures(v.accum, 0);
-    bindRgbTextures(v.history[std::size_t(1 - target)], 3);
-    bindRgbImages(v.history[std::size_t(target)], 0, GL_WRITE_ONLY, v.format);
+    bindRgbTextures(v.accum, RTGI_LPV_TEX_CUR_R);
+    bindRgbTextures(v.history[std::size_t(1 - target)], RTGI_LPV_TEX_PREV_R);
+    bindRgbImages(v.history[std::size_t(target)], RTGI_LPV_IMG_OUT_R, GL_WRITE_ONLY, v.format);
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
 }
 
@@ -275,17 +285,20 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     const GBufferView& g = in.gbuffer;
-    glBindTextureUnit(0, g.linearDepth->id());
-    glBindTextureUnit(1, g.normal->id());
-    glBindTextureUnit(2, g.albedo->id());
-    glBindTextureUnit(3, g.material->id());
-    bindRgbTextures(*in.volume, 4);
-    glBindTextureUnit(7, in.brdfLut ? in.brdfLut->id() : 0);
-    glBindTextureUnit(8, directional ? directional->id() : 0);
-    glBindImageTexture(0, in.indirect->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    if (in.specular) glBindImageTexture(1, in.specular->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    const Rgb& light = *in.volume;
+    gl::ScopedBindings b;
+    b.texture(RTGI_LPV_TEX_LINEAR_DEPTH, g.linearDepth)
+        .texture(RTGI_LPV_TEX_VIEW_NORMAL, g.normal)
+        .texture(RTGI_LPV_TEX_ALBEDO, g.albedo)
+        .texture(RTGI_LPV_TEX_MATERIAL, g.material)
+        .texture(RTGI_LPV_TEX_LIGHT_R, light[0])
+        .texture(RTGI_LPV_TEX_LIGHT_G, light[1])
+        .texture(RTGI_LPV_TEX_LIGHT_B, light[2])
+        .texture(RTGI_LPV_TEX_BRDF_LUT, in.brdfLut)
+        .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
+        .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, g.size.x, g.size.y);
-    for (GLuint u = 4; u <= 8; ++u) glBindTextureUnit(u, 0);
 }
 
 }  // namespace rtgi::lpv

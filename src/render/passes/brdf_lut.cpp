@@ -2,6 +2,7 @@
 // shared by ssr.shade and lpv.apply. Computed once per configuration (the
 // renderer releases resources on configure); later frames skip the dispatch.
 #include "gl/program.h"
+#include "compute/lib/post_shared.h"
 #include "render/lpv/lpv_passes.h"
 #include "render/passes/core_passes.h"
 #include "render/ssr/ssr_passes.h"
@@ -23,8 +24,8 @@ public:
         ctx.res.brdfLut.ensure(ctx.ledger, "brdf_lut", {GL_TEXTURE_2D, GL_RG16F, kBrdfLutSize, kBrdfLutSize});
         ctx.res.brdfLut.setSampling(GL_LINEAR, GL_LINEAR);
         const gl::Program& prog = ctx.programs.compute("post/brdf_lut.comp");
-        prog.set(0, kBrdfLutSamples);
-        glBindImageTexture(0, ctx.res.brdfLut.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
+        prog.set(RTGI_POST_LOC_SAMPLES, kBrdfLutSamples);
+        glBindImageTexture(RTGI_POST_IMG_LUT, ctx.res.brdfLut.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
         gl::dispatch(prog, kBrdfLutSize, kBrdfLutSize);
     }
     std::vector<Output> checkedOutputs(const FrameResources& res) const override {

@@ -1,6 +1,8 @@
 // post.compose: direct + sky ambient·AO + indirect + specular, tonemapped.
+#include "gl/bindings.h"
 #include "gl/program.h"
 #include "render/passes/core_passes.h"
+#include "compute/lib/post_shared.h"
 
 namespace rtgi {
 namespace {
@@ -30,22 +32,22 @@ void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Tex
         "post/compose.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
     // Producers: direct, ao.*, lpv.apply, ssr.* (all image stores).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    glBindTextureUnit(0, direct.id());
-    glBindTextureUnit(1, r.gbuffer.albedo.id());
-    glBindTextureUnit(2, r.gbuffer.material.id());
-    glBindTextureUnit(3, r.indirectDiffuse ? r.indirectDiffuse.id() : 0);
     bool specular = bool(r.specular) && !diffuseOnly;
-    glBindTextureUnit(4, specular ? r.specular.id() : 0);
-    glBindTextureUnit(5, r.ao ? r.ao.id() : 0);
+    gl::ScopedBindings b;
+    b.texture(RTGI_POST_TEX_DIRECT, direct)
+        .texture(RTGI_POST_COMPOSE_TEX_ALBEDO, r.gbuffer.albedo)
+        .texture(RTGI_POST_COMPOSE_TEX_MATERIAL, r.gbuffer.material)
+        .texture(RTGI_POST_TEX_INDIRECT, r.indirectDiffuse ? &r.indirectDiffuse : nullptr)
+        .texture(RTGI_POST_TEX_SPECULAR, specular ? &r.specular : nullptr)
+        .texture(RTGI_POST_TEX_AO, r.ao ? &r.ao : nullptr);
     // Occlusion is not applied to the indirect term twice when the LPV lookup
     // already used bent normals or S3HO.
     bool aoInLpv = ctx.settings.ao.directional != AoSettings::Directional::Off && bool(r.indirectDiffuse) &&
                    bool(r.bentNormal.id() || r.s3ho.id());
-    prog.set(0, glm::ivec4(bool(r.indirectDiffuse), specular, bool(r.ao), aoInLpv));
-    glBindImageTexture(0, hdr.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, diffuseOnly ? GL_RGBA16F : GL_RGBA32F);
-    if (ldr) glBindImageTexture(1, ldr->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    prog.set(RTGI_POST_LOC_HAVE, glm::ivec4(bool(r.indirectDiffuse), specular, bool(r.ao), aoInLpv));
+    b.image(RTGI_POST_IMG_HDR, hdr, GL_WRITE_ONLY, diffuseOnly ? GL_RGBA16F : GL_RGBA32F);
+    if (ldr) b.image(RTGI_POST_IMG_LDR, *ldr, GL_WRITE_ONLY, GL_RGBA8);
     gl::dispatch(prog, hdr.width(), hdr.height());
-    for (int u = 3; u <= 5; ++u) glBindTextureUnit(GLuint(u), 0);
 }
 
 std::unique_ptr<Pass> makeComposePass() { return std::make_unique<ComposePass>(); }

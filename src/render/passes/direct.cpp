@@ -1,7 +1,9 @@
 // direct: sun + punctual lights + emission into res.direct (compute).
+#include "gl/bindings.h"
 #include "gl/program.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
+#include "compute/lib/post_shared.h"
 
 namespace rtgi {
 namespace {
@@ -30,18 +32,18 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
         "post/direct.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
     // Producer: gbuffer and shadow raster passes (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glBindTextureUnit(0, g.linearDepth.id());
-    glBindTextureUnit(1, g.normal.id());
-    glBindTextureUnit(2, g.albedo.id());
-    glBindTextureUnit(3, g.material.id());
-    glBindTextureUnit(4, g.emissive.id());
     bool shadow = bool(ctx.res.shadowMap);
-    glBindTextureUnit(5, shadow ? ctx.res.shadowMap.id() : 0);
-    prog.set(0, shadow ? 1 : 0);
+    gl::ScopedBindings b;
+    b.texture(RTGI_POST_TEX_LINEAR_DEPTH, g.linearDepth)
+        .texture(RTGI_POST_TEX_NORMAL, g.normal)
+        .texture(RTGI_POST_DIRECT_TEX_ALBEDO, g.albedo)
+        .texture(RTGI_POST_DIRECT_TEX_MATERIAL, g.material)
+        .texture(RTGI_POST_TEX_EMISSIVE, g.emissive)
+        .texture(RTGI_POST_TEX_SHADOW_MAP, shadow ? &ctx.res.shadowMap : nullptr);
+    prog.set(RTGI_POST_LOC_HAS_SHADOW_MAP, shadow ? 1 : 0);
     ctx.gpuScene.bindTables();
-    glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    b.image(RTGI_POST_IMG_DIRECT, target, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, target.width(), target.height());
-    glBindTextureUnit(5, 0);
 }
 
 std::unique_ptr<Pass> makeDirectPass() { return std::make_unique<DirectPass>(); }

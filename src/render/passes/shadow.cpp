@@ -1,6 +1,7 @@
 // shadow: depth map of the sun (orthographic, fitted to the scene bounds).
 #include "gl/profiler.h"
 #include "gl/program.h"
+#include "compute/lib/raster_shared.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
 
@@ -60,7 +61,7 @@ public:
         }
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(0, ctx.res.shadowViewProj);
+        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, ctx.res.shadowViewProj);
         rasterizeScene(ctx, prog, fbo_.id(), {n, n}, 0, /*depthBias=*/true);
     }
 

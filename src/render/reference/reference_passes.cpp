@@ -175,18 +175,18 @@ private:
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_COUNTER, rayCounter_.id());
         ctx.gpuScene.bindTables();
         if (ao_) {
-            glBindTextureUnit(0, g.linearDepth.id());
-            glBindTextureUnit(1, g.normal.id());
+            glBindTextureUnit(RTGI_REF_AO_TEX_LINEAR_DEPTH, g.linearDepth.id());
+            glBindTextureUnit(RTGI_REF_AO_TEX_NORMAL, g.normal.id());
         } else {
-            glBindTextureUnit(1, g.linearDepth.id());
-            glBindTextureUnit(2, g.normal.id());
-            glBindTextureUnit(3, g.albedo.id());
-            glBindTextureUnit(4, g.material.id());
-            glBindTextureUnit(5, g.emissive.id());
+            glBindTextureUnit(RTGI_REF_PATH_TEX_LINEAR_DEPTH, g.linearDepth.id());
+            glBindTextureUnit(RTGI_REF_PATH_TEX_NORMAL, g.normal.id());
+            glBindTextureUnit(RTGI_REF_TEX_ALBEDO, g.albedo.id());
+            glBindTextureUnit(RTGI_REF_TEX_MATERIAL, g.material.id());
+            glBindTextureUnit(RTGI_REF_TEX_EMISSIVE, g.emissive.id());
         }
-        glBindImageTexture(0, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        glBindImageTexture(1, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        prog.set(1, glm::vec2(c.rayLength, c.originOffset));
+        glBindImageTexture(RTGI_REF_IMG_ACCUM, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(RTGI_REF_IMG_ACCUM_SQ, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        prog.set(RTGI_REF_LOC_RAY, glm::vec2(c.rayLength, c.originOffset));
         // Producer: gbuffer raster pass (framebuffer writes read through samplers).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glFinish();  // the clock below times the tracing alone
@@ -195,7 +195,7 @@ private:
         for (int first = 0; first < c.spp; first += c.samplesPerDispatch) {
             int n = std::min(c.samplesPerDispatch, c.spp - first);
             // uvec4 uSamples (Program has no uvec4 setter).
-            glProgramUniform4ui(prog.id(), 0, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
+            glProgramUniform4ui(prog.id(), RTGI_REF_LOC_SAMPLES, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
             // Producer: the previous dispatch of this loop (accumulation images).
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
             gl::dispatch(prog, s.x, s.y);
@@ -222,14 +222,14 @@ private:
         // Producer: the last tracing dispatch (accumulation images) or the cache upload.
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
         if (tonemapOnly) {
-            glBindImageTexture(2, mean_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_REF_IMG_MEAN, mean_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         } else {
-            glBindImageTexture(0, accum_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-            glBindImageTexture(1, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-            glBindImageTexture(2, mean_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glBindImageTexture(3, se_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_REF_IMG_ACCUM, accum_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_REF_IMG_ACCUM_SQ, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_REF_IMG_MEAN, mean_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_REF_IMG_STD_ERR, se_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         }
-        if (!ao_) glBindImageTexture(4, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        if (!ao_) glBindImageTexture(RTGI_REF_IMG_LDR, ldr_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
         gl::dispatch(prog, s.x, s.y);
     }
 

@@ -105,15 +105,15 @@ public:
         const gl::Program& reduce = ctx.programs.compute("ssr/hiz.comp");
         // Producer: gbuffer (framebuffer writes of linearDepth).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, ctx.res.gbuffer.linearDepth.id());
-        glBindImageTexture(0, st_->hiz.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindTextureUnit(RTGI_SSR_HIZ_TEX_LINEAR_DEPTH, ctx.res.gbuffer.linearDepth.id());
+        glBindImageTexture(RTGI_SSR_IMG_TARGET, st_->hiz.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         gl::dispatch(copy, s.x, s.y);
         for (int l = 1; l < levels; ++l) {
             glm::ivec2 ls = hizLevelSize(s, l);
             // Producer: the previous dispatch of this loop (level l-1 image stores).
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            glBindImageTexture(1, st_->hiz.id(), l - 1, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-            glBindImageTexture(0, st_->hiz.id(), l, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+            glBindImageTexture(RTGI_SSR_IMG_SOURCE, st_->hiz.id(), l - 1, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+            glBindImageTexture(RTGI_SSR_IMG_TARGET, st_->hiz.id(), l, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
             gl::dispatch(reduce, ls.x, ls.y);
         }
     }
@@ -147,17 +147,18 @@ public:
         const GBuffer& g = ctx.res.gbuffer;
         // Producers: gbuffer (framebuffer writes), ssr.hiz (image stores).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, g.linearDepth.id());
-        glBindTextureUnit(1, g.normal.id());
-        glBindTextureUnit(2, g.material.id());
-        glBindTextureUnit(3, tracer == SsrSettings::Tracer::Hiz ? st_->hiz.id() : g.linearDepth.id());
-        glBindTextureUnit(4, noise.id());
-        glBindImageTexture(0, st_->hit.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
-        glBindImageTexture(1, st_->confidence.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
-        glBindImageTexture(2, st_->hitDistance.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        glBindTextureUnit(RTGI_SSR_TRACE_TEX_LINEAR_DEPTH, g.linearDepth.id());
+        glBindTextureUnit(RTGI_SSR_TRACE_TEX_NORMAL, g.normal.id());
+        glBindTextureUnit(RTGI_SSR_TRACE_TEX_MATERIAL, g.material.id());
+        glBindTextureUnit(RTGI_SSR_TEX_HIZ, tracer == SsrSettings::Tracer::Hiz ? st_->hiz.id() : g.linearDepth.id());
+        glBindTextureUnit(RTGI_SSR_TEX_NOISE, noise.id());
+        glBindImageTexture(RTGI_SSR_IMG_HIT, st_->hit.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
+        glBindImageTexture(RTGI_SSR_IMG_CONFIDENCE, st_->confidence.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        glBindImageTexture(RTGI_SSR_IMG_HIT_DISTANCE, st_->hitDistance.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
         if (half) {
-            glBindImageTexture(3, st_->traceDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-            glBindImageTexture(4, st_->traceNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+            glBindImageTexture(RTGI_SSR_IMG_TRACE_DEPTH, st_->traceDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+            glBindImageTexture(RTGI_SSR_IMG_TRACE_NORMAL, st_->traceNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                               GL_RGBA16F);
         }
         gl::dispatch(prog, t.x, t.y);
     }
@@ -194,12 +195,12 @@ public:
         st_->bindUniforms(ctx);
         // Producers: ssr.trace (image stores); post.history / ssr.diffuse_history of the previous frame.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(0, st_->hit.id());
-        glBindTextureUnit(1, st_->confidence.id());
-        glBindTextureUnit(2, ctx.res.gbuffer.velocity.id());
-        glBindTextureUnit(3, have ? history.id() : st_->hit.id());  // unread without history
-        prog.set(0, have ? 1 : 0);
-        glBindImageTexture(0, st_->resolved.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindTextureUnit(RTGI_SSR_TEX_HIT, st_->hit.id());
+        glBindTextureUnit(RTGI_SSR_TEX_CONFIDENCE, st_->confidence.id());
+        glBindTextureUnit(RTGI_SSR_TEX_VELOCITY, ctx.res.gbuffer.velocity.id());
+        glBindTextureUnit(RTGI_SSR_TEX_HISTORY, have ? history.id() : st_->hit.id());  // unread without history
+        prog.set(RTGI_SSR_LOC_HAVE_HISTORY, have ? 1 : 0);
+        glBindImageTexture(RTGI_SSR_IMG_RESOLVED, st_->resolved.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, t.x, t.y);
     }
     std::vector<DebugImage> debugImages() const override {
@@ -287,15 +288,15 @@ public:
         const gl::Texture& reflection = *st_->reflection;
         // Producers: ssr.upsample / ssr.temporal, brdf_lut, lpv.apply (image stores).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glBindTextureUnit(0, reflection.id());
-        glBindTextureUnit(1, r.brdfLut.id());
-        glBindTextureUnit(2, r.gbuffer.linearDepth.id());
-        glBindTextureUnit(3, r.gbuffer.normal.id());
-        glBindTextureUnit(4, r.gbuffer.albedo.id());
-        glBindTextureUnit(5, r.gbuffer.material.id());
-        prog.set(0, haveLpv ? 1 : 0);
-        glBindImageTexture(0, r.specular.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
-        glBindImageTexture(1, r.specularOcclusion.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+        glBindTextureUnit(RTGI_SSR_TEX_REFLECTION, reflection.id());
+        glBindTextureUnit(RTGI_SSR_TEX_BRDF_LUT, r.brdfLut.id());
+        glBindTextureUnit(RTGI_SSR_SHADE_TEX_LINEAR_DEPTH, r.gbuffer.linearDepth.id());
+        glBindTextureUnit(RTGI_SSR_SHADE_TEX_NORMAL, r.gbuffer.normal.id());
+        glBindTextureUnit(RTGI_SSR_TEX_ALBEDO, r.gbuffer.albedo.id());
+        glBindTextureUnit(RTGI_SSR_SHADE_TEX_MATERIAL, r.gbuffer.material.id());
+        prog.set(RTGI_SSR_LOC_HAVE_LPV, haveLpv ? 1 : 0);
+        glBindImageTexture(RTGI_SSR_IMG_SPECULAR, r.specular.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA16F);
+        glBindImageTexture(RTGI_SSR_IMG_OCCLUSION, r.specularOcclusion.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
         gl::dispatch(prog, s.x, s.y);
     }
 };

@@ -66,7 +66,7 @@ VisibilityOptions visibilityOptions(const Settings& s) {
 
 gl::Defines visibilityDefines(const VisibilityTarget& t) {
     gl::Defines d;
-    if (t.atomic64) d.push_back({"RTGI_VIS_ATOMIC64", ""});
+    if (t.atomic64) d.push_back({"RTGI_VISIBILITY_ATOMIC64", ""});
     return d;
 }
 
@@ -89,12 +89,12 @@ void VisibilityTarget::checkOverflow(const std::string& pass) const {
 
 void bindVisibility(const gl::Program& prog, const GpuScene& scene, const glm::mat4& viewProj,
                     const VisibilityTarget& t) {
-    prog.set(RTGI_VIS_LOC_VIEWPROJ, viewProj);
-    prog.set(RTGI_VIS_LOC_SIZE, t.size);
-    prog.set(RTGI_VIS_LOC_TRIANGLES, t.triangles);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_VERTICES, scene.vertices().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_INDICES, scene.indices().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_VISBUF, t.vis.id());
+    prog.set(RTGI_VISIBILITY_LOC_VIEW_PROJ, viewProj);
+    prog.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    prog.set(RTGI_VISIBILITY_LOC_TRIANGLES, t.triangles);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VERTICES, scene.vertices().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_INDICES, scene.indices().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VISBUF, t.vis.id());
     scene.bindTables();
 }
 
@@ -108,7 +108,7 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     t.atomic64 = o.atomic64 && visibilityAtomic64Supported();
     t.triangles = scene.indexCount() / 3;
     const std::int64_t pixels = std::int64_t(size.x) * size.y;
-    const glm::ivec2 tiles = (size + RTGI_VIS_TILE - 1) / RTGI_VIS_TILE;
+    const glm::ivec2 tiles = (size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
     const std::int64_t tileCount = std::int64_t(tiles.x) * tiles.y;
     // Bin capacities from the scene and the resolution (docs/visibility.md):
     // large triangles are at most twice the scene's (clipping adds pieces)
@@ -127,39 +127,39 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     if (o.countHits) ensureBuffer(t.hits, ledger, t.label + ".hits", pixels * 4);
 
     gl::Defines defs = visibilityDefines(t);
-    if (o.countHits) defs.push_back({"RTGI_VIS_COUNT_HITS", ""});
+    if (o.countHits) defs.push_back({"RTGI_VISIBILITY_COUNT_HITS", ""});
     const gl::Program& clear = programs.compute("visibility/clear.comp", defs);
     const gl::Program& setup = programs.compute("visibility/setup.comp", defs);
     const gl::Program& bin = programs.compute("visibility/bin.comp", defs);
     const gl::Program& tile = programs.compute("visibility/tile.comp", defs);
-    const int flags = (o.depthBias ? RTGI_VIS_FLAG_DEPTH_BIAS : 0) | (o.cullBack ? RTGI_VIS_FLAG_CULL_BACK : 0);
+    const int flags = (o.depthBias ? RTGI_VISIBILITY_FLAG_DEPTH_BIAS : 0) | (o.cullBack ? RTGI_VISIBILITY_FLAG_CULL_BACK : 0);
     for (const gl::Program* p : {&clear, &setup, &bin, &tile}) {
         bindVisibility(*p, scene, viewProj, t);
-        p->set(RTGI_VIS_LOC_FLAGS, flags);
-        p->set(RTGI_VIS_LOC_PHASE, 0);
-        p->set(RTGI_VIS_LOC_CAPACITY, glm::ivec2(int(t.largeCapacity), int(t.nodeCapacity)));
+        p->set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+        p->set(RTGI_VISIBILITY_LOC_PHASE, 0);
+        p->set(RTGI_VISIBILITY_LOC_CAPACITY, glm::ivec2(int(t.largeCapacity), int(t.nodeCapacity)));
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_LARGE, t.large.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_TILEHEADS, t.tileHeads.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_NODES, t.nodes.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_COUNTERS, t.counters.id());
-    if (o.countHits) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_HITS, t.hits.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+    if (o.countHits) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_HITS, t.hits.id());
 
     glUseProgram(clear.id());
     dispatchLinear((std::max(pixels, tileCount) + 255) / 256);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VIS_SETUP_GROUP - 1) / RTGI_VIS_SETUP_GROUP;
+    const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP;
     const int phases = t.atomic64 ? 1 : 2;
     for (int phase = 0; phase < phases; ++phase) {
-        setup.set(RTGI_VIS_LOC_PHASE, phase);
-        tile.set(RTGI_VIS_LOC_PHASE, phase);
+        setup.set(RTGI_VISIBILITY_LOC_PHASE, phase);
+        tile.set(RTGI_VISIBILITY_LOC_PHASE, phase);
         glUseProgram(setup.id());
         dispatchLinear(setupGroups);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         if (phase == 0) {
             glUseProgram(bin.id());
             gl::Profiler::noteDispatch();
-            glDispatchCompute(RTGI_VIS_BIN_GROUPS, 1, 1);
+            glDispatchCompute(RTGI_VISIBILITY_BIN_GROUPS, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
         glUseProgram(tile.id());
@@ -186,8 +186,8 @@ void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& t, const 
         t.depthFboLayer = layer;
     }
     const gl::Program& prog = programs.raster("view/fullscreen.vert", "visibility/depth_copy.frag", visibilityDefines(t));
-    prog.set(RTGI_VIS_LOC_SIZE, t.size);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIS_SSBO_VISBUF, t.vis.id());
+    prog.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VISBUF, t.vis.id());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glBindFramebuffer(GL_FRAMEBUFFER, t.depthFbo.id());
     glViewport(0, 0, t.size.x, t.size.y);

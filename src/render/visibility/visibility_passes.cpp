@@ -74,12 +74,12 @@ public:
         VisibilityTarget& t = st_->target;
         const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
         bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
-        glBindImageTexture(RTGI_VIS_IMG_LINEAR_DEPTH, g.linearDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-        glBindImageTexture(RTGI_VIS_IMG_NORMAL, g.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        glBindImageTexture(RTGI_VIS_IMG_ALBEDO, g.albedo.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-        glBindImageTexture(RTGI_VIS_IMG_MATERIAL, g.material.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
-        glBindImageTexture(RTGI_VIS_IMG_EMISSIVE, g.emissive.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
-        glBindImageTexture(RTGI_VIS_IMG_VELOCITY, g.velocity.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_LINEAR_DEPTH, g.linearDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_NORMAL, g.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_ALBEDO, g.albedo.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_MATERIAL, g.material.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_EMISSIVE, g.emissive.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_VELOCITY, g.velocity.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
         gl::dispatch(prog, t.size.x, t.size.y);
         copyVisibilityDepth(ctx.programs, t, g.depth);
         // Consumers sample these as textures; the next passes' barriers are theirs,
