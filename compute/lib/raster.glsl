@@ -136,18 +136,19 @@ int visClip(vec4 c0, vec4 c1, vec4 c2, out vec4 poly[8]) {
 }
 
 // ---- triangle setup ----------------------------------------------------------------------
-// Window position in fixed point (RTGI_VISIBILITY_SUBPIXEL_BITS) and window depth
-// (glDepthRange 0..1: z_ndc * 0.5 + 0.5, the D32F convention of the G-buffer).
-ivec2 visSnap(vec4 c) {
-    vec2 w = (c.xy / c.w * 0.5 + 0.5) * vec2(uSize);
-    return ivec2(floor(w * float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS) + 0.5));
-}
+// Window position in pixels (before snapping) and window depth (glDepthRange
+// 0..1: z_ndc * 0.5 + 0.5, the D32F convention of the G-buffer).
+vec2 visWindow(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * vec2(uSize); }
 float visWindowDepth(vec4 c) { return c.z / c.w * 0.5 + 0.5; }
+// Fixed point with RTGI_VISIBILITY_SUBPIXEL_BITS, rounding half up.
+ivec2 visSnap(vec2 w) { return ivec2(floor(w * float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS) + 0.5)); }
 
 struct VisRasterTri {
     i64vec3 A, B, C;    // E_k(p) = A_k p.x + B_k p.y + C_k over the edge opposite vertex k, > 0 inside
     i64vec3 rule;       // 0 on top-left edges, -1 elsewhere: inside iff E_k + rule_k >= 0
-    double invArea;     // 1 / E_k summed (twice the fixed-point area)
+    dvec2 q0, q1, q2;   // unsnapped window positions: the depth plane (coverage uses the snapped ones)
+    double invArea;     // 1 / twice the unsnapped signed area (0: use the snapped barycentrics)
+    double invAreaFixed;
     vec3 z;             // window depth at the vertices
     float bias;         // polygon offset (shadow maps)
     ivec4 box;          // pixel box (inclusive) clamped to the target
@@ -170,9 +171,13 @@ void visEdge(ivec2 a, ivec2 b, out int64_t A, out int64_t B, out int64_t C, out 
     rule = topLeft ? 0L : -1L;
 }
 
-// Set-up of a snapped triangle; false when culled (zero area, back face when
-// culling, no pixel centre inside the box or the box off the target).
-bool visSetup(ivec2 p0, ivec2 p1, ivec2 p2, vec3 z, uint id, out VisRasterTri t) {
+// Set-up of a triangle from its window positions; false when culled (zero
+// area after snapping, back face when culling, no pixel centre inside the
+// box or the box off the target). Coverage uses the snapped positions
+// (exact integer edge functions); depth is the plane through the unsnapped
+// positions, as hardware interpolates, so that coplanar triangles agree.
+bool visSetup(vec2 w0, vec2 w1, vec2 w2, vec3 z, uint id, out VisRasterTri t) {
+    ivec2 p0 = visSnap(w0), p1 = visSnap(w1), p2 = visSnap(w2);
     int64_t area = int64_t(p1.x - p0.x) * int64_t(p2.y - p0.y) - int64_t(p1.y - p0.y) * int64_t(p2.x - p0.x);
     if (area == 0L) return false;
     if (area < 0L) {
@@ -181,13 +186,22 @@ bool visSetup(ivec2 p0, ivec2 p1, ivec2 p2, vec3 z, uint id, out VisRasterTri t)
         ivec2 tp = p1;
         p1 = p2;
         p2 = tp;
+        vec2 tw = w1;
+        w1 = w2;
+        w2 = tw;
         z = z.xzy;
         area = -area;
     }
     visEdge(p1, p2, t.A.x, t.B.x, t.C.x, t.rule.x);
     visEdge(p2, p0, t.A.y, t.B.y, t.C.y, t.rule.y);
     visEdge(p0, p1, t.A.z, t.B.z, t.C.z, t.rule.z);
-    t.invArea = 1.0LF / double(area);
+    t.q0 = dvec2(w0);
+    t.q1 = dvec2(w1);
+    t.q2 = dvec2(w2);
+    dvec2 e01 = t.q1 - t.q0, e02 = t.q2 - t.q0;
+    double a = e01.x * e02.y - e01.y * e02.x;
+    t.invArea = a != 0.0LF ? 1.0LF / a : 0.0LF;
+    t.invAreaFixed = 1.0LF / double(area);
     t.z = z;
     t.id = id;
     // Pixels whose centre (x + 0.5) * 2^bits lies in the box.
@@ -204,7 +218,7 @@ bool visSetup(ivec2 p0, ivec2 p1, ivec2 p2, vec3 z, uint id, out VisRasterTri t)
     if ((uFlags & RTGI_VISIBILITY_FLAG_DEPTH_BIAS) != 0) {
         // glPolygonOffset(1.5, 2.0): 1.5 * max |dz/dx|, |dz/dy| per pixel + 2 r,
         // r = 2^(exponent(max z) - 23) for a float depth buffer (GL 4.5 §14.6.5).
-        float s = float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS) * float(t.invArea);
+        float s = float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS) * float(t.invAreaFixed);
         float dzdx = s * (float(t.A.y) * (z.y - z.x) + float(t.A.z) * (z.z - z.x));
         float dzdy = s * (float(t.B.y) * (z.y - z.x) + float(t.B.z) * (z.z - z.x));
         float zmax = max(z.x, max(z.y, z.z));
@@ -226,9 +240,18 @@ void visRasterPixel(VisRasterTri t, int x, int y) {
     i64vec2 p = visSample(x, y);
     i64vec3 e = t.A * p.x + t.B * p.y + t.C;
     if (any(lessThan(e + t.rule, i64vec3(0L)))) return;
-    // Depth: the plane through the vertices' window depths, interpolated in
-    // double from the exact integer edge values (one rounding to float).
-    double b1 = double(e.y) * t.invArea, b2 = double(e.z) * t.invArea;
+    // Depth: the plane through the unsnapped vertices at the pixel centre,
+    // in double (one rounding to float).
+    double b1, b2;
+    if (t.invArea != 0.0LF) {
+        dvec2 c = dvec2(x, y) + 0.5LF;
+        dvec2 d20 = t.q0 - t.q2, d01 = t.q1 - t.q0, c2 = c - t.q2, c0 = c - t.q0;
+        b1 = (d20.x * c2.y - d20.y * c2.x) * t.invArea;
+        b2 = (d01.x * c0.y - d01.y * c0.x) * t.invArea;
+    } else {
+        b1 = double(e.y) * t.invAreaFixed;
+        b2 = double(e.z) * t.invAreaFixed;
+    }
     double zd = double(t.z.x) + b1 * double(t.z.y - t.z.x) + b2 * double(t.z.z - t.z.x);
     float z = float(zd);
     if (z < 0.0 || z > 1.0) return;  // far plane (and near after rounding), as clipping does
@@ -238,10 +261,17 @@ void visRasterPixel(VisRasterTri t, int x, int y) {
 
 // ---- large-triangle records (setup -> bin -> tile) ---------------------------------------
 struct VisTriangle {
-    ivec4 p01;  // p0.xy, p1.xy (fixed point)
-    ivec4 p2i;  // p2.xy, triangle id, unused
-    vec4 z;     // window depth at the vertices, unused
+    vec4 w01;  // window positions of vertices 0 and 1 (unsnapped pixels)
+    vec4 w2z;  // vertex 2, window depth of vertices 0 and 1
+    vec4 zid;  // window depth of vertex 2, triangle id (bits), unused
 };
+
+VisTriangle visPack(vec2 w0, vec2 w1, vec2 w2, vec3 z, uint id) {
+    return VisTriangle(vec4(w0, w1), vec4(w2, z.xy), vec4(z.z, uintBitsToFloat(id), 0.0, 0.0));
+}
+bool visUnpack(VisTriangle r, out VisRasterTri t) {
+    return visSetup(r.w01.xy, r.w01.zw, r.w2z.xy, vec3(r.w2z.zw, r.zid.x), floatBitsToUint(r.zid.y), t);
+}
 
 // ---- resolve: perspective-correct barycentrics from the triangle id --------------------
 // Homogeneous 2D rasterization (Olano & Greer 1997): with the clip-space

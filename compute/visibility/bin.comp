@@ -19,7 +19,7 @@ void main() {
     for (uint tri = gl_WorkGroupID.x; tri < count; tri += gl_NumWorkGroups.x) {
         VisTriangle r = large[tri];
         VisRasterTri t;
-        if (!visSetup(r.p01.xy, r.p01.zw, r.p2i.xy, r.z.xyz, uint(r.p2i.z), t)) continue;
+        if (!visUnpack(r, t)) continue;
         ivec2 t0 = t.box.xy / RTGI_VISIBILITY_TILE, t1 = t.box.zw / RTGI_VISIBILITY_TILE;
         int w = t1.x - t0.x + 1, n = w * (t1.y - t0.y + 1);
         for (int k = int(gl_LocalInvocationIndex); k < n; k += RTGI_VISIBILITY_BIN_GROUP) {

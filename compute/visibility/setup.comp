@@ -15,10 +15,10 @@ layout(std430, binding = RTGI_VISIBILITY_SSBO_COUNTERS) buffer Counters { VisCou
 shared uint sSmall, sCulled;
 
 void emit(vec4 c0, vec4 c1, vec4 c2, uint id, inout bool any_, inout bool small) {
-    ivec2 p0 = visSnap(c0), p1 = visSnap(c1), p2 = visSnap(c2);
+    vec2 w0 = visWindow(c0), w1 = visWindow(c1), w2 = visWindow(c2);
     vec3 z = vec3(visWindowDepth(c0), visWindowDepth(c1), visWindowDepth(c2));
     VisRasterTri t;
-    if (!visSetup(p0, p1, p2, z, id, t)) return;
+    if (!visSetup(w0, w1, w2, z, id, t)) return;
     any_ = true;
     ivec2 extent = t.box.zw - t.box.xy + 1;
     if (extent.x <= RTGI_VISIBILITY_SMALL && extent.y <= RTGI_VISIBILITY_SMALL) {
@@ -30,7 +30,7 @@ void emit(vec4 c0, vec4 c1, vec4 c2, uint id, inout bool any_, inout bool small)
     if (uPhase != 0) return;
     uint slot = atomicAdd(counters.largeCount, 1u);
     if (slot >= uint(uCapacity.x)) return;  // overflow: reported by the pass after the frame
-    large[slot] = VisTriangle(ivec4(p0, p1), ivec4(p2, int(id), 0), vec4(z, 0.0));
+    large[slot] = visPack(w0, w1, w2, z, id);
 }
 
 void main() {

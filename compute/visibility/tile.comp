@@ -20,7 +20,7 @@ void main() {
         if (!inTarget) continue;
         VisTriangle r = large[nd.x];
         VisRasterTri t;
-        if (!visSetup(r.p01.xy, r.p01.zw, r.p2i.xy, r.z.xyz, uint(r.p2i.z), t)) continue;
+        if (!visUnpack(r, t)) continue;
         if (any(lessThan(pixel, t.box.xy)) || any(greaterThan(pixel, t.box.zw))) continue;
         visRasterPixel(t, pixel.x, pixel.y);
     }
