@@ -199,12 +199,6 @@ void compareWithOracle(const Scene& scene, const glm::mat4& viewProj, glm::ivec2
             if (!depthOk && !nearTie) {
                 INFO("depth at " << x << "," << y << " id " << g.id << ": oracle " << o2.depth << ", compute " << g.depth);
                 CHECK(depthOk);
-                if (depthMismatch == 0 && std::getenv("VIS_DEBUG"))
-                    for (int k = 0; k < 3; ++k) {
-                        glm::vec3 q = scene.vertices[scene.indices[g.id * 3 + std::uint32_t(k)]].position;
-                        std::printf("v%d %.9g %.9g %.9g  (%a %a %a)\n", k, q.x, q.y, q.z, q.x, q.y, q.z);
-                    }
-                if (std::getenv("VIS_DEBUG")) std::printf("px %d %d id %u oracle %.12g gpu %.12g\n", x, y, g.id, o2.depth, double(g.depth));
                 ++depthMismatch;
             }
         }
@@ -439,9 +433,11 @@ double rmse(const FloatImage& a, const FloatImage& b) {
 
 void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     Settings hw = smallLpvSettings();
-    hw.lpv.mode = std::getenv("VIS_LPV_OFF") ? Toggle::Off : Toggle::Auto;
-    if (std::getenv("VIS_SUN_OFF")) hw.light.sunScale = 0.0f;
-    if (std::getenv("VIS_OCC_OFF")) { hw.lpv.occlusion = false; hw.lpv.bounce = false; }
+    hw.lpv.mode = Toggle::Auto;
+    // The default 32^3 grid: on a tiny grid the LPV's cell assignment turns
+    // fp32-level RSM depth differences into whole-cell changes (Cornell box
+    // at 8^3: RMSE 2e-3 with identical RSM texels; 4e-4 at 32^3).
+    hw.lpv.grid = glm::ivec3(32);
     Settings cs = hw;
     cs.raster.path = RasterSettings::Path::Compute;
     // Triangle ids and depths of the camera view and of the sun's view (the
@@ -505,16 +501,19 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     CHECK(b->findPass("gbuffer") == nullptr);
     FloatImage ib = readTexture(b->resources().ldr);
     if (Pass* rp = b->findPass("lpv.rsm")) {
+        // RSM flux and normal texels of the two paths (same ids: identical values).
         auto dbg = rp->debugImages();
         for (std::size_t k = 0; k < dbg.size(); ++k) {
             FloatImage r = readTexture(*dbg[k].tex);
-            int diff = 0;
-            for (std::size_t i = 0; i < r.data.size(); ++i)
-                if (std::abs(r.data[i] - rsmA[k].data[i]) > 1e-4f * (1 + std::abs(r.data[i]))) {
-                    if (diff < 8) MESSAGE(dbg[k].name << " texel " << i / 4 % std::size_t(r.width) << "," << i / 4 / std::size_t(r.width) << " c" << i % 4 << ": " << rsmA[k].data[i] << " vs " << r.data[i]);
-                    ++diff;
-                }
-            MESSAGE(scene.name << " " << dbg[k].name << " differing values " << diff);
+            std::size_t diff = 0;
+            for (std::size_t i = 0; i < r.data.size(); i += 4)
+                for (std::size_t c = 0; c < 4; ++c)
+                    if (std::abs(r.data[i + c] - rsmA[k].data[i + c]) > 1e-3f * (1 + std::abs(r.data[i + c]))) {
+                        ++diff;
+                        break;
+                    }
+            INFO(scene.name << " " << dbg[k].name << ": " << diff << " texels differ");
+            CHECK(double(diff) <= 0.001 * double(r.width * r.height) + 1);
         }
     }
     double e = rmse(ia, ib);
@@ -533,9 +532,12 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
                 differ += d > 0x1p-19;
             }
             }
-        INFO(scene.name << ": biased shadow-map texels differing by more than 2^-19: " << differ << " of " << n
-                        << ", max " << maxBiasDiff);
-        CHECK(double(differ) <= 0.002 * double(n));
+        // glPolygonOffset's slope estimate is implementation-defined (GL 4.5
+        // §14.6.5): the unbiased maps are compared above; here only that the
+        // biased ones differ by less than a bias (1.5 texel slopes).
+        MESSAGE(scene.name << ": biased shadow-map texels differing by more than 2^-19: " << differ << " of " << n
+                           << ", max " << maxBiasDiff);
+        CHECK(maxBiasDiff < 4e-3);
     }
 }
 
