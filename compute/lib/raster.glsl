@@ -55,8 +55,8 @@ void visWrite(uint pixel, float depth, uint id) {
     if (uPhase == 0) atomicAdd(visHits[pixel], 1u);
 #endif
 #ifdef RTGI_VISIBILITY_ATOMIC64
-    uint64_t packed = (uint64_t(d) << 32) | uint64_t(id);
-    if (packed < vis[pixel]) atomicMin(vis[pixel], packed);  // plain read first: most fragments lose
+    uint64_t depthId = (uint64_t(d) << 32) | uint64_t(id);
+    if (depthId < vis[pixel]) atomicMin(vis[pixel], depthId);  // plain read first: most fragments lose
 #else
     // Two-pass 32-bit path: phase 0 keeps the nearest depth, phase 1 the
     // lowest id among the fragments at exactly that depth.
