@@ -593,7 +593,71 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: compute and hardware paths agree on t
     compareWithHardware(loadSceneSpec(path), {96, 64});
 }
 
-TEST_CASE_FIXTURE(GpuFixture, "visibility: bin overflow is a clear error, raster.path is a setting") {
+TEST_CASE_FIXTURE(GpuFixture, "visibility: bin overflow is a clear error; buffers do not grow with the scene") {
+    // Overflow: a scene of large triangles into bins too small for it.
+    Scene s = triangleScene(exactTriangles({64, 32}, 3, true));
+    gl::MemoryLedger ledger;
+    gl::ProgramCache programs;
+    GpuScene gpu(ledger, s, Settings{});
+    VisibilityTarget t{"test.vis"};
+    VisibilityOptions o;
+    o.nodeCapacity = 16;
+    rasterizeVisibility(programs, ledger, gpu, glm::mat4(1.0f), {64, 32}, t, o);
+    std::string msg;
+    try {
+        t.checkOverflow("visibility.raster");
+    } catch (const std::runtime_error& e) {
+        msg = e.what();
+    }
+    INFO(msg);
+    CHECK(msg.find("visibility.raster: the compute rasterizer's tile bins overflowed") == 0);
+    CHECK(msg.find("raise raster.bin_scale") != std::string::npos);
+    // Without the override the same scene fits.
+    VisibilityTarget ok{"test.ok"};
+    rasterizeVisibility(programs, ledger, gpu, glm::mat4(1.0f), {64, 32}, ok, VisibilityOptions{});
+    CHECK_NOTHROW(ok.checkOverflow("visibility.raster"));
+}
+
+// Scale: 600k triangles (a 30-layer stack of finely tessellated planes) in
+// buffers bounded by the resolution, not the triangle count, and the same
+// ids as the hardware. The 5 M-triangle crowd of dragons runs on the device
+// (benchmarks/device/raster.sh).
+TEST_CASE_FIXTURE(GpuFixture, "visibility: many triangles render in memory bounded by the resolution") {
+    std::vector<glm::vec3> tris;
+    const int n = 100, layers = 30;
+    for (int l = 0; l < layers; ++l) {
+        float z = -2.0f - 0.25f * float(l);
+        float h = 1.2f * -z * 0.6f;  // a little wider than the view
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                auto P = [&](int a, int b) { return glm::vec3(-h + 2 * h * a / n, -h + 2 * h * b / n, z); };
+                for (auto v : {P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j), P(i + 1, j + 1), P(i, j + 1)}) tris.push_back(v);
+            }
+    }
+    Scene s = triangleScene(tris);
+    glm::ivec2 size(64, 32);
+    glm::mat4 proj = glm::perspective(glm::radians(60.0f), 2.0f, 0.1f, 50.0f);
+    gl::MemoryLedger ledger;
+    gl::ProgramCache programs;
+    GpuScene gpu(ledger, s, Settings{});
+    VisibilityTarget t{"test.vis"};
+    rasterizeVisibility(programs, ledger, gpu, proj, size, t, VisibilityOptions{});
+    CHECK_NOTHROW(t.checkOverflow("visibility.raster"));
+    const std::int64_t pixels = 64 * 32, tiles = 4 * 2;
+    const std::int64_t large = std::max<std::int64_t>(65536, pixels / 8);  // docs/visibility.md "Scale"
+    const std::int64_t bound = 8 * pixels + 48 * large + 8 * std::max(64 * tiles, 4 * large) + 4 * tiles + 64;
+    const std::int64_t bytes = t.vis.size() + t.large.size() + t.nodes.size() + t.tileHeads.size() + t.counters.size();
+    INFO("triangles " << t.triangles << ", rasterizer buffers " << bytes << " bytes, bound " << bound);
+    CHECK(t.triangles == n * n * 2 * layers);
+    CHECK(bytes <= bound);
+    std::vector<std::uint32_t> ref = hardwareIds(programs, ledger, gpu, proj, size);
+    std::vector<VisPixel> got = readVisibility(t);
+    std::size_t same = 0;
+    for (std::size_t i = 0; i < ref.size(); ++i) same += ref[i] == got[i].id;
+    CHECK(double(same) >= 0.999 * double(ref.size()));
+}
+
+TEST_CASE_FIXTURE(GpuFixture, "visibility: raster.path and its keys are settings") {
     Settings s;
     CHECK_THROWS_AS(applySetting(s, "raster.path", "software"), ConfigError);
     applySetting(s, "raster.path", "compute");

@@ -117,6 +117,8 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     t.largeCapacity =
         o.binScale * std::min<std::int64_t>(2 * std::int64_t(t.triangles) + 1024, std::max<std::int64_t>(65536, pixels / 8));
     t.nodeCapacity = o.binScale * std::max<std::int64_t>(tileCount * 64, 4 * t.largeCapacity);
+    if (o.largeCapacity > 0) t.largeCapacity = o.largeCapacity;
+    if (o.nodeCapacity > 0) t.nodeCapacity = o.nodeCapacity;
     t.largeCapacity = std::min<std::int64_t>(t.largeCapacity, kMaxBufferBytes / kTriangleRecordBytes);
     t.nodeCapacity = std::min<std::int64_t>(t.nodeCapacity, kMaxBufferBytes / 8);
     ensureBuffer(t.vis, ledger, t.label + ".vis", pixels * 8);

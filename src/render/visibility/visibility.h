@@ -28,6 +28,7 @@ struct VisibilityOptions {
     bool atomic64 = true;     // use the 64-bit path when supported (false: force the two-pass 32-bit path)
     bool countHits = false;   // tests: count fragments written per pixel (VisibilityTarget::hits)
     int binScale = 1;         // multiplier on the bin capacities (setting raster.bin_scale)
+    std::int64_t largeCapacity = 0, nodeCapacity = 0;  // > 0: fixed capacities instead (tests)
 };
 
 struct VisibilityCounters {
