@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes a glTF that instances the Stanford dragon N times (default 50: 5 M
-triangles) on a grid, referencing the shared dragon.bin by absolute path; the
+triangles) on a grid, referencing the shared dragon.bin by a relative path; the
 data is never copied (issue 14, docs/visibility.md "Scale").
 
   python3 benchmarks/scenes/dragon_crowd.py SCENES_DIR OUT.gltf [N]
@@ -19,7 +19,9 @@ def main():
     src = os.path.join(scenes, "stanford-dragon", "dragon.gltf")
     with open(src) as f:
         g = json.load(f)
-    g["buffers"][0]["uri"] = os.path.abspath(os.path.join(scenes, "stanford-dragon", g["buffers"][0]["uri"]))
+    # glTF URIs are relative to the file: point back at the shared buffer.
+    binary = os.path.abspath(os.path.join(scenes, "stanford-dragon", g["buffers"][0]["uri"]))
+    g["buffers"][0]["uri"] = os.path.relpath(binary, os.path.dirname(os.path.abspath(out)))
     side = math.ceil(math.sqrt(n))
     nodes = []
     for i in range(n):
