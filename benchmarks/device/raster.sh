@@ -17,7 +17,7 @@ dir="$OUT/raster"
 mkdir -p "$dir"
 export SCENES
 
-"$TESTS" -tc='visibility*' -s >"$dir/tests-visibility.log" 2>&1
+RTGI_SHARED_SCENES="$SCENES" "$TESTS" -tc='visibility*' >"$dir/tests-visibility.log" 2>&1
 echo "visibility tests: exit $? (log $dir/tests-visibility.log)"
 grep -E "atomic64|test cases|assertions" "$dir/tests-visibility.log" | tail -5
 
