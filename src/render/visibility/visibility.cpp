@@ -91,7 +91,6 @@ void bindVisibility(const gl::Program& prog, const GpuScene& scene, const glm::m
                     const VisibilityTarget& t) {
     prog.set(RTGI_VISIBILITY_LOC_VIEW_PROJ, viewProj);
     prog.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
-    prog.set(RTGI_VISIBILITY_LOC_TRIANGLES, t.triangles);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VERTICES, scene.vertices().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_INDICES, scene.indices().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VISBUF, t.vis.id());
@@ -135,12 +134,19 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     const gl::Program& bin = programs.compute("visibility/bin.comp", defs);
     const gl::Program& tile = programs.compute("visibility/tile.comp", defs);
     const int flags = (o.depthBias ? RTGI_VISIBILITY_FLAG_DEPTH_BIAS : 0) | (o.cullBack ? RTGI_VISIBILITY_FLAG_CULL_BACK : 0);
-    for (const gl::Program* p : {&clear, &setup, &bin, &tile}) {
-        bindVisibility(*p, scene, viewProj, t);
-        p->set(RTGI_VISIBILITY_LOC_FLAGS, flags);
-        p->set(RTGI_VISIBILITY_LOC_PHASE, 0);
-        p->set(RTGI_VISIBILITY_LOC_CAPACITY, glm::ivec2(int(t.largeCapacity), int(t.nodeCapacity)));
-    }
+    const glm::ivec2 capacity(int(t.largeCapacity), int(t.nodeCapacity));
+    // Only the uniforms each kernel reads (setting an inactive location may be an error).
+    bindVisibility(setup, scene, viewProj, t);
+    setup.set(RTGI_VISIBILITY_LOC_TRIANGLES, t.triangles);
+    setup.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+    setup.set(RTGI_VISIBILITY_LOC_CAPACITY, capacity);
+    clear.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    bin.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    bin.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+    bin.set(RTGI_VISIBILITY_LOC_CAPACITY, capacity);
+    tile.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    tile.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+    const bool tileReadsPhase = !t.atomic64 || o.countHits;  // the 64-bit write needs no phase
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
@@ -154,7 +160,7 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     const int phases = t.atomic64 ? 1 : 2;
     for (int phase = 0; phase < phases; ++phase) {
         setup.set(RTGI_VISIBILITY_LOC_PHASE, phase);
-        tile.set(RTGI_VISIBILITY_LOC_PHASE, phase);
+        if (tileReadsPhase) tile.set(RTGI_VISIBILITY_LOC_PHASE, phase);
         glUseProgram(setup.id());
         dispatchLinear(setupGroups);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
