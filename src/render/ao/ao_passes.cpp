@@ -46,6 +46,13 @@ struct AoChain {
     TemporalFilter temporal;                 // ao.temporal
     gl::Texture nearField;                   // ao.nearfield
     gl::Buffer params;
+    // ao.depth_source=light reads the shadow map's depth values, but the map
+    // keeps compare mode on for the shadow lookups (passes/shadow.cpp), and a
+    // plain sampler2D on a compare-mode depth texture is undefined in GL
+    // (llvmpipe returns 0: no occlusion at all). A sampler object bound to the
+    // unit overrides the texture's own state: compare mode off, nearest (a
+    // blend of depths across an edge is no surface).
+    gl::SamplerHandle rawDepthSampler;
     const gl::Texture* current = nullptr;    // output of the last stage run this frame
     // Cache key of the AoParams block (sample sets are generated on the CPU).
     AoSettings lastSettings;
@@ -78,6 +85,20 @@ struct AoChain {
             lastFov = ctx.view.fovY;
         }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_AO, params.id());
+    }
+    GLuint rawDepth() {
+        if (!rawDepthSampler) {
+            GLuint id = 0;
+            glCreateSamplers(1, &id);
+            rawDepthSampler = gl::SamplerHandle(id);
+            rawDepthSampler.label("ao.shadow_depth.sampler");
+            glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+            glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glSamplerParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glSamplerParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        }
+        return rawDepthSampler.id();
     }
     // Output texture of a stage: res.ao when it is the last stage.
     gl::Texture& target(FrameContext& ctx, Stage st, gl::Texture& own) {
@@ -219,7 +240,9 @@ public:
                 .texture(RTGI_AO_ESTIMATE_TEX_ALBEDO, ctx.res.gbuffer.albedo)
                 .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
             if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
+            if (light) glBindSampler(RTGI_AO_TEX_SHADOW_MAP, c.rawDepth());
             gl::dispatch(prog, a.x, a.y);
+            if (light) glBindSampler(RTGI_AO_TEX_SHADOW_MAP, 0);  // the unit's next user samples with its texture's state
         }
         c.current = &out;
         written_ = &out;
@@ -361,7 +384,7 @@ public:
         c.nearField.ensure(ctx.ledger, "ao.nearfield", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
         // Add into the indirect term only when its producer (lpv.apply) wrote it this frame.
         bool accumulate = bool(r.indirectDiffuse) && r.indirectDiffuseFrame == ctx.view.frame;
-        r.indirectDiffuse.ensure(ctx.ledger, "indirect_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+        r.indirectDiffuse.ensure(ctx.ledger, "indirectDiffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         r.indirectDiffuseFrame = ctx.view.frame;
         const gl::Program& prog = ctx.programs.compute("ao/nearfield.comp");
         c.bindParams(ctx);

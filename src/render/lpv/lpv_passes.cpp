@@ -331,6 +331,7 @@ public:
         in.indirect = &r.indirectDiffuse;
         in.specular = specular ? &r.specular : nullptr;
         lpv::applyCompute(ctx.programs, st.ubo, in);
+        r.indirectDiffuseFrame = ctx.view.frame;  // written this frame: ao.nearfield adds into it
     }
 };
 

@@ -1,0 +1,248 @@
+// The six screen-space AO estimators and the directional (bent normal / S3HO)
+// integral as pure functions (XeGTAO style): every input is a parameter, the
+// library has no bindings, no uniform block and no #if on a variant.
+//
+// The scene is read through functions the including entry point defines
+// (GLSL has no function pointers; the prototypes below are resolved at link
+// time of the one compilation unit, so the .comp may define them before or
+// after this include):
+//   float aoSceneDepth(vec2 uv)               linear depth of the first surface
+//                                             along the exact camera ray through
+//                                             uv; 0 (isSky) where free or off-screen
+//   float aoPointOcclusion(vec3 P, vec3 S, float R)
+//                                             point test of the sample-point
+//                                             variants: 0 free .. 1 occluded
+//                                             (camera depth: aoCameraPointOcclusion;
+//                                             light depth: the shadow map)
+//   vec3  aoKernel(int i)                     unit-ball offset i (RTGI_AO_MAX_KERNEL)
+//   vec4  aoVoSample(int i)                   VO pair i: xy disk position, z half-
+//                                             length, w normalized volume weight
+// compute/ao/ao.comp is the entry point; a test may define the four over an
+// analytic scene instead of textures. View space as in lib/ao.glsl.
+#pragma once
+#include "lib/ao.glsl"
+#include "lib/ao_shared.h"
+#include "lib/depth.glsl"
+#include "lib/math.glsl"
+#include "lib/sampling.glsl"
+#include "lib/sh.glsl"
+
+float aoSceneDepth(vec2 uv);
+float aoPointOcclusion(vec3 P, vec3 S, float R);
+vec3 aoKernel(int i);
+vec4 aoVoSample(int i);
+
+// The camera: focal = (cot(fovY/2)/aspect, cot(fovY/2)) (eq. 5.3), the
+// projection of lib/depth.glsl, and the AO resolution (texels of the depth
+// the estimators march).
+struct AoCamera {
+    vec2 focal;
+    float tanHalfFov;
+    float aspect;
+    vec2 size;
+};
+
+vec3 aoViewPosAt(AoCamera cam, vec2 uv, float d) { return viewPositionFromDepth(uv, d, cam.tanHalfFov, cam.aspect); }
+
+// Point test against the camera's depth: S is occluded when the scene seen
+// through it lies in front of it (bias 2 % of R against self-occlusion),
+// range-attenuated by the depth distance of the blocker to P.
+float aoCameraPointOcclusion(AoCamera cam, vec3 P, vec3 S, float R) {
+    vec3 uvS = uvFromViewPosition(S, cam.tanHalfFov, cam.aspect);
+    float zScene = aoSceneDepth(uvS.xy);
+    if (isSky(zScene) || zScene >= uvS.z - 0.02 * R) return 0.0;
+    return rangeAttenuation(R, abs(-P.z - zScene));
+}
+
+// ssao-disk (Kajalin / Crytek, seed 003 3.1): the full-sphere kernel reflected
+// by the tiled 4x4 noise vector. pointTest: each sample is scored by
+// aoPointOcclusion (light depth) instead of eqs. 3.1-3.3 on the camera depth.
+float aoSsaoDisk(AoCamera cam, vec3 P, float d, float R, vec3 noiseVec, int count, bool removeEdgeHighlight,
+                 bool pointTest) {
+    if (dot(noiseVec, noiseVec) < 1e-6) noiseVec = vec3(0, 0, 1);
+    noiseVec = normalize(noiseVec);
+    float sum = 0.0;
+    for (int i = 0; i < count; ++i) {
+        vec3 S = P + R * reflect(aoKernel(i), noiseVec);
+        if (pointTest) {
+            sum += 1.0 - aoPointOcclusion(P, S, R);
+        } else {
+            vec3 uvS = uvFromViewPosition(S, cam.tanHalfFov, cam.aspect);
+            float zScene = aoSceneDepth(uvS.xy);
+            sum += isSky(zScene) ? 1.0 : ssaoDiskSampleValue(d, uvS.z, zScene);
+        }
+    }
+    float v = sum / float(count);
+    return removeEdgeHighlight ? halfSpaceNormalize(v) : v;
+}
+
+// ssao-sphere (kernel rotated about the view axis, half-space normalized) and
+// ssao-hemisphere (kernel folded onto the normal's side). noise: x rotation,
+// y radius jitter (seed 000 5.3 after [Jp16]).
+float aoSsaoKernel(vec3 P, vec3 n, float R, vec2 noise, int count, bool hemisphere) {
+    float a = TWO_PI * noise.x;
+    mat3 basis = aoBasis(hemisphere ? n : vec3(0, 0, 1), vec3(cos(a), sin(a), 0.0));
+    float radiusJitter = 0.75 + 0.5 * noise.y;
+    float occ = 0.0;
+    for (int i = 0; i < count; ++i) {
+        vec3 o = aoKernel(i);
+        if (hemisphere) o.z = abs(o.z);
+        occ += aoPointOcclusion(P, P + R * radiusJitter * (basis * o), R);
+    }
+    float v = 1.0 - occ / float(count);
+    return hemisphere ? v : halfSpaceNormalize(v);
+}
+
+// vo (Loos & Sloan line samples, seed 003 3.2): pairs p, -p rotated by
+// noiseAngle in [0, pi); a scene point more than maxOccluderDistance in
+// front of the line is invalid and takes its partner's complement.
+float aoVo(AoCamera cam, vec2 uv, float d, float R, float noiseAngle, int pairs, float maxOccluderDistance) {
+    vec2 rUv = aoTextureRadius(R, d, cam.focal);
+    mat2 rot = mat2(cos(noiseAngle), sin(noiseAngle), -sin(noiseAngle), cos(noiseAngle));
+    float vis = 0.0;
+    for (int i = 0; i < pairs; ++i) {
+        vec4 s = aoVoSample(i);
+        vec2 off = (rot * s.xy) * rUv;
+        float frac[2];
+        bool valid[2];
+        for (int k = 0; k < 2; ++k) {
+            float zScene = aoSceneDepth(uv + (k == 0 ? off : -off));
+            // Sky is infinitely far: the line is free.
+            valid[k] = isSky(zScene) || d - zScene < maxOccluderDistance;
+            frac[k] = isSky(zScene) ? 1.0 : voLineFree(s.z, (zScene - d) / R) / (2.0 * s.z);
+        }
+        if (!valid[0] && !valid[1]) frac[0] = frac[1] = 0.5;
+        else if (!valid[0]) frac[0] = 1.0 - frac[1];
+        else if (!valid[1]) frac[1] = 1.0 - frac[0];
+        vis += s.w * 0.5 * (frac[0] + frac[1]);
+    }
+    return halfSpaceNormalize(vis);
+}
+
+// hbao (Bavoil & Sainz 2008, seed 003 3.3): `dirs` directions rotated by
+// noise.x over 360/dirs, `steps` steps jittered by noise.y; tangent from the
+// normal's slice (useNormals) or from the depth one texel along the slice.
+float aoHbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise, int dirs, int steps, float tanBias,
+             bool useNormals) {
+    vec2 rUv = aoTextureRadius(R, d, cam.focal);
+    if (rUv.x * cam.size.x < 1.0) return 1.0;  // radius below one pixel: nothing to find
+    float R2 = R * R;
+    float biasAngle = atan(tanBias);
+    float sumAo = 0.0;
+    for (int k = 0; k < dirs; ++k) {
+        float phi = TWO_PI * (float(k) + noise.x) / float(dirs);
+        vec2 dir = vec2(cos(phi), sin(phi));
+        float tanT;
+        if (useNormals) {
+            // Tangent of the slice: the line where the tangent plane meets the
+            // plane through the eye that holds this screen direction. Every
+            // in-plane sample of the march lies on it, so a plane gives
+            // tanH == tanT exactly (the view-aligned -n.xy.dir/n.z differs
+            // off-axis under perspective and needs the angle bias to hide it).
+            vec3 T = hbaoSliceTangent(P, n, dir);
+            tanT = T.z / max(length(T.xy), 1e-6);
+        } else {
+            vec2 uvT = uv + dir * rUv / (rUv.x * cam.size.x);  // one texel along the slice
+            float dT = aoSceneDepth(uvT);
+            vec3 T = isSky(dT) ? vec3(dir, 0.0) : aoViewPosAt(cam, uvT, dT) - P;
+            tanT = T.z / max(length(T.xy), 1e-6);
+        }
+        float t = min(atan(tanT) + biasAngle, 1.5607);
+        float tanHmax = tan(t), sinPrev = sin(t), a = 0.0;
+        for (int j = 0; j < steps; ++j) {
+            vec2 uvS = uv + dir * rUv * ((float(j) + noise.y) / float(steps));
+            float zS = aoSceneDepth(uvS);
+            if (isSky(zS)) continue;
+            vec3 D = aoViewPosAt(cam, uvS, zS) - P;
+            float r2 = dot(D, D), lxy = length(D.xy);
+            if (r2 >= R2 || lxy < 1e-6) continue;
+            float tanH = D.z / lxy;
+            if (tanH > tanHmax) {
+                float sinH = tanH * inversesqrt(1.0 + tanH * tanH);
+                a += hbaoFalloff(r2, R2) * (sinH - sinPrev);
+                sinPrev = sinH;
+                tanHmax = tanH;
+            }
+        }
+        sumAo += a;
+    }
+    return clamp(1.0 - sumAo / float(dirs), 0.0, 1.0);
+}
+
+// gtao (Jimenez et al. 2016, seed 000 4.1): `slices` slices rotated by
+// noise.x over 180/slices, `steps` steps per side jittered by noise.y;
+// cosine-weighted visibility up to distance R (without multi-bounce).
+float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise, int slices, int steps) {
+    vec2 rUv = aoTextureRadius(R, d, cam.focal);
+    vec3 V = normalize(-P);
+    float vis = 0.0, open = 0.0;
+    for (int k = 0; k < slices; ++k) {
+        float phi = PI * (float(k) + noise.x) / float(slices);
+        vec3 dir = vec3(cos(phi), sin(phi), 0.0);
+        vec3 ortho = dir - dot(dir, V) * V;
+        vec3 axis = normalize(cross(ortho, V));
+        vec3 projN = n - axis * dot(n, axis);
+        float projLen = length(projN);
+        if (projLen < 1e-4) continue;  // normal along the slice axis: the slice sees no hemisphere
+        float cosN = clamp(dot(projN, V) / projLen, 0.0, 1.0);
+        float nAngle = (dot(ortho, projN) >= 0.0 ? 1.0 : -1.0) * acos(cosN);
+        float low0 = cos(nAngle + HALF_PI), low1 = cos(nAngle - HALF_PI);
+        float hc0 = low0, hc1 = low1;
+        for (int j = 0; j < steps; ++j) {
+            float s = (float(j) + noise.y) / float(steps);
+            vec2 off = dir.xy * rUv * s;
+            for (int side = 0; side < 2; ++side) {
+                vec2 uvS = side == 0 ? uv + off : uv - off;
+                float zS = aoSceneDepth(uvS);
+                if (isSky(zS)) continue;
+                vec3 D = aoViewPosAt(cam, uvS, zS) - P;
+                float dist = length(D);
+                if (dist < 1e-6) continue;
+                // Hard cut at R: the quantity is visibility up to distance R,
+                // the reference's ray length. (The former linear falloff from
+                // 0.6 R to R shortened the effective range: +0.02 bias on the
+                // corner scene, docs/ao.md "Error against ray-traced AO".)
+                if (dist >= R) continue;
+                float shc = dot(D / dist, V);
+                if (side == 0) hc0 = max(hc0, shc); else hc1 = max(hc1, shc);
+            }
+        }
+        float h0 = nAngle + max(-acos(clamp(hc1, -1.0, 1.0)) - nAngle, -HALF_PI);
+        float h1 = nAngle + min(acos(clamp(hc0, -1.0, 1.0)) - nAngle, HALF_PI);
+        vis += gtaoSliceVisibility(h0, h1, nAngle, projLen);
+        open += gtaoSliceVisibility(nAngle - HALF_PI, nAngle + HALF_PI, nAngle, projLen);
+    }
+    // Self-normalized slice quadrature: a few slices integrate the unoccluded
+    // hemisphere only approximately (to 1 +- 0.05 for tilted normals); dividing
+    // by the same quadrature of the open hemisphere makes a plane exactly 1
+    // instead of clipping the excess at 1 pixel by pixel (a bias under the
+    // filter chain). The ratio converges to the same integral (docs/ao.md).
+    return open > 1e-6 ? clamp(vis / open, 0.0, 1.0) : 1.0;
+}
+
+// Directional occlusion from cosine-distributed, normal-oriented samples
+// (seed 000 4.3): xyz bent normal (eq. 17, w 0) when sh is false, else the 4
+// SH coefficients of V(l)(n.l)+ (the LPV family's basis: lpv.apply consumes
+// it). noise: z azimuth rotation, w radial stratum jitter, y kernel shift.
+vec4 aoDirectional(vec3 P, vec3 n, float R, vec4 noise, int count, bool sh) {
+    mat3 basis = aoBasis(n, vec3(cos(TWO_PI * noise.z), sin(TWO_PI * noise.z), 0.0));
+    vec3 bent = vec3(0.0);
+    vec4 shSum = vec4(0.0);
+    for (int i = 0; i < count; ++i) {
+        // Stratified in cos^2 (radial) and golden-ratio azimuth, rotated per pixel.
+        vec2 u = vec2((float(i) + noise.w) / float(count), fract(float(i) * 0.6180339887 + noise.z));
+        vec3 l = basis * cosineHemisphere(u);
+        // The sample's distance: a kernel radius drawn by a per-pixel shift of
+        // the index. Taking kernel[i] paired elevation stratum i with the same
+        // radius on every pixel, a fixed coupling that biased the result (the
+        // grazing strata reached farther: 1.5 % too much occlusion on the
+        // corner, tests/gpu/test_ao_oracles.cpp "bent normals and S3HO").
+        int kernelSize = min(count, RTGI_AO_MAX_KERNEL);
+        float r = R * length(aoKernel((i + int(noise.y * float(kernelSize))) % kernelSize));
+        float v = 1.0 - aoPointOcclusion(P, P + l * max(r, 0.1 * R), R);
+        bent += v * l;
+        shSum += v * shBasis(l);
+    }
+    if (!sh) return vec4(dot(bent, bent) > 1e-12 ? normalize(bent) : n, 0.0);
+    return shSum * (PI / float(count));  // cosine-weighted pdf cos/pi -> integral of V Y (n.l)+
+}
