@@ -273,6 +273,21 @@ std::vector<glm::vec3> perspectiveTriangles(unsigned seed, int count) {
     return out;
 }
 
+// Triangles with a vertex just beyond a very close near plane: they project
+// tens of thousands of pixels off the target and are clipped to the guard band.
+std::vector<glm::vec3> guardBandTriangles(unsigned seed, int count) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> xy(-1.0f, 1.0f), zNear(-0.0009f, -0.0006f), zf(-6.0f, -1.0f);
+    std::vector<glm::vec3> out;
+    for (int i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            float z = k == 0 ? zNear(rng) : zf(rng);
+            float s = k == 0 ? 1.0f : -z * 0.6f;
+            out.push_back({xy(rng) * s, xy(rng) * s, z});
+        }
+    return out;
+}
+
 }  // namespace
 
 TEST_CASE_FIXTURE(GpuFixture, "visibility: coverage, ids and depth equal a CPU double rasterizer (grid-exact triangles)") {
@@ -291,6 +306,13 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: perspective triangles, partly behind 
     glm::mat4 proj = glm::perspective(glm::radians(70.0f), 64.0f / 48.0f, 0.25f, 12.0f);
     // Transformed and clipped vertices are rounded in fp32: centres within
     // 1/64 px of an edge may snap either way; depths within 8 ulp.
+    compareWithOracle(s, proj, size, 1.0 / 64.0, 8, true, 0.3);
+}
+
+TEST_CASE_FIXTURE(GpuFixture, "visibility: triangles beyond the guard band match the CPU rasterizer") {
+    glm::ivec2 size(64, 48);
+    Scene s = triangleScene(guardBandTriangles(5, 24));
+    glm::mat4 proj = glm::perspective(glm::radians(70.0f), 64.0f / 48.0f, 0.0005f, 12.0f);
     compareWithOracle(s, proj, size, 1.0 / 64.0, 8, true, 0.3);
 }
 
