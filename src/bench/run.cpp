@@ -119,7 +119,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["config"] = cfg;
     // Which rasterizer produced the G-buffer, shadow map and RSM (docs/visibility.md);
     // "compute-32" / "compute-64": the two-pass 32-bit or the 64-bit atomic path.
-    r["raster_path"] = settings.raster.path == RasterSettings::Path::Hardware ? std::string("hardware")
+    r["raster_path"] = !useComputeRaster(settings) ? std::string("hardware")
                        : visibilityOptions(settings).atomic64 && visibilityAtomic64Supported() ? std::string("compute-64")
                                                                                                 : std::string("compute-32");
     r["camera"] = {{"position", {cam.position.x, cam.position.y, cam.position.z}},

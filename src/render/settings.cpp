@@ -92,7 +92,7 @@ const char* onOff(bool b) { return b ? "on" : "off"; }
 
 const char* const kToggle[] = {"auto", "on", "off"};
 const char* const kLpvPath[] = {"compute", "raster"};
-const char* const kRasterPath[] = {"hardware", "compute"};
+const char* const kRasterPath[] = {"hardware", "compute", "auto"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
@@ -149,7 +149,7 @@ std::vector<SettingKey> buildKeys() {
         KEY("shadow.size", "sun shadow map side in texels", "16..16384",
             s.light.shadowSize = parseInt("shadow.size", v, 16, 16384), fmt(s.light.shadowSize)),
         // ---- rasterization ----------------------------------------------------
-        KEY("raster.path", "visibility of every rasterized view: hardware rasterizer or the compute rasterizer", "hardware|compute",
+        KEY("raster.path", "visibility of every rasterized view: hardware rasterizer or the compute rasterizer (auto: compute where 64-bit atomics exist)", "hardware|compute|auto",
             s.raster.path = parseEnum<RasterSettings::Path>("raster.path", v, kRasterPath), kRasterPath[int(s.raster.path)]),
         KEY("raster.atomic64", "compute rasterizer: one 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists) or the two-pass 32-bit path", "auto|on|off",
             s.raster.atomic64 = parseEnum<Toggle>("raster.atomic64", v, kToggle), kToggle[int(s.raster.atomic64)]),

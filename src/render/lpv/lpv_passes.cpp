@@ -88,7 +88,7 @@ public:
         changed |= st.rsm.normal.ensure(ctx.ledger, "lpv.rsm.normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
         changed |= st.rsm.depth.ensure(ctx.ledger, "lpv.rsm.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
-        if (ctx.settings.raster.path == RasterSettings::Path::Compute) {
+        if (useComputeRaster(ctx.settings)) {
             // Compute rasterizer: visibility buffer of the light's view, then
             // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
             VisibilityTarget& t = st.rsmVis;

@@ -3,6 +3,7 @@
 #include "gl/program.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 
 namespace rtgi {
 
@@ -26,7 +27,7 @@ class GBufferPass final : public Pass {
 public:
     std::string name() const override { return "gbuffer"; }
     Need needed(const Scene&, const Settings& s) const override {
-        if (s.raster.path != RasterSettings::Path::Hardware) return Need::no("raster.path=compute (visibility.raster)");
+        if (useComputeRaster(s)) return Need::no(rasterPathReason(s) + " (visibility.raster)");
         return Need::yes();
     }
     std::vector<std::string> writes() const override {

@@ -4,6 +4,7 @@
 #include "compute/lib/raster_shared.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -44,7 +45,7 @@ public:
     std::string name() const override { return "shadow"; }
     Need needed(const Scene& scene, const Settings& settings) const override {
         if (!resolveSun(scene, settings)) return Need::no("the scene has no directional light");
-        if (settings.raster.path != RasterSettings::Path::Hardware) return Need::no("raster.path=compute (shadow.raster)");
+        if (useComputeRaster(settings)) return Need::no(rasterPathReason(settings) + " (shadow.raster)");
         return Need::yes();
     }
     std::vector<std::string> writes() const override { return {"shadowMap"}; }

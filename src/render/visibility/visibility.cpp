@@ -55,6 +55,16 @@ bool visibilityAtomic64Supported() {
     return supported;
 }
 
+bool useComputeRaster(const Settings& s) {
+    return s.raster.path == RasterSettings::Path::Compute ||
+           (s.raster.path == RasterSettings::Path::Auto && visibilityAtomic64Supported());
+}
+
+std::string rasterPathReason(const Settings& s) {
+    return std::string("raster.path=") + toString(s.raster.path) + ": the " +
+           (useComputeRaster(s) ? "compute rasterizer" : "hardware rasterizer") + " runs";
+}
+
 VisibilityOptions visibilityOptions(const Settings& s) {
     VisibilityOptions o;
     if (s.raster.atomic64 == Toggle::On && !visibilityAtomic64Supported())

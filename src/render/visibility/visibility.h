@@ -76,6 +76,12 @@ gl::Defines visibilityDefines(const VisibilityTarget& target);
 void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& target, const gl::Texture& depth,
                          int layer = -1);
 
+// raster.path after `auto` (compute where GL_NV_shader_atomic_int64 exists):
+// true when the compute rasterizer produces the rasterized views.
+bool useComputeRaster(const Settings& settings);
+// Why the other path's passes are skipped (results.json "skipped").
+std::string rasterPathReason(const Settings& settings);
+
 // Options from the settings (raster.atomic64, raster.bin_scale).
 
 VisibilityOptions visibilityOptions(const Settings& settings);

@@ -12,7 +12,7 @@
 namespace rtgi {
 namespace {
 
-bool computePath(const Settings& s) { return s.raster.path == RasterSettings::Path::Compute; }
+bool computePath(const Settings& s) { return useComputeRaster(s); }
 
 std::vector<std::pair<std::string, double>> counterStats(const VisibilityTarget& t) {
     if (!t.counters) return {};
@@ -32,7 +32,7 @@ public:
     explicit VisibilityRasterPass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
     std::string name() const override { return "visibility.raster"; }
     Need needed(const Scene&, const Settings& s) const override {
-        if (!computePath(s)) return Need::no("raster.path=hardware (gbuffer)");
+        if (!computePath(s)) return Need::no(rasterPathReason(s) + " (gbuffer)");
         return Need::yes();
     }
     std::vector<std::string> writes() const override { return {"visibility"}; }
@@ -60,7 +60,7 @@ public:
     explicit VisibilityResolvePass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
     std::string name() const override { return "visibility.resolve"; }
     Need needed(const Scene&, const Settings& s) const override {
-        if (!computePath(s)) return Need::no("raster.path=hardware (gbuffer)");
+        if (!computePath(s)) return Need::no(rasterPathReason(s) + " (gbuffer)");
         return Need::yes();
     }
     std::vector<std::string> reads() const override { return {"visibility"}; }
@@ -98,7 +98,7 @@ public:
     std::string name() const override { return "shadow.raster"; }
     Need needed(const Scene& scene, const Settings& s) const override {
         if (!resolveSun(scene, s)) return Need::no("the scene has no directional light");
-        if (!computePath(s)) return Need::no("raster.path=hardware (shadow)");
+        if (!computePath(s)) return Need::no(rasterPathReason(s) + " (shadow)");
         return Need::yes();
     }
     std::vector<std::string> writes() const override { return {"shadowMap"}; }
