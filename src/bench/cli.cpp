@@ -15,6 +15,33 @@ int toInt(const std::string& opt, const std::string& v, int lo, int hi) {
 }
 }  // namespace
 
+std::int64_t parseByteSize(const std::string& opt, const std::string& v) {
+    // "4G", "512M", "1.5GiB", "1000000" (bytes); binary multiples.
+    char* end = nullptr;
+    double x = std::strtod(v.c_str(), &end);
+    std::string unit = end ? std::string(end) : std::string();
+    double mul = 1.0;
+    if (unit.empty() || unit == "B") mul = 1.0;
+    else if (unit == "K" || unit == "KiB") mul = 1024.0;
+    else if (unit == "M" || unit == "MiB") mul = 1024.0 * 1024.0;
+    else if (unit == "G" || unit == "GiB") mul = 1024.0 * 1024.0 * 1024.0;
+    else if (unit == "T" || unit == "TiB") mul = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+    else x = -1.0;
+    double bytes = x * mul;
+    if (v.empty() || end == v.c_str() || !(bytes >= 1.0) || !(bytes <= 9.0e18))
+        throw ConfigError(opt + " '" + v + "': expected a size such as 8G, 512M or 1048576 (bytes), at least 1 byte");
+    return std::int64_t(bytes);
+}
+
+void checkCommandLine(const CommandLine& c) {
+    for (auto& s : c.run.scenes)
+        if (s.empty()) throw ConfigError("--scene: the scene path is empty");
+    if (c.sweep.empty() && (c.shardIndex != 0 || c.shardCount != 1))
+        throw ConfigError("--shard applies only to --sweep (no sweep file given)");
+    if (!c.sweep.empty() && c.scenesGiven)
+        throw ConfigError("--scene does not apply to --sweep; the sweep file lists its scenes");
+}
+
 CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<std::string, bool>>& hostOptions) {
     CommandLine c;
     std::vector<std::string> sets;
@@ -38,7 +65,10 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
         } else if (a == "--frames") c.run.frames = toInt(a, value(), 1, 1000000);
         else if (a == "--warmup") c.run.warmup = toInt(a, value(), 0, 1000000);
         else if (a == "--device") c.device = toInt(a, value(), 0, 64);
-        else if (a == "--out") c.run.outDir = value();
+        else if (a == "--out") {
+            c.run.outDir = value();
+            if (c.run.outDir.empty()) throw ConfigError("--out: the output directory is empty");
+        } else if (a == "--max-memory") c.run.maxMemory = parseByteSize(a, value());
         else if (a == "--set") sets.push_back(value());
         else if (a == "--config") configs.push_back(value());
         else if (a == "--sweep") c.sweep = value();
@@ -54,6 +84,7 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
         else if (a == "--no-images") c.run.writeImages = false;
         else if (a == "--reference") c.run.reference = true;
         else if (a == "--list-devices") c.listDevices = true;
+        else if (a == "--validate-only") c.validateOnly = true;
         else {
             bool handled = false;
             for (auto& [name, takesValue] : hostOptions)
@@ -65,6 +96,7 @@ CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<
             if (!handled) throw ConfigError("unknown option '" + a + "' (see --help)");
         }
     }
+    checkCommandLine(c);
     // --config files first, then --set in order: the command line wins.
     for (auto& f : configs) {
         std::ifstream in(f);
@@ -105,11 +137,15 @@ std::string commonHelp() {
   --config FILE.json       configuration file (keys as below, nested objects allowed)
   --sweep FILE.json        run every configuration of a sweep
   --shard i/n              run only the i-th of n parts of a sweep
+  --max-memory SIZE        GPU memory budget, e.g. 8G (default: what the driver reports as available,
+                           else 4 GiB; see docs/STABILITY.md "Bad input")
   --check                  count NaN/Inf/negative/fp16-saturated values in every pass output
   --no-images              do not write images
   --reference              compare the output with the matching ray-traced reference (ao -> AO rays,
                            indirect light -> path-traced indirect, else the full image; cached on disk)
   --compare IMAGE REF      error metrics and heat map of an image file against a reference (PNG/PFM)
+  --validate-only          load and validate the scene(s) and the configuration, render nothing (exit 0
+                           when both are valid; no GL context is created)
   --debug                  KHR_debug output
   --list-devices           list EGL devices and exit
   --help                   this text

@@ -14,6 +14,7 @@ struct CommandLine {
     bool debug = false;
     bool help = false;
     bool listDevices = false;
+    bool validateOnly = false;  // --validate-only: load scenes and settings, no GL, exit 0
     std::string sweep;    // --sweep FILE.json
     int shardIndex = 0, shardCount = 1;
     bool scenesGiven = false;
@@ -29,6 +30,11 @@ struct CommandLine {
 CommandLine parseCommandLine(int argc, char** argv, const std::vector<std::pair<std::string, bool>>& hostOptions = {});
 // The settings of a run of `scene`: defaults, the scene's suggestions, then
 // the command line's --config / --set.
+// Consistency of options that parse alone (empty --scene, --shard without
+// --sweep); throws ConfigError. Called by parseCommandLine.
+void checkCommandLine(const CommandLine& c);
+// "8G", "512M", "1048576" -> bytes (binary multiples); throws ConfigError naming `opt`.
+std::int64_t parseByteSize(const std::string& opt, const std::string& v);
 Settings settingsFor(const Scene& scene, const CommandLine& cl);
 std::string commonHelp();
 std::string settingsHelp();

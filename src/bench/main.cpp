@@ -3,6 +3,7 @@
 #include "bench/run.h"
 #include "bench/sweep.h"
 #include "gl/context.h"
+#include "gl/output_files.h"
 #include "gl/program.h"
 #include "render/reference/reference_runner.h"
 
@@ -15,23 +16,44 @@ using namespace rtgi;
 
 namespace {
 
-// rtgi-bench --compare IMAGE REFERENCE [--out DIR]: no GL context needed.
+// Exit codes (README "Exit codes"): 0 ok, 1 some sweep configurations failed,
+// 2 configuration / command line / memory budget, 3 scene or image input,
+// 4 GL, 5 --check found NaN/Inf, 6 a result file could not be written.
+constexpr int kExitOutput = 6;
+
+// rtgi-bench --compare IMAGE REFERENCE [--out DIR], in any argument order:
+// no GL context needed.
 int compareCommand(int argc, char** argv) {
     std::string outDir = "out";
     std::vector<std::string> files;
-    for (int i = 2; i < argc; ++i) {
+    for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--out" && i + 1 < argc) outDir = argv[++i];
-        else files.push_back(a);
+        if (a == "--compare") continue;
+        if (a == "--out") {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "rtgi-bench: --out: missing value\n");
+                return 2;
+            }
+            outDir = argv[++i];
+        } else if (a.rfind("--", 0) == 0) {
+            std::fprintf(stderr, "rtgi-bench: --compare: option '%s' does not apply (only --out DIR)\n", a.c_str());
+            return 2;
+        } else {
+            files.push_back(a);
+        }
     }
     if (files.size() != 2) {
         std::fprintf(stderr, "rtgi-bench: --compare IMAGE REFERENCE [--out DIR]: expected two image files\n");
         return 2;
     }
     try {
+        prepareOutputDirectory(outDir);
         nlohmann::json j = compareImageFiles(files[0], files[1], outDir);
         std::cout << j.dump(2) << "\n  wrote " << outDir << "/compare.json, error.heatmap.png\n";
         return 0;
+    } catch (const OutputError& e) {
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        return kExitOutput;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
         return 3;
@@ -41,7 +63,8 @@ int compareCommand(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc > 1 && std::string(argv[1]) == "--compare") return compareCommand(argc, argv);
+    for (int i = 1; i < argc; ++i)
+        if (std::string(argv[i]) == "--compare") return compareCommand(argc, argv);
     CommandLine cl;
     try {
         cl = parseCommandLine(argc, argv);
@@ -61,15 +84,24 @@ int main(int argc, char** argv) {
     }
     try {
         if (!cl.sweep.empty()) return runSweepCommand(cl);
+        if (!cl.validateOnly) {  // an unwritable --out fails before any work
+            prepareOutputDirectory(cl.run.outDir);
+            checkOutputTarget(cl.run.outDir + "/results.json");
+            checkOutputTarget(cl.run.outDir + "/results.csv");
+        }
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        if (cl.validateOnly) {
+            (void)settingsFor(scene, cl);  // the scene's suggested settings must be valid too
+            std::printf("rtgi-bench: %s: valid (%zu triangles)\n", scene.name.c_str(), scene.triangleCount());
+            return 0;
+        }
         auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
         nlohmann::json r = runBenchmark(ctx->info(), scene, settingsFor(scene, cl), cl.run);
-        std::filesystem::create_directories(cl.run.outDir);
-        std::ofstream(cl.run.outDir + "/results.json") << r.dump(2) << "\n";
-        std::ofstream csv(cl.run.outDir + "/results.csv");
-        csv << resultsCsvHeader() << "\n";
-        for (auto& row : resultsCsvRows(r)) csv << row << "\n";
+        writeFileAtomic(cl.run.outDir + "/results.json", r.dump(2) + "\n");
+        std::string csv = resultsCsvHeader() + "\n";
+        for (auto& row : resultsCsvRows(r)) csv += row + "\n";
+        writeFileAtomic(cl.run.outDir + "/results.csv", csv);
         std::cout << formatTimingTable(r);
         if (r.contains("error")) {
             const auto& e = r["error"];
@@ -84,6 +116,9 @@ int main(int argc, char** argv) {
             return 5;
         }
         return 0;
+    } catch (const OutputError& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        return kExitOutput;
     } catch (const SceneError& e) {
         std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
         return 3;

@@ -1,6 +1,7 @@
 #include "bench/run.h"
 
 #include "gl/image_io.h"
+#include "render/memory_budget.h"
 #include "render/reference/reference_runner.h"
 #include "render/renderer.h"
 #include "render/visibility/visibility.h"
@@ -81,6 +82,8 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, con
 }
 
 nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, const RunOptions& opts) {
+    // Before the first frame allocates anything (render/memory_budget.h).
+    checkMemoryBudget(renderer, opts.resolution, opts.maxMemory);
     gl::Profiler& profiler = renderer.profiler();
     profiler.reset();
     const Scene& scene = renderer.scene();

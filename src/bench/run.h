@@ -23,6 +23,7 @@ struct RunOptions {
     bool check = false;
     bool quiet = false;
     bool reference = false;  // --reference: compare the output with the matching ray-traced reference
+    std::int64_t maxMemory = 0;  // --max-memory: GPU memory budget in bytes (0 = what the device reports)
 };
 
 // Loads and merges the --scene list. A glTF model merged with a built-in

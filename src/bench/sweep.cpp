@@ -1,6 +1,7 @@
 #include "bench/sweep.h"
 
 #include "bench/sweep_spec.h"
+#include "gl/output_files.h"
 #include "gl/program.h"
 #include "render/renderer.h"
 
@@ -39,15 +40,15 @@ std::string formatDuration(double s) {
 // Rewrites results.csv from results.jsonl (the record that resume trusts), so
 // the CSV never holds rows of a configuration interrupted between the writes.
 void rewriteCsv(const std::string& jsonlPath, const std::string& csvPath) {
-    std::ofstream csv(csvPath, std::ios::trunc);
-    csv << sweepCsvHeader() << "\n";
+    std::string csv = sweepCsvHeader() + "\n";
     std::ifstream in(jsonlPath);
     std::string line;
     while (std::getline(in, line)) {
         auto j = nlohmann::json::parse(line, nullptr, false);
         if (j.is_discarded() || !j.is_object() || !j.contains("sweep")) continue;
-        for (auto& row : sweepCsvRows(j)) csv << row << "\n";
+        for (auto& row : sweepCsvRows(j)) csv += row + "\n";
     }
+    writeFileAtomic(csvPath, csv);  // gl/output_files.h: complete or the previous file
 }
 
 // Whether this build's frame script has the ray-traced reference passes.
@@ -72,7 +73,7 @@ int runSweepCommand(const CommandLine& cl) {
     std::vector<SweepConfig> mine = shardOf(spec.configs, cl.shardIndex, cl.shardCount);
 
     const std::string dir = cl.run.outDir;
-    std::filesystem::create_directories(dir);
+    prepareOutputDirectory(dir);
     const std::string jsonlPath = dir + "/results.jsonl", csvPath = dir + "/results.csv";
     std::set<std::string> done;
     {
@@ -92,8 +93,11 @@ int runSweepCommand(const CommandLine& cl) {
     if (todo.empty()) return 0;
 
     auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
+    checkOutputTarget(jsonlPath);  // appended to: no links, no directories in the way
+    checkOutputTarget(csvPath);
     std::ofstream jsonl(jsonlPath, std::ios::app);
     std::ofstream csv(csvPath, std::ios::app);
+    if (!jsonl || !csv) throw OutputError(dir + ": results.jsonl or results.csv cannot be opened for appending");
 
     // One renderer per scene: consecutive configurations of the same scene
     // (the expansion keeps scenes outermost) only reconfigure it, so the GPU
@@ -174,6 +178,7 @@ int runSweepCommand(const CommandLine& cl) {
         jsonl.flush();
         for (auto& row : sweepCsvRows(line)) csv << row << "\n";
         csv.flush();
+        if (!jsonl || !csv) throw OutputError(jsonlPath + ": appending a result failed (disk full?)");
 
         double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
         double eta = elapsed / double(k + 1) * double(todo.size() - k - 1);

@@ -20,6 +20,43 @@ constexpr const char* kResolutionKey = "resolution";
 
 std::string fail(const std::string& source, const std::string& what) { return source + ": " + what; }
 
+[[noreturn]] void wrongType(const std::string& source, const std::string& key, const char* expected,
+                            const nlohmann::json& v) {
+    throw ConfigError(fail(source, "'" + key + "': expected " + expected + ", found " + jsonTypeWord(v)));
+}
+// Typed members with the file and key named on a wrong type (no raw
+// nlohmann type_error text reaches the user).
+double numberOf(const nlohmann::json& o, const std::string& k, const std::string& source, const std::string& path) {
+    const auto& v = o.at(k);
+    if (!v.is_number()) wrongType(source, path, "a number", v);
+    double x = v.get<double>();
+    if (!std::isfinite(x)) wrongType(source, path, "a finite number", v);
+    return x;
+}
+std::string stringOr(const nlohmann::json& o, const std::string& k, const std::string& def, const std::string& source,
+                     const std::string& path) {
+    if (!o.contains(k)) return def;
+    if (!o[k].is_string()) wrongType(source, path, "a string", o[k]);
+    return o[k].get<std::string>();
+}
+bool boolOr(const nlohmann::json& o, const std::string& k, bool def, const std::string& source) {
+    if (!o.contains(k)) return def;
+    if (!o[k].is_boolean()) wrongType(source, k, "true or false", o[k]);
+    return o[k].get<bool>();
+}
+int intOr(const nlohmann::json& o, const std::string& k, int def, const std::string& source) {
+    if (!o.contains(k)) return def;
+    const auto& v = o[k];
+    if (!v.is_number_integer() || v.get<double>() < -1e9 || v.get<double>() > 1e9)
+        wrongType(source, k, "an integer", v);
+    return v.get<int>();
+}
+
+// Values a {"from", "to", "times"|"step"} range would generate, computed
+// before generating them (sweep size is checked before expansion).
+constexpr std::size_t kMaxAxisValues = 10000;
+constexpr std::size_t kMaxConfigurations = 1000000;
+
 // JSON value -> the string form --set takes. Numbers print with 9 significant
 // digits, so 0.5 and 0.50 give the same configuration id.
 std::string valueString(const nlohmann::json& v, const std::string& source, const std::string& key) {
@@ -44,16 +81,25 @@ std::string valueString(const nlohmann::json& v, const std::string& source, cons
 std::vector<std::string> axisValues(const nlohmann::json& v, const std::string& source, const std::string& key) {
     std::vector<std::string> out;
     if (v.is_array()) {
+        if (v.size() > kMaxAxisValues)
+            throw ConfigError(fail(source, "axis '" + key + "' lists " + std::to_string(v.size()) + " values, more than " +
+                                               std::to_string(kMaxAxisValues)));
         for (auto& x : v) out.push_back(valueString(x, source, key));
     } else if (v.is_object() && v.contains("from") && v.contains("to") && (v.contains("times") || v.contains("step"))) {
-        double from = v["from"].get<double>(), to = v["to"].get<double>();
+        double from = numberOf(v, "from", source, key + ".from"), to = numberOf(v, "to", source, key + ".to");
         bool geometric = v.contains("times");
-        double f = geometric ? v["times"].get<double>() : v["step"].get<double>();
+        double f = geometric ? numberOf(v, "times", source, key + ".times") : numberOf(v, "step", source, key + ".step");
         if (geometric ? !(f > 1.0 && from > 0.0) : !(f > 0.0))
             throw ConfigError(fail(source, "axis '" + key + "': 'times' must exceed 1 with 'from' > 0, 'step' must be > 0"));
+        double count = to < from ? 0.0
+                       : geometric ? std::floor(std::log(to / from) / std::log(f) + 1e-9) + 1.0
+                                   : std::floor((to - from) / f + 1e-9) + 1.0;
+        if (count > double(kMaxAxisValues))
+            throw ConfigError(fail(source, "axis '" + key + "': the range has about " + std::to_string(std::llround(count)) +
+                                               " values, more than " + std::to_string(kMaxAxisValues)));
         bool integers = v["from"].is_number_integer() && v["to"].is_number_integer();
         // Relative slack so that 0.1 + 0.1 + 0.1 still reaches a `to` of 0.3.
-        for (double x = from; x <= to * (1 + 1e-9) && out.size() < 10000; x = geometric ? x * f : x + f)
+        for (double x = from; x <= to * (1 + 1e-9) && out.size() < kMaxAxisValues; x = geometric ? x * f : x + f)
             out.push_back(valueString(integers ? nlohmann::json(std::llround(x)) : nlohmann::json(x), source, key));
     } else {
         out.push_back(valueString(v, source, key));
@@ -136,9 +182,14 @@ std::vector<SceneEntry> parseScenes(const nlohmann::json& j, const std::string& 
         if (e.is_object()) {
             if (!e.contains("scene")) throw ConfigError(fail(source, "a scene object needs \"scene\""));
             se.scenes = sceneList(e["scene"]);
-            se.label = e.value("label", defaultLabel(se.scenes));
-            if (e.contains("views"))
-                for (auto& v : e["views"]) se.views.push_back(v.get<std::string>());
+            se.label = stringOr(e, "label", defaultLabel(se.scenes), source, "scenes[].label");
+            if (e.contains("views")) {
+                if (!e["views"].is_array()) wrongType(source, "scenes[].views", "a list of view names", e["views"]);
+                for (auto& v : e["views"]) {
+                    if (!v.is_string()) wrongType(source, "scenes[].views[]", "a string", v);
+                    se.views.push_back(v.get<std::string>());
+                }
+            }
             if (e.contains("set")) {
                 if (!e["set"].is_object()) throw ConfigError(fail(source, "a scene's \"set\" must be an object"));
                 for (auto& [k, v] : e["set"].items()) se.set.emplace_back(k, valueString(v, source, k));
@@ -204,12 +255,26 @@ nlohmann::json SweepConfig::describe() const {
             {"view", view},   {"axes", axes},     {"set", set}};
 }
 
+namespace {
+SweepSpec parseSweepImpl(const std::string& text, const std::string& source);
+}  // namespace
+
 SweepSpec parseSweep(const std::string& text, const std::string& source) {
+    try {
+        return parseSweepImpl(text, source);
+    } catch (const nlohmann::json::exception& e) {
+        // A type the explicit checks above do not cover: still name the file.
+        throw ConfigError(source + ": " + jsonErrorText(e));
+    }
+}
+
+namespace {
+SweepSpec parseSweepImpl(const std::string& text, const std::string& source) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
-    } catch (const std::exception& e) {
-        throw ConfigError(source + ": not valid JSON (" + std::string(e.what()) + ")");
+    } catch (const nlohmann::json::parse_error& e) {
+        throw ConfigError(source + ": not valid JSON (" + jsonErrorText(e) + ")");
     }
     if (!j.is_object()) throw ConfigError(fail(source, "a sweep must be a JSON object"));
     static const std::set<std::string> known = {"name",   "description", "scenes", "resolutions", "frames",   "warmup",
@@ -217,11 +282,11 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
     for (auto& [k, v] : j.items())
         if (!known.count(k)) throw ConfigError(fail(source, "unknown sweep field '" + k + "'"));
     SweepSpec spec;
-    spec.name = j.value("name", source);
-    spec.description = j.value("description", "");
-    spec.images = j.value("images", false);
-    spec.check = j.value("check", false);
-    int frames = j.value("frames", 100), warmup = j.value("warmup", 20);
+    spec.name = stringOr(j, "name", source, source, "name");
+    spec.description = stringOr(j, "description", "", source, "description");
+    spec.images = boolOr(j, "images", false, source);
+    spec.check = boolOr(j, "check", false, source);
+    int frames = intOr(j, "frames", 100, source), warmup = intOr(j, "warmup", 20, source);
     if (frames < 1 || warmup < 0) throw ConfigError(fail(source, "'frames' must be >= 1 and 'warmup' >= 0"));
     if (!j.contains("scenes")) throw ConfigError(fail(source, "missing 'scenes'"));
     std::vector<SceneEntry> scenes = parseScenes(j["scenes"], source);
@@ -252,6 +317,18 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
         if (!j["axes"].is_array()) throw ConfigError(fail(source, "'axes' must be a list"));
         for (auto& a : j["axes"]) axes.push_back(expandAxis(a, source));
     }
+    // The size of the product before building it (two 10^4-value axes would
+    // otherwise allocate 10^8 assignment lists before the limit is seen).
+    {
+        double size = double(scenes.size());
+        std::size_t views = 0;
+        for (auto& sc : scenes) views = std::max(views, sc.views.size());
+        size *= double(views);
+        for (auto& axis : axes) size *= double(axis.size());
+        if (size > double(kMaxConfigurations))
+            throw ConfigError(fail(source, "the sweep expands to about " + std::to_string(std::llround(size)) +
+                                               " configurations, more than 10^6 (split it into several files)"));
+    }
     std::vector<Assignments> product{{}};
     for (auto& axis : axes) {
         std::vector<Assignments> next;
@@ -262,7 +339,7 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
                 next.push_back(a);
             }
         product = std::move(next);
-        if (product.size() > 1000000) throw ConfigError(fail(source, "more than 10^6 configurations"));
+        if (product.size() > kMaxConfigurations) throw ConfigError(fail(source, "more than 10^6 configurations"));
     }
 
     std::set<std::string> seen;
@@ -301,6 +378,7 @@ SweepSpec parseSweep(const std::string& text, const std::string& source) {
             }
     return spec;
 }
+}  // namespace
 
 std::vector<SweepConfig> shardOf(const std::vector<SweepConfig>& all, int index, int count) {
     if (count < 1 || index < 0 || index >= count)

@@ -1,5 +1,7 @@
 #include "gl/image_io.h"
 
+#include "gl/output_files.h"
+
 #include <stb_image.h>
 #include <stb_image_write.h>
 
@@ -50,20 +52,26 @@ void writePng(const std::string& path, const FloatImage& img, float scale, bool 
                 if (c == 3) v = 1.0f;
                 px[std::size_t(((img.height - 1 - y) * img.width + x) * 4 + c)] = (unsigned char)(v * 255.0f + 0.5f);
             }
-    if (!stbi_write_png(path.c_str(), img.width, img.height, 4, px.data(), img.width * 4))
-        throw std::runtime_error(path + ": could not write PNG");
+    // Encoded in memory, then written atomically (gl/output_files.h).
+    std::string png;
+    auto append = [](void* ctx, void* data, int size) {
+        static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), std::size_t(size));
+    };
+    if (!stbi_write_png_to_func(append, &png, img.width, img.height, 4, px.data(), img.width * 4))
+        throw OutputError(path + ": the PNG could not be encoded");
+    writeFileAtomic(path, png);
 }
 
 void writePfm(const std::string& path, const FloatImage& img) {
-    std::ofstream f(path, std::ios::binary);
-    if (!f) throw std::runtime_error(path + ": could not open for writing");
-    f << "PF\n" << img.width << " " << img.height << "\n-1.0\n";  // little endian, rows bottom to top
+    // little endian, rows bottom to top; written atomically (gl/output_files.h)
+    std::string out = "PF\n" + std::to_string(img.width) + " " + std::to_string(img.height) + "\n-1.0\n";
     std::vector<float> row(std::size_t(img.width) * 3);
     for (int y = 0; y < img.height; ++y) {
         for (int x = 0; x < img.width; ++x)
             for (int c = 0; c < 3; ++c) row[std::size_t(x * 3 + c)] = c < img.channels ? img.at(x, y, c) : 0.0f;
-        f.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * 4));
+        out.append(reinterpret_cast<const char*>(row.data()), row.size() * 4);
     }
+    writeFileAtomic(path, out);
 }
 
 FloatImage readPfm(const std::string& path) {

@@ -53,6 +53,21 @@ int bytesPerTexel(GLenum f) {
     }
 }
 
+namespace {
+// GL reports a failed allocation only through glGetError (issue 16: a run
+// under a memory cap died inside the driver later). Checked after every
+// storage allocation; other pending errors are drained with it (KHR_debug,
+// --debug, still reports them through its callback).
+void checkAllocation(const std::string& what, std::int64_t bytes) {
+    bool oom = false;
+    for (GLenum e = glGetError(), n = 0; e != GL_NO_ERROR && n < 16; e = glGetError(), ++n)
+        oom |= e == GL_OUT_OF_MEMORY;
+    if (oom)
+        throw OutOfMemory("the GPU ran out of memory allocating " + what + " (" + std::to_string(bytes >> 20) +
+                          " MiB); lower the resolution or the setting that sizes it (see --max-memory)");
+}
+}  // namespace
+
 Texture::Texture(MemoryLedger& ledger, std::string label, const TextureDesc& d) : desc_(d), label_(std::move(label)) {
     if (d.width < 1 || d.height < 1 || d.depth < 1 || d.levels < 1)
         throw std::runtime_error("texture '" + label_ + "' has an empty size");
@@ -63,18 +78,19 @@ Texture::Texture(MemoryLedger& ledger, std::string label, const TextureDesc& d) 
         glTextureStorage3D(id, d.levels, d.format, d.width, d.height, d.depth);
     else
         glTextureStorage2D(id, d.levels, d.format, d.width, d.height);
-    handle_.label(label_);
-    setSampling(d.levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST, GL_NEAREST);
-    // New storage is undefined in GL (NVIDIA hands out old memory, llvmpipe
-    // zeros): start every texture at zero so that a pass reading history or an
-    // accumulation before its first write sees 0, never garbage or NaN.
-    zeroAllLevels();
     std::int64_t bytes = 0;
     for (int l = 0; l < d.levels; ++l) {
         std::int64_t w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
         std::int64_t z = d.target == GL_TEXTURE_3D ? std::max(1, d.depth >> l) : d.depth;
         bytes += w * h * z * bytesPerTexel(d.format);
     }
+    checkAllocation("texture '" + label_ + "'", bytes);
+    handle_.label(label_);
+    setSampling(d.levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST, GL_NEAREST);
+    // New storage is undefined in GL (NVIDIA hands out old memory, llvmpipe
+    // zeros): start every texture at zero so that a pass reading history or an
+    // accumulation before its first write sees 0, never garbage or NaN.
+    zeroAllLevels();
     entry_ = LedgerEntry(&ledger, label_, bytes);
 }
 
@@ -137,6 +153,7 @@ Buffer::Buffer(MemoryLedger& ledger, std::string label, std::int64_t bytes, cons
     glCreateBuffers(1, &id);
     handle_ = BufferHandle(id);
     glNamedBufferStorage(id, std::max<std::int64_t>(bytes, 4), data, flags);
+    checkAllocation("buffer '" + label_ + "'", bytes);
     handle_.label(label_);
     entry_ = LedgerEntry(&ledger, label_, bytes);
 }

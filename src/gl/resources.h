@@ -7,9 +7,15 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 namespace rtgi::gl {
+
+// glGetError reported GL_OUT_OF_MEMORY after an allocation (rtgi-bench exit 4).
+class OutOfMemory : public std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
 
 class MemoryLedger {
 public:

@@ -315,12 +315,30 @@ std::map<std::string, std::string> describe(const Settings& s) {
     return m;
 }
 
+std::string jsonErrorText(const std::exception& e) {
+    std::string w = e.what();
+    if (w.rfind("[json.exception.", 0) == 0) {
+        auto close = w.find("] ");
+        if (close != std::string::npos) w = w.substr(close + 2);
+    }
+    return w;
+}
+
+std::string jsonTypeWord(const nlohmann::json& v) {
+    if (v.is_string()) return "a string";
+    if (v.is_boolean()) return "a boolean";
+    if (v.is_number()) return "a number";
+    if (v.is_array()) return "an array";
+    if (v.is_object()) return "an object";
+    return "null";
+}
+
 Assignments flattenJsonConfig(const std::string& text, const std::string& source) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
     } catch (const std::exception& e) {
-        throw ConfigError(source + ": not valid JSON (" + std::string(e.what()) + ")");
+        throw ConfigError(source + ": not valid JSON (" + jsonErrorText(e) + ")");
     }
     if (!j.is_object()) throw ConfigError(source + ": the configuration must be a JSON object");
     // Nested objects are flattened into dotted keys; "lpv": {"grid": 32}

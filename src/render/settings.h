@@ -5,6 +5,7 @@
 // key. GPU constant blocks are derived from these by pure functions in each
 // pass family, never read from here inside shaders.
 #include <glm/glm.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <map>
 #include <optional>
@@ -126,6 +127,13 @@ struct SettingKey {
 };
 
 const std::vector<SettingKey>& settingKeys();
+// nlohmann's exception text without its "[json.exception.parse_error.101] "
+// prefix (messages name the file; the library's ids mean nothing to a user).
+std::string jsonErrorText(const std::exception& e);
+// A JSON value's type in words ("a string", "an array", ...) for messages such
+// as "expected a number, found a string" (sweep files, glTF schema).
+std::string jsonTypeWord(const nlohmann::json& v);
+
 // Applies key=value; throws ConfigError("--set KEY: ...") for unknown keys / bad values.
 void applySetting(Settings& s, const std::string& key, const std::string& value);
 // "key=value" form.

@@ -8,6 +8,7 @@
 // check); base-colour images are decoded here with stb_image after their
 // bytes have been validated. Every problem becomes one SceneError sentence
 // that starts with the file path.
+#include "scene/gltf_schema.h"
 #include "scene/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -23,8 +24,10 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -45,6 +48,25 @@ constexpr double kMaxVertices = 3e8;  // 3 per triangle at most, and far below 2
 constexpr double kMaxNodeInstances = 1e7;
 constexpr int kMaxJsonDepth = 256;
 constexpr int kMaxImageSide = 16384;
+// World-space coordinates (vertices, lights, cameras) must stay within this
+// bound: distances, bounds diagonals and the far plane (1000x the scene size
+// when a camera has no zfar) are computed in float, and (2e15)^2 * 3 * 1e6 is
+// still far below FLT_MAX (3.4e38); 1e38 itself overflows when squared.
+constexpr double kMaxCoordinate = 1e15;
+
+// Light colour x intensity and emission: the GPU multiplies them by areas
+// (up to (2e15)^2 would overflow, but RSM texels and LPV cells are bounded by
+// the scene) and by SH / BRDF factors below 4 pi; 1e30 leaves a factor of
+// 3e8 before FLT_MAX.
+constexpr double kMaxRadiometric = 1e30;
+
+// A number that the GPU receives as a float: finite and within float range.
+bool floatFinite(double v) { return std::isfinite(v) && std::abs(v) <= double(FLT_MAX); }
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
 
 constexpr std::string_view kSupportedRequired[] = {
     "KHR_materials_emissive_strength", "KHR_lights_punctual", "KHR_texture_transform"};
@@ -461,6 +483,12 @@ private:
             fail("JSON is not a glTF asset (no \"asset\" object with a \"version\")");
         std::string version = doc["asset"]["version"].get<std::string>();
         if (version.rfind("2.", 0) != 0) fail("glTF version \"" + version + "\" is not supported (only 2.x)");
+        // Strict typing before tinygltf, which skips members it cannot read.
+        try {
+            checkGltfSchema(doc, path_);
+        } catch (const SceneError& e) {
+            throw SceneError(printable(e.what()));
+        }
 
         if (doc.contains("extensionsRequired")) {
             const auto& req = doc["extensionsRequired"];
@@ -746,10 +774,11 @@ private:
             out.normals.reserve(indices.size());
             out.uvs.reserve(indices.size());
             for (std::size_t t = 0; t < indices.size(); t += 3) {
-                glm::vec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
-                glm::vec3 fn = glm::cross(b - a, c - a);
-                float len = glm::length(fn);
-                fn = (len > 0.0f && std::isfinite(len)) ? fn / len : glm::vec3(0.0f);
+                // In double: the float cross product of edges beyond ~4e9 overflows.
+                glm::dvec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
+                glm::dvec3 dn = glm::cross(b - a, c - a);
+                double len = glm::length(dn);
+                glm::vec3 fn = (len > 0.0 && std::isfinite(len)) ? glm::vec3(dn / len) : glm::vec3(0.0f);
                 for (std::size_t k = 0; k < 3; ++k) {
                     out.positions.push_back(positions[indices[t + k]]);
                     out.normals.push_back(fn);
@@ -791,6 +820,11 @@ private:
             };
             m.metallic = unit(pbr.metallicFactor, "metallicFactor");
             m.roughness = unit(pbr.roughnessFactor, "roughnessFactor");
+            std::string at = "materials[" + str(i) + "]";
+            for (std::size_t k = 0; k < gm.emissiveFactor.size() && k < 3; ++k)
+                if (!floatFinite(gm.emissiveFactor[k]))
+                    fail(at + ".emissiveFactor[" + str(k) + "]: " + num(gm.emissiveFactor[k]) +
+                         " is not representable as a float");
             glm::vec3 emissive(0.0f);
             if (gm.emissiveFactor.size() == 3 && allFinite(gm.emissiveFactor))
                 emissive = glm::max(glm::vec3(float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]),
@@ -805,6 +839,10 @@ private:
                 else
                     warn(which + " has an invalid emissiveStrength; using 1");
             }
+            double brightestEmission = double(std::max({emissive.x, emissive.y, emissive.z})) * strength;
+            if (!(brightestEmission <= kMaxRadiometric))
+                fail(at + ": emissiveFactor x emissiveStrength = " + num(brightestEmission) + " exceeds " +
+                     num(kMaxRadiometric) + " (float overflow on the GPU)");
             m.emissive = emissive * float(strength);
             int tex = pbr.baseColorTexture.index;
             if (tex != -1) {
@@ -1028,6 +1066,14 @@ private:
             fail("the node hierarchy instances more than " + std::to_string(std::int64_t(kMaxVertices)) +
                  " vertices");
 
+        // Host memory of the flattened scene, known before anything is built
+        // (Scene copies it once more into the renderer and builds a BVH).
+        double hostBytes = totalVertices * double(sizeof(Vertex)) + totalTriangles * 12.0;
+        std::uint64_t hostLimit = sceneHostMemoryLimit();
+        if (hostBytes > double(hostLimit))
+            fail("the node hierarchy instances " + std::to_string(std::int64_t(totalTriangles)) +
+                 " triangles, which need about " + num(hostBytes / 1073741824.0) + " GiB of host memory, more than the " +
+                 num(double(hostLimit) / 1073741824.0) + " GiB allowed (half of the available memory)");
         scene_.vertices.reserve(std::size_t(totalVertices));
         scene_.indices.reserve(std::size_t(totalTriangles) * 3);
 
@@ -1046,7 +1092,7 @@ private:
             if (node.mesh != -1) {
                 if (node.mesh < 0 || std::size_t(node.mesh) >= model_.meshes.size())
                     fail("node " + str(v) + " refers to mesh " + str(node.mesh) + ", which does not exist");
-                appendMesh(std::size_t(node.mesh), world);
+                appendMesh(v, std::size_t(node.mesh), world);
             }
             if (node.camera != -1) addCamera(v, node.camera, world);
             if (auto it = node.extensions.find("KHR_lights_punctual"); it != node.extensions.end()) {
@@ -1066,9 +1112,8 @@ private:
         if (skinned) warn("skins are ignored; skinned meshes are placed by their node transforms");
     }
 
-    void appendMesh(std::size_t meshIndex, const glm::dmat4& world) {
+    void appendMesh(int node, std::size_t meshIndex, const glm::dmat4& world) {
         const auto& mesh = model_.meshes[meshIndex];
-        glm::mat4 m(world);
         glm::dmat3 linear(world);
         double det = glm::determinant(linear);
         glm::dmat3 cof = cofactor(linear);
@@ -1083,7 +1128,19 @@ private:
             auto base = std::uint32_t(scene_.vertices.size());
             for (std::size_t i = 0; i < lp.positions.size(); ++i) {
                 Vertex vx;
-                vx.position = glm::vec3(m * glm::vec4(lp.positions[i], 1.0f));
+                // Transformed in double, checked, then stored as the float the GPU reads.
+                glm::dvec3 wp = glm::dvec3(world * glm::dvec4(glm::dvec3(lp.positions[i]), 1.0));
+                if (!(std::abs(wp.x) <= kMaxCoordinate && std::abs(wp.y) <= kMaxCoordinate &&
+                      std::abs(wp.z) <= kMaxCoordinate)) {
+                    if (!std::isfinite(wp.x + wp.y + wp.z))
+                        fail("meshes[" + str(meshIndex) + "].primitives[" + str(pi) +
+                             "].attributes.POSITION: a vertex position is NaN or infinite (placed by nodes[" +
+                             str(node) + "])");
+                    fail("meshes[" + str(meshIndex) + "].primitives[" + str(pi) + "]: nodes[" + str(node) +
+                         "] places a vertex at (" + num(wp.x) + ", " + num(wp.y) + ", " + num(wp.z) +
+                         "), beyond the supported +-1e15 (float distances and depth would overflow)");
+                }
+                vx.position = glm::vec3(wp);
                 glm::vec3 nn = normalMatrix * lp.normals[i];
                 float len = glm::length(nn);
                 vx.normal = (len > 0.0f && std::isfinite(len)) ? nn / len : glm::vec3(0.0f);
@@ -1109,6 +1166,14 @@ private:
         return (len > 1e-300 && std::isfinite(len)) ? glm::vec3(d / len) : fallback;
     }
 
+    // Lights and cameras sit at the node's translation: the same bound as vertices.
+    void checkPlacement(int node, const glm::dmat4& world, const std::string& what) const {
+        for (int k = 0; k < 3; ++k)
+            if (!(std::abs(world[3][k]) <= kMaxCoordinate))
+                fail("nodes[" + str(node) + "] places " + what + " at (" + num(world[3][0]) + ", " + num(world[3][1]) +
+                     ", " + num(world[3][2]) + "), beyond the supported +-1e15");
+    }
+
     void addCamera(int node, int index, const glm::dmat4& world) {
         if (index < 0 || std::size_t(index) >= model_.cameras.size())
             fail("node " + str(node) + " refers to camera " + str(index) + ", which does not exist");
@@ -1118,6 +1183,7 @@ private:
             warn(which + " is " + gc.type + "; only perspective cameras are supported, so it is skipped");
             return;
         }
+        checkPlacement(node, world, "cameras[" + str(index) + "]");
         Camera c;
         const std::string& nodeName = model_.nodes[std::size_t(node)].name;
         c.name = printable(!gc.name.empty() ? gc.name : !nodeName.empty() ? nodeName : which);
@@ -1125,11 +1191,21 @@ private:
         glm::vec3 forward = worldDirection(world, glm::dvec3(0, 0, -1), glm::vec3(0, 0, -1));
         c.up = worldDirection(world, glm::dvec3(0, 1, 0), glm::vec3(0, 1, 0));
         c.target = c.position + forward;
+        // The ranges of --set camera.fov / camera.near / camera.far (a value
+        // that --set rejects is rejected here too, naming the JSON path).
+        std::string at = "cameras[" + str(index) + "].perspective.";
         double yfov = gc.perspective.yfov;
-        if (std::isfinite(yfov) && yfov > 0.0 && yfov < 3.14159)
-            c.fovY = float(yfov);
-        else
-            warn(which + " has an invalid yfov; using " + std::to_string(c.fovY) + " radians");
+        const double kPi = 3.14159265358979323846;
+        if (!(yfov >= 0.5 * kPi / 180.0 && yfov <= 175.0 * kPi / 180.0))
+            fail(at + "yfov: " + num(yfov) + " radians is outside the supported 0.5..175 degrees (0.00873..3.054)");
+        c.fovY = float(yfov);
+        double zn = gc.perspective.znear, zf = gc.perspective.zfar;
+        if (!(zn >= 1e-6 && zn <= 1e6)) fail(at + "znear: " + num(zn) + " is outside the supported 1e-6..1e6");
+        if (zf != 0.0) {  // 0: no zfar in the file (an infinite projection)
+            if (!(zf >= 1e-5 && zf <= 1e9)) fail(at + "zfar: " + num(zf) + " is outside the supported 1e-5..1e9");
+            if (!(float(zf) > float(zn)))
+                fail(at + "zfar: " + num(zf) + " does not lie beyond znear " + num(zn) + " in float precision");
+        }
         scene_.cameras.push_back(c);
         pendingCameras_.push_back({scene_.cameras.size() - 1, gc.perspective.znear, gc.perspective.zfar});
     }
@@ -1140,18 +1216,11 @@ private:
         float diag = std::max(glm::length(b.extent()), 1e-3f);
         for (const auto& pc : pendingCameras_) {
             Camera& c = scene_.cameras[pc.index];
-            if (std::isfinite(pc.znear) && pc.znear > 0.0) {
-                c.near = float(pc.znear);
-            } else {
-                c.near = 1e-3f * diag;
-                warn("camera '" + c.name + "' has an invalid znear; using " + std::to_string(c.near));
-            }
-            if (std::isfinite(pc.zfar) && pc.zfar > pc.znear) {
+            c.near = float(pc.znear);  // ranges checked in addCamera
+            if (pc.zfar != 0.0)
                 c.far = float(pc.zfar);
-            } else {
-                if (pc.zfar != 0.0) warn("camera '" + c.name + "' has an invalid zfar; using 1000x the scene size");
+            else
                 c.far = std::max(1000.0f * diag, 1000.0f * c.near);  // glTF: no zfar = infinite projection
-            }
         }
     }
 
@@ -1171,15 +1240,31 @@ private:
         }
         const std::string& nodeName = model_.nodes[std::size_t(node)].name;
         l.name = printable(!gl.name.empty() ? gl.name : !nodeName.empty() ? nodeName : which);
-        if (gl.color.size() == 3 && allFinite(gl.color))
+        checkPlacement(node, world, "light " + str(index));
+        // Every radiometric value reaches the GPU as a float, and is multiplied
+        // there (colour x intensity x albedo / pi x area in the RSM flux): each
+        // factor and the product colour x intensity must be finite floats.
+        std::string at = "extensions.KHR_lights_punctual.lights[" + str(index) + "].";
+        if (gl.color.size() == 3) {
+            for (std::size_t k = 0; k < 3; ++k)
+                if (!floatFinite(gl.color[k]))
+                    fail(at + "color[" + str(k) + "]: " + num(gl.color[k]) + " is not representable as a float");
             l.color = glm::max(glm::vec3(float(gl.color[0]), float(gl.color[1]), float(gl.color[2])), glm::vec3(0.0f));
-        else if (!gl.color.empty())
+        } else if (!gl.color.empty()) {
             warn(which + " has a malformed color; using white");
-        if (std::isfinite(gl.intensity) && gl.intensity >= 0.0)
+        }
+        if (!floatFinite(gl.intensity))
+            fail(at + "intensity: " + num(gl.intensity) + " is not representable as a float");
+        if (gl.intensity >= 0.0)
             l.intensity = float(gl.intensity);
         else
-            warn(which + " has an invalid intensity; using 1");
-        if (std::isfinite(gl.range) && gl.range >= 0.0)
+            warn(which + " has a negative intensity; using 1");
+        double brightest = double(std::max({l.color.x, l.color.y, l.color.z})) * double(l.intensity);
+        if (!(brightest <= kMaxRadiometric))
+            fail(at + "color x intensity = " + num(brightest) + " exceeds " + num(kMaxRadiometric) +
+                 " (products with areas and albedo on the GPU would overflow float)");
+        if (!floatFinite(gl.range)) fail(at + "range: " + num(gl.range) + " is not representable as a float");
+        if (gl.range >= 0.0)
             l.range = float(gl.range);
         else
             warn(which + " has an invalid range; using infinite");

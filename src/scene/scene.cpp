@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rtgi {
 
@@ -71,14 +72,16 @@ void validateAndRepair(Scene& s, const std::string& source) {
         for (std::uint32_t t = 0; t + 2 < d.indexCount; t += 3) {
             std::uint32_t a = s.indices[d.firstIndex + t], b = s.indices[d.firstIndex + t + 1],
                           c = s.indices[d.firstIndex + t + 2];
-            glm::vec3 n = glm::cross(s.vertices[b].position - s.vertices[a].position,
-                                     s.vertices[c].position - s.vertices[a].position);
-            float len = glm::length(n);
-            if (!(len > 0.0f) || !std::isfinite(len)) {
+            // In double: the float cross product overflows for edges beyond
+            // ~4e9 (a valid triangle would be dropped as degenerate).
+            glm::dvec3 pa(s.vertices[a].position), pb(s.vertices[b].position), pc(s.vertices[c].position);
+            glm::dvec3 dn = glm::cross(pb - pa, pc - pa);
+            double len = glm::length(dn);
+            if (!(len > 0.0) || !std::isfinite(len)) {
                 ++dropped;
                 continue;
             }
-            n /= len;
+            glm::vec3 n(dn / len);
             for (auto k : {a, b, c}) {
                 glm::vec3& vn = s.vertices[k].normal;
                 float l = glm::length(vn);
@@ -102,6 +105,24 @@ void validateAndRepair(Scene& s, const std::string& source) {
     if (dropped)
         s.warnings.push_back(source + ": dropped " + std::to_string(dropped) + " degenerate triangles");
     if (s.indices.empty()) throw SceneError(source + ": the scene contains no triangles");
+}
+
+std::uint64_t sceneHostMemoryLimit() {
+    // Half of MemAvailable (the scene exists twice: the loaded Scene and the
+    // renderer's copy, plus the BVH); 8 GiB when /proc/meminfo says nothing.
+    std::uint64_t limit = std::uint64_t(8) << 30;
+    if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
+        char line[256];
+        while (std::fgets(line, sizeof line, f)) {
+            unsigned long long kib = 0;
+            if (std::sscanf(line, "MemAvailable: %llu kB", &kib) == 1) {
+                limit = std::uint64_t(kib) * 1024 / 2;
+                break;
+            }
+        }
+        std::fclose(f);
+    }
+    return limit;
 }
 
 Camera defaultCamera(const Scene& s) {

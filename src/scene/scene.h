@@ -119,6 +119,10 @@ Scene loadSceneSpec(const std::string& spec);
 // class adds one warning line. Throws SceneError on NaN/Inf positions.
 void validateAndRepair(Scene& scene, const std::string& source);
 
+// Host memory a loader may fill with one scene: half of MemAvailable
+// (/proc/meminfo), 8 GiB where that is unknown. Checked before flattening.
+std::uint64_t sceneHostMemoryLimit();
+
 // When the scene has no camera: one looking at the bounds from the front,
 // above, framing the whole box. When it has no sun: none is invented (a
 // scene without a directional light is a valid configuration).

@@ -17,6 +17,23 @@ double pixelLuminance(const FloatImage& img, std::size_t i, int channels) {
 }
 
 namespace {
+// A pixel whose compared channels are not all finite, in either image, is
+// left out of every error sum (a single NaN would make RMSE NaN and a single
+// Inf would make it Inf, hiding the error of the rest) and counted instead.
+bool finitePixel(const FloatImage& img, std::size_t i, int channels) {
+    const float* p = &img.data[i * std::size_t(img.channels)];
+    int n = img.channels == 1 ? 1 : channels;
+    for (int c = 0; c < n; ++c)
+        if (!std::isfinite(p[c])) return false;
+    return true;
+}
+bool nanPixel(const FloatImage& img, std::size_t i, int channels) {
+    const float* p = &img.data[i * std::size_t(img.channels)];
+    int n = img.channels == 1 ? 1 : channels;
+    for (int c = 0; c < n; ++c)
+        if (std::isnan(p[c])) return true;
+    return false;
+}
 void checkSizes(const FloatImage& a, const FloatImage& b) {
     if (a.width != b.width || a.height != b.height)
         throw std::runtime_error("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
@@ -33,6 +50,10 @@ ErrorMetrics compareImages(const FloatImage& t, const FloatImage& r, int channel
     std::size_t count = 0;
     for (std::size_t i = 0; i < n; ++i) {
         if (!mask.empty() && !mask[i]) continue;
+        if (!finitePixel(t, i, channels) || !finitePixel(r, i, channels)) {
+            ++(nanPixel(t, i, channels) || nanPixel(r, i, channels) ? m.nanPixels : m.infPixels);
+            continue;
+        }
         ++m.pixels;
         for (int c = 0; c < channels; ++c) {
             double a = t.data[i * std::size_t(t.channels) + std::size_t(c)];
@@ -86,6 +107,7 @@ double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, dou
     for (std::size_t i = 0; i < x.size(); ++i) {
         x[i] = pixelLuminance(a, i, channels);
         y[i] = pixelLuminance(b, i, channels);
+        if (!std::isfinite(x[i]) || !std::isfinite(y[i])) x[i] = y[i] = 0.0;  // counted by compareImages
     }
     // 11×11 Gaussian, σ = 1.5, normalized; separable. Borders clamp to the
     // edge so every pixel has a full window (small test images included).
@@ -127,9 +149,13 @@ double ssimLuminance(const FloatImage& a, const FloatImage& b, int channels, dou
 
 double errorQuantile(const FloatImage& t, const FloatImage& r, int channels, double q) {
     checkSizes(t, r);
-    std::vector<double> e(std::size_t(t.width) * std::size_t(t.height));
+    std::vector<double> e;
+    e.reserve(std::size_t(t.width) * std::size_t(t.height));
+    for (std::size_t i = 0; i < std::size_t(t.width) * std::size_t(t.height); ++i) {
+        double d = std::abs(pixelLuminance(t, i, channels) - pixelLuminance(r, i, channels));
+        if (std::isfinite(d)) e.push_back(d);  // NaN breaks nth_element's ordering; Inf is counted elsewhere
+    }
     if (e.empty()) return 0.0;
-    for (std::size_t i = 0; i < e.size(); ++i) e[i] = std::abs(pixelLuminance(t, i, channels) - pixelLuminance(r, i, channels));
     auto k = std::size_t(std::clamp(q, 0.0, 1.0) * double(e.size() - 1) + 0.5);
     std::nth_element(e.begin(), e.begin() + std::ptrdiff_t(k), e.end());
     return e[k];
@@ -137,10 +163,13 @@ double errorQuantile(const FloatImage& t, const FloatImage& r, int channels, dou
 
 namespace {
 
-// Ramp black -> purple -> red -> orange -> yellow (inferno-like, monotonic in lightness).
+// Ramp black -> purple -> red -> orange -> yellow (inferno-like, monotonic in
+// lightness). NaN (a NaN in either image) is shown in cyan, outside the ramp;
+// +Inf saturates to yellow like any error above the scale.
 std::array<float, 3> ramp(double v) {
     static const float stops[5][3] = {{0, 0, 0.02f}, {0.34f, 0.06f, 0.43f}, {0.73f, 0.21f, 0.33f}, {0.97f, 0.55f, 0.04f},
                                       {0.99f, 1.0f, 0.64f}};
+    if (std::isnan(v)) return {0.0f, 1.0f, 1.0f};
     v = std::clamp(v, 0.0, 1.0) * 4.0;
     int i = std::min(3, int(v));
     float f = float(v - i);
@@ -192,7 +221,9 @@ FloatImage errorHeatmap(const FloatImage& t, const FloatImage& r, int channels, 
     out.channels = 4;
     out.data.assign(std::size_t(out.width * out.height * 4), 0.0f);
     for (std::size_t i = 3; i < out.data.size(); i += 4) out.data[i] = 1.0f;
-    double scale = maxError > 0 ? maxError : 1.0;  // all-equal images: any scale shows black
+    // all-equal images: any scale shows black; a non-finite scale (from a
+    // caller's own statistics) would turn every pixel NaN or 0
+    double scale = maxError > 0 && std::isfinite(maxError) ? maxError : 1.0;
     for (int y = 0; y < t.height; ++y)
         for (int x = 0; x < t.width; ++x) {
             std::size_t i = std::size_t(y * t.width + x);

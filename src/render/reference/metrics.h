@@ -15,7 +15,9 @@ struct ErrorMetrics {
     double psnr = 0;                     // 10·log10(peak² / MSE); +inf for identical images
     double relRmse = 0;                  // sqrt(mean((t − r)² / (r² + 0.01²))): HDR radiance
     double ssim = 0;                     // mean SSIM of luminance over all pixels
-    std::size_t pixels = 0;
+    std::size_t pixels = 0;     // pixels in the sums (masked, finite in both images)
+    std::size_t nanPixels = 0;  // masked pixels left out: a NaN in a compared channel of either image
+    std::size_t infPixels = 0;  // masked pixels left out: ±Inf (and no NaN) in either image
 };
 
 // Luminance (Rec. 709) of pixel i, or channel 0 for single-channel data.
@@ -23,7 +25,9 @@ double pixelLuminance(const FloatImage& img, std::size_t i, int channels);
 
 // `channels`: 1 compares channel 0 (AO), 3 compares rgb. `mask` (empty =
 // every pixel) selects pixels for RMSE/MAE/PSNR/relative RMSE; SSIM always
-// uses the whole image. `peak`: signal peak of PSNR and the dynamic range L
+// uses the whole image. Pixels with NaN/Inf in either image are left out of
+// the sums and counted in nanPixels / infPixels (SSIM sets their luminance to
+// 0 in both images). `peak`: signal peak of PSNR and the dynamic range L
 // of SSIM's constants (1 for AO / LDR images).
 ErrorMetrics compareImages(const FloatImage& test, const FloatImage& ref, int channels, double peak,
                            const std::vector<std::uint8_t>& mask = {});

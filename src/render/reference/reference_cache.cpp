@@ -1,5 +1,6 @@
 #include "render/reference/reference_cache.h"
 
+#include "gl/output_files.h"
 #include "render/gpu_scene.h"
 
 #include <cstdio>
@@ -110,7 +111,7 @@ void storeCachedReference(const std::string& dir, const std::string& key, const 
     std::string base = (fs::path(dir) / key).string();
     writePfm(base + ".mean.pfm", r.mean);
     writePfm(base + ".stderr.pfm", r.standardError);
-    std::ofstream(base + ".json") << r.info.dump(2) << "\n";
+    writeFileAtomic(base + ".json", r.info.dump(2) + "\n");
 }
 
 }  // namespace rtgi

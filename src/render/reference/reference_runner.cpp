@@ -1,6 +1,7 @@
 #include "render/reference/reference_runner.h"
 
 #include "gl/image_io.h"
+#include "gl/output_files.h"
 #include "render/reference/metrics.h"
 #include "render/reference/reference_cache.h"
 #include "render/reference/reference_passes.h"
@@ -25,7 +26,8 @@ namespace {
 nlohmann::json metricsJson(const ErrorMetrics& m, bool radiance) {
     auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json("inf"); };
     nlohmann::json j = {{"rmse", m.rmse}, {"mae", m.mae}, {"bias", m.bias}, {"psnr", finite(m.psnr)},
-                        {"ssim", m.ssim}, {"pixels", m.pixels}};
+                        {"ssim", m.ssim}, {"pixels", m.pixels}, {"nan_pixels", m.nanPixels},
+                        {"inf_pixels", m.infPixels}};
     if (radiance) j["rel_rmse"] = m.relRmse;
     return j;
 }
@@ -33,7 +35,10 @@ nlohmann::json metricsJson(const ErrorMetrics& m, bool radiance) {
 double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mask) {
     double peak = 0;
     for (std::size_t i = 0; i < std::size_t(ref.width) * std::size_t(ref.height); ++i)
-        if (mask.empty() || mask[i]) peak = std::max(peak, pixelLuminance(ref, i, 3));
+        if (mask.empty() || mask[i]) {
+            double l = pixelLuminance(ref, i, 3);
+            if (std::isfinite(l)) peak = std::max(peak, l);  // NaN/Inf pixels are counted, not used
+        }
     return std::max(peak, 1e-6);
 }
 
@@ -141,7 +146,7 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
     j["heatmap_max"] = heatMax;
     std::filesystem::create_directories(outDir);
     writePng(outDir + "/error.heatmap.png", errorHeatmap(t, r, 3, heatMax));
-    std::ofstream(outDir + "/compare.json") << j.dump(2) << "\n";
+    writeFileAtomic(outDir + "/compare.json", j.dump(2) + "\n");
     return j;
 }
 

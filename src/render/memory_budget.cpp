@@ -1,0 +1,153 @@
+#include "render/memory_budget.h"
+
+#include "render/renderer.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+namespace rtgi {
+
+namespace {
+
+// Bytes per pixel of the screen-sized targets, summed from the formats the
+// passes give them (the ensure() calls in src/render/**; gpu/memory budget
+// tests check the sums against the ledger after a frame):
+// G-buffer depth 4 + linear depth 4 + normal 8 + albedo 4 + material 4 +
+// emissive 4 + velocity 4; direct 8; post.hdr 16, ldr 4, history 8.
+constexpr double kBaseBytesPerPixel = 68;
+// indirectDiffuse and specular (RGBA16F), written by lpv.apply or ao.nearfield.
+constexpr double kIndirectBytesPerPixel = 16;
+// AO at its own resolution: half depth 4, half normal 8, radius scale 2 and
+// colour 4, raw 2, bent normal / S3HO 8, blur temporary + output 4, temporal
+// value and depth (two each) 12; at full resolution: ao 2, near-field 4.
+constexpr double kAoBytesPerAoPixel = 44, kAoBytesPerPixel = 6;
+// SSR at the trace resolution: hit 4, confidence 2, distance 2, trace depth 4
+// and normal 8, resolved 8, blur temporary + output 16, temporal value and
+// depth (two each) 24; full resolution: HiZ with mips 4 * 4/3, specular 8,
+// specular occlusion 2, direct-diffuse temporary 8, diffuse history 8.
+constexpr double kSsrBytesPerTracePixel = 68, kSsrBytesPerPixel = 32;
+// Reference: mean, standard error, accumulation and its square (RGBA32F), ldr.
+constexpr double kReferenceBytesPerPixel = 68;
+// Blue noise, BRDF LUT, uniform and parameter buffers: small and fixed.
+constexpr double kFixedBytes = 4.0 * 1024 * 1024;
+
+bool hasFamily(const Renderer& r, const std::string& prefix) {
+    for (auto& p : r.passes())
+        if (p->name().rfind(prefix, 0) == 0) return true;
+    return false;
+}
+
+std::string resolutionText(glm::ivec2 s) { return std::to_string(s.x) + "x" + std::to_string(s.y); }
+
+}  // namespace
+
+std::int64_t MemoryEstimate::total() const {
+    std::int64_t t = 0;
+    for (auto& i : items) t += i.bytes;
+    return t;
+}
+
+std::string formatBytes(std::int64_t bytes) {
+    char buf[48];
+    double b = double(bytes);
+    if (b >= 1024.0 * 1024 * 1024)
+        std::snprintf(buf, sizeof buf, "%.1f GiB", b / (1024.0 * 1024 * 1024));
+    else
+        std::snprintf(buf, sizeof buf, "%.1f MiB", b / (1024.0 * 1024));
+    return buf;
+}
+
+MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
+    const Settings& s = r.settings();
+    std::map<std::string, double> by;  // setting -> bytes
+    const double pixels = double(res.x) * double(res.y);
+    auto half = [](glm::ivec2 v) { return double(std::max((v.x + 1) / 2, 1)) * double(std::max((v.y + 1) / 2, 1)); };
+    const std::string resKey = "--res " + resolutionText(res);
+
+    double screen = kBaseBytesPerPixel * pixels;
+    if (hasFamily(r, "lpv.apply") || hasFamily(r, "ao.nearfield")) screen += kIndirectBytesPerPixel * pixels;
+    if (hasFamily(r, "ao.")) screen += kAoBytesPerPixel * pixels + kAoBytesPerAoPixel * (s.ao.halfResolution ? half(res) : pixels);
+    if (hasFamily(r, "ssr.")) screen += kSsrBytesPerPixel * pixels + kSsrBytesPerTracePixel * (s.ssr.halfResolution ? half(res) : pixels);
+    if (hasFamily(r, "ref.")) screen += kReferenceBytesPerPixel * pixels;
+    by[resKey] += screen;
+
+    if (hasFamily(r, "shadow"))
+        by["shadow.size=" + std::to_string(s.light.shadowSize)] += 4.0 * double(s.light.shadowSize) * s.light.shadowSize;
+    if (hasFamily(r, "lpv.")) {
+        const glm::dvec3 g(s.lpv.grid);
+        const double cells = g.x * g.y * g.z, geometryCells = (g.x + 1) * (g.y + 1) * (g.z + 1);
+        const double fmt = s.lpv.format == LpvSettings::Format::Rgba32f ? 16.0 : 8.0;
+        // src/render/lpv/lpv_volumes.cpp: inject 3 x R32F x 4 (fp32 accumulation),
+        // two propagation steps and the accumulation (3 channels each), the
+        // temporal history (two, when lpv.temporal > 0); geometry volume
+        // (grid + 1)^3: 8 R32F accumulation channels, the SH in the volume
+        // format, albedo RGBA16F.
+        double lpv = cells * (48.0 + 3.0 * 3.0 * fmt) + geometryCells * (32.0 + fmt + 8.0);
+        if (s.lpv.temporal > 0.0f) lpv += cells * 2.0 * 3.0 * fmt;
+        std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
+                                  ? std::to_string(s.lpv.grid.x)
+                                  : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +
+                                        std::to_string(s.lpv.grid.z);
+        by["lpv.grid=" + gridKey] += lpv;
+        // RSM: flux RGBA32F 16, normal RGBA16F 8, depth 4.
+        by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += 28.0 * double(s.lpv.rsm) * s.lpv.rsm;
+    }
+    // What the renderer holds already (the GPU scene, for one: vertices,
+    // indices, BVH, textures) and the small fixed resources.
+    auto& ledger = const_cast<Renderer&>(r).ledger();
+    by["the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)"] += double(ledger.total()) + kFixedBytes;
+
+    MemoryEstimate e;
+    for (auto& [k, v] : by) e.items.push_back({k, std::int64_t(std::min(v, 9.0e18))});
+    std::sort(e.items.begin(), e.items.end(), [](auto& a, auto& b) { return a.bytes > b.bytes; });
+    return e;
+}
+
+void checkMemoryBudget(const MemoryEstimate& e, const DeviceMemory& avail) {
+    std::int64_t need = e.total();
+    if (need <= avail.bytes) return;
+    const MemoryItem& top = e.items.front();
+    throw ConfigError("the frame needs an estimated " + formatBytes(need) + " of GPU memory, more than the " +
+                      formatBytes(avail.bytes) + " available (" + avail.source + "); the largest part is " +
+                      top.setting + " with " + formatBytes(top.bytes) +
+                      ": lower it, or raise the budget with --max-memory if the device has the memory");
+}
+
+void checkMemoryBudget(const Renderer& renderer, glm::ivec2 resolution, std::int64_t maxMemoryOverride) {
+    checkMemoryBudget(estimateFrameMemory(renderer, resolution), availableDeviceMemory(maxMemoryOverride));
+}
+
+DeviceMemory availableDeviceMemory(std::int64_t override) {
+    if (override > 0) return {override, "--max-memory"};
+    auto hasExtension = [](const char* name) {
+        GLint n = 0;
+        glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+        for (GLint i = 0; i < n; ++i) {
+            const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+            if (e && std::string(e) == name) return true;
+        }
+        return false;
+    };
+    // Enum values from the extension specifications (not in the generated loader).
+    constexpr GLenum kNvxCurrentAvailableVidmem = 0x9049;  // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX, KiB
+    constexpr GLenum kAtiTextureFreeMemory = 0x87FC;       // GL_TEXTURE_FREE_MEMORY_ATI, [0] = KiB free
+    if (hasExtension("GL_NVX_gpu_memory_info")) {
+        GLint kib = 0;
+        glGetIntegerv(kNvxCurrentAvailableVidmem, &kib);
+        if (glGetError() == GL_NO_ERROR && kib > 0) return {std::int64_t(kib) * 1024, "reported by GL_NVX_gpu_memory_info"};
+    }
+    if (hasExtension("GL_ATI_meminfo")) {
+        GLint v[4] = {0, 0, 0, 0};
+        glGetIntegerv(kAtiTextureFreeMemory, v);
+        if (glGetError() == GL_NO_ERROR && v[0] > 0) return {std::int64_t(v[0]) * 1024, "reported by GL_ATI_meminfo"};
+    }
+    // No report (Mesa llvmpipe among others): the documented default, and
+    // never more than the host can give a software renderer.
+    std::int64_t host = std::int64_t(sceneHostMemoryLimit());
+    if (host < kDefaultMemoryBudget)
+        return {host, "no driver report: the 4 GiB default, capped at half of the host's available memory"};
+    return {kDefaultMemoryBudget, "no driver report: the 4 GiB default"};
+}
+
+}  // namespace rtgi
