@@ -107,6 +107,23 @@ void bindVisibility(const gl::Program& prog, const GpuScene& scene, const glm::m
     scene.bindTables();
 }
 
+VisibilityCapacity visibilityCapacity(glm::ivec2 size, std::int64_t triangles, int binScale) {
+    const std::int64_t pixels = std::int64_t(size.x) * size.y;
+    const glm::ivec2 tiles = (size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
+    const std::int64_t tileCount = std::int64_t(tiles.x) * tiles.y;
+    // Large triangles: at most twice the scene's (clipping adds pieces) and
+    // at most one per 8 pixels; bin entries: 64 per tile or 4 per large
+    // triangle, whichever is more. Overflow is counted, never written.
+    VisibilityCapacity c;
+    c.largeTriangles = binScale * std::min<std::int64_t>(2 * triangles + 1024, std::max<std::int64_t>(65536, pixels / 8));
+    c.binEntries = binScale * std::max<std::int64_t>(tileCount * 64, 4 * c.largeTriangles);
+    c.largeTriangles = std::min<std::int64_t>(c.largeTriangles, kMaxBufferBytes / kTriangleRecordBytes);
+    c.binEntries = std::min<std::int64_t>(c.binEntries, kMaxBufferBytes / 8);
+    c.bytes = 8 * pixels + kTriangleRecordBytes * c.largeTriangles + 8 * c.binEntries + 4 * tileCount +
+              std::int64_t(sizeof(VisCounters));
+    return c;
+}
+
 void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const GpuScene& scene,
                          const glm::mat4& viewProj, glm::ivec2 size, VisibilityTarget& t,
                          const VisibilityOptions& o) {
@@ -119,17 +136,9 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     const std::int64_t pixels = std::int64_t(size.x) * size.y;
     const glm::ivec2 tiles = (size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
     const std::int64_t tileCount = std::int64_t(tiles.x) * tiles.y;
-    // Bin capacities from the scene and the resolution (docs/visibility.md):
-    // large triangles are at most twice the scene's (clipping adds pieces)
-    // and at most one per 8 pixels; bin entries 64 per tile or 4 per large
-    // triangle, whichever is more. Overflow is counted, never written.
-    t.largeCapacity =
-        o.binScale * std::min<std::int64_t>(2 * std::int64_t(t.triangles) + 1024, std::max<std::int64_t>(65536, pixels / 8));
-    t.nodeCapacity = o.binScale * std::max<std::int64_t>(tileCount * 64, 4 * t.largeCapacity);
-    if (o.largeCapacity > 0) t.largeCapacity = o.largeCapacity;
-    if (o.nodeCapacity > 0) t.nodeCapacity = o.nodeCapacity;
-    t.largeCapacity = std::min<std::int64_t>(t.largeCapacity, kMaxBufferBytes / kTriangleRecordBytes);
-    t.nodeCapacity = std::min<std::int64_t>(t.nodeCapacity, kMaxBufferBytes / 8);
+    VisibilityCapacity cap = visibilityCapacity(size, t.triangles, o.binScale);
+    t.largeCapacity = o.largeCapacity > 0 ? o.largeCapacity : cap.largeTriangles;
+    t.nodeCapacity = o.nodeCapacity > 0 ? o.nodeCapacity : cap.binEntries;
     ensureBuffer(t.vis, ledger, t.label + ".vis", pixels * 8);
     ensureBuffer(t.large, ledger, t.label + ".large", t.largeCapacity * kTriangleRecordBytes);
     ensureBuffer(t.tileHeads, ledger, t.label + ".tiles", tileCount * 4);

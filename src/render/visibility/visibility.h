@@ -57,6 +57,14 @@ struct VisibilityTarget {
     void checkOverflow(const std::string& pass) const;
 };
 
+// Buffer capacities of one view (docs/visibility.md "Scale and memory"):
+// bounded by the resolution once the scene is large.
+struct VisibilityCapacity {
+    std::int64_t largeTriangles = 0, binEntries = 0;
+    std::int64_t bytes = 0;  // every buffer of the view together
+};
+VisibilityCapacity visibilityCapacity(glm::ivec2 size, std::int64_t triangles, int binScale);
+
 // Rasterizes every scene triangle with `viewProj` into `target` (size in
 // pixels). Binds its own buffers; leaves GL_SHADER_STORAGE_BARRIER issued.
 void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const GpuScene& scene,
