@@ -687,13 +687,13 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: raster.path and its keys are settings
     CHECK_THROWS_AS(applySetting(s, "raster.path", "software"), ConfigError);
     applySetting(s, "raster.path", "compute");
     CHECK((s.raster.path == RasterSettings::Path::Compute));
+    CHECK(describe(s).at("raster.path") == "compute");
     CHECK(useComputeRaster(s));
     applySetting(s, "raster.path", "auto");  // compute exactly where the 64-bit atomics exist
     CHECK(useComputeRaster(s) == visibilityAtomic64Supported());
     applySetting(s, "raster.path", "hardware");
     CHECK_FALSE(useComputeRaster(s));
     CHECK_THROWS_AS(applySetting(s, "raster.bin_scale", "0"), ConfigError);
-    CHECK(describe(s).at("raster.path") == "compute");
 }
 
 }  // namespace rtgi::test
