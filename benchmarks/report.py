@@ -6,7 +6,10 @@ comparison tables (seed 003 table 6.3 layout, seed 000 section 6.4 per-pass
 timings side by side with ours). Format and reading: docs/benchmarks-howto.md.
 
 usage: report.py DIR [DIR ...] [--out OUTDIR] [--title TEXT]
-Needs only Python 3, numpy and matplotlib (Debian python3-matplotlib).
+Needs only Python 3, numpy and matplotlib (Debian python3-matplotlib,
+python3-numpy). Run it with any python3: when that interpreter lacks
+matplotlib (a virtualenv, a conda python), the script re-executes itself under
+the system interpreter /usr/bin/python3.
 """
 import argparse
 import datetime
@@ -17,11 +20,23 @@ import re
 import sys
 from collections import OrderedDict, defaultdict
 
-import matplotlib
+SYSTEM_PYTHON = "/usr/bin/python3"
+try:
+    import matplotlib
+    import numpy as np
+except ImportError as missing:
+    # Another interpreter (venv, conda, a self-built python) without the Debian
+    # packages: run under the system one, once (the variable stops a loop).
+    if os.environ.get("RTGI_REPORT_REEXEC") != "1" and os.path.exists(SYSTEM_PYTHON) and \
+            os.path.realpath(sys.executable) != os.path.realpath(SYSTEM_PYTHON):
+        os.environ["RTGI_REPORT_REEXEC"] = "1"
+        os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
+    sys.exit("report.py: %s under %s; install Debian python3-matplotlib python3-numpy (apt-get install "
+             "python3-matplotlib python3-numpy) or run it with %s" % (missing, sys.executable, SYSTEM_PYTHON))
 
 matplotlib.use("Agg")  # no display needed
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from matplotlib import ticker  # noqa: E402
 
 # Seed 000, section 6.4 (GTX 1050, 1920x1080, Sponza), as SPEC 8.4 quotes it:
 # (label, ms, regexes of our pass names that do the same work).
@@ -96,6 +111,22 @@ def load(dirs):
     return list(results.values()), list(failed.values()), unreadable
 
 
+def cfg(r, key, default=None):
+    """A configuration value as text, whether the line stores it typed (16, 0.5) or as a string ("16")."""
+    v = r.get("config", {}).get(key, default)
+    if v is None:
+        return None
+    if isinstance(v, bool):
+        return "on" if v else "off"
+    if isinstance(v, float) and v.is_integer():
+        return str(int(v))
+    return str(v)
+
+
+def axis_text(v):
+    return cfg({"config": {"v": v}}, "v")
+
+
 def pass_ms(r):
     return {p["name"]: p["gpu_ms"]["median"] for p in r.get("passes", [])}
 
@@ -137,15 +168,42 @@ def technique(r):
     """(family, variant label) of a configuration; family None for a frame without LPV/AO/SSR passes."""
     names = pass_ms(r).keys()
     active = [f for f in FAMILIES if any(n.startswith(f + ".") for n in names)]
-    cfg = r.get("config", {})
     if len(active) != 1:
         return ("frame" if active else None), "+".join(active) or "base"
     fam = active[0]
     if fam == "ao":
-        return fam, cfg.get("ao", "ao") + ("/half" if cfg.get("ao.resolution") == "half" else "")
+        return fam, cfg(r, "ao", "ao") + ("/half" if cfg(r, "ao.resolution") == "half" else "")
     if fam == "ssr":
-        return fam, cfg.get("ssr", "ssr")
-    return fam, "lpv " + cfg.get("lpv.path", "compute") + " " + cfg.get("lpv.format", "")
+        return fam, cfg(r, "ssr", "ssr")
+    return fam, "lpv " + cfg(r, "lpv.path", "compute") + " " + cfg(r, "lpv.format", "")
+
+
+# Keys that name the variant (colour) rather than a swept value (point label).
+VARIANT_KEYS = {"ao", "ao.resolution", "ssr", "lpv.path", "lpv.format", "view", "lpv", "reference"}
+
+
+def swept_label(r, varying):
+    """The swept values of a configuration that are not its variant and differ between the plotted points:
+    the point's label in the Pareto plot ("16" for ao.samples=16)."""
+    axes = {k: v for k, v in r["sweep"].get("axes", {}).items() if k not in VARIANT_KEYS and k in varying}
+    if not axes:
+        return ""
+    if len(axes) == 1:
+        return axis_text(next(iter(axes.values())))
+    return ",".join("%s=%s" % (k.split(".")[-1], axis_text(v)) for k, v in sorted(axes.items()))
+
+
+def spans_decades(values):
+    """Whether positive data span more than a decade: such an axis is drawn log-scaled."""
+    vals = [v for v in values if v > 0]
+    return len(vals) >= 2 and max(vals) / min(vals) > 10.0
+
+
+def plain_log_ticks(axis):
+    """Log axis ticks at 1, 2, 5 × 10^k printed as plain numbers ("0.02", "5", "200"), not "2×10⁻²"."""
+    axis.set_major_locator(ticker.LogLocator(base=10.0, subs=(1.0, 2.0, 5.0), numticks=15))
+    axis.set_major_formatter(ticker.FuncFormatter(lambda v, _: "%g" % v))
+    axis.set_minor_formatter(ticker.NullFormatter())
 
 
 def pareto_front(points):
@@ -166,13 +224,19 @@ def plot_pareto(results, outdir):
     """One figure per scene: a panel per technique family, points coloured by variant, the front as a line."""
     made = []
     by_scene = defaultdict(list)
+    values = defaultdict(lambda: defaultdict(set))  # scene -> axis -> values
+    for r in results:
+        for k, v in r["sweep"].get("axes", {}).items():
+            values[r["sweep"]["scene_label"]][k].add(axis_text(v))
     for r in results:
         metric, err = error_value(r)
         fam, variant = technique(r)
         if err is None or fam is None:
             continue
         t = frame_ms(r) if fam == "frame" else family_ms(r, fam)
-        by_scene[r["sweep"]["scene_label"]].append((fam, variant, t, err, metric))
+        scene = r["sweep"]["scene_label"]
+        varying = {k for k, vs in values[scene].items() if len(vs) > 1}
+        by_scene[scene].append((fam, variant, t, err, metric, swept_label(r, varying)))
     for scene, pts in sorted(by_scene.items()):
         fams = sorted({p[0] for p in pts})
         fig, axes = plt.subplots(1, len(fams), figsize=(5.2 * len(fams), 4.2), squeeze=False)
@@ -182,12 +246,24 @@ def plot_pareto(results, outdir):
                 xs = [p[2] for p in sel if p[1] == v]
                 ys = [p[3] for p in sel if p[1] == v]
                 ax.scatter(xs, ys, s=18, label=v, color=plt.cm.tab10(i % 10))
+            # Each point carries the swept value (samples, grid, steps...) it was measured at.
+            for p in sel:
+                if p[5]:
+                    ax.annotate(p[5], (p[2], p[3]), textcoords="offset points", xytext=(3, 3), fontsize=6, alpha=0.8)
             front = pareto_front([(p[2], p[3]) for p in sel])
             ax.plot([f[0] for f in front], [f[1] for f in front], "k-", lw=1, label="Pareto front")
+            # Times and errors of one family often span decades (16 x the samples,
+            # 8^3..256^3 grids): a linear axis crowds the cheap end near 0.
+            if spans_decades([p[2] for p in sel]):
+                ax.set_xscale("log")
+                plain_log_ticks(ax.xaxis)
+            if spans_decades([p[3] for p in sel]):
+                ax.set_yscale("log")
+                plain_log_ticks(ax.yaxis)
             ax.set_xlabel("GPU time of the %s passes [ms]" % fam if fam != "frame" else "frame time [ms]")
             ax.set_ylabel(sel[0][4])
             ax.set_title("%s: %s" % (scene, fam))
-            ax.grid(True, alpha=0.3)
+            ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
         fig.tight_layout()
         name = "pareto_%s.png" % slug(scene)
@@ -207,7 +283,7 @@ def plot_scaling(results, outdir):
         varying = defaultdict(set)
         for r in rs:
             for k, v in r["sweep"].get("axes", {}).items():
-                varying[k].add(v)
+                varying[k].add(axis_text(v))
             varying["resolution"].add(r["resolution"])
         for key, (label, measure) in WORK.items():
             if len(varying.get(key, ())) < 2:
@@ -217,6 +293,7 @@ def plot_scaling(results, outdir):
                 raw = r["resolution"] if key == "resolution" else r["sweep"].get("axes", {}).get(key)
                 if raw is None:
                     continue
+                raw = axis_text(raw)
                 try:
                     w = measure(raw)
                 except ValueError:
@@ -239,6 +316,8 @@ def plot_scaling(results, outdir):
             if not slopes:
                 plt.close(fig)
                 continue
+            plain_log_ticks(ax.xaxis)
+            plain_log_ticks(ax.yaxis)
             ax.set_xlabel(label)
             ax.set_ylabel("median GPU time [ms]")
             ax.set_title("%s: time vs %s" % (sweep, label))
@@ -259,7 +338,7 @@ def seed003_tables(results):
         fam, variant = technique(r)
         if fam != "ao":
             continue
-        s = r["config"].get("ao.samples")
+        s = cfg(r, "ao.samples")
         if s not in ("8", "16", "24"):
             continue
         _, err = error_value(r)
@@ -291,7 +370,7 @@ def seed000_table(results):
     def rank(r):
         names = pass_ms(r)
         fams = sum(any(n.startswith(f + ".") for n in names) for f in FAMILIES)
-        return (fams, r["sweep"]["scene_label"] == "atrium", r["config"].get("lpv.iterations") == "8")
+        return (fams, r["sweep"]["scene_label"] == "atrium", cfg(r, "lpv.iterations") == "8")
 
     best = {}
     for fam in FAMILIES:  # for each family the run that has it, with the most families on
@@ -313,7 +392,7 @@ def seed000_table(results):
                 break
         ms = sum(names[n] for n in hit)
         if hit and label.startswith("propagation"):
-            ms /= max(1, int(r["config"].get("lpv.iterations", "1")))
+            ms /= max(1, int(cfg(r, "lpv.iterations", "1")))
         ours = "%.3f" % ms if hit else "—"
         run = "%s %s %s" % (r["sweep"]["scene_label"], r["resolution"], r["sweep"].get("name", ""))
         lines.append("| %s | %s | %.2f | %s | %s | %s |" % (fam, label, seed_ms, ", ".join(hit) or "(no such pass)", ours, run))
@@ -351,9 +430,15 @@ def main():
         md.append("")
         for scene, name in pareto:
             md += ["### %s" % scene, "", "![%s](%s)" % (scene, name), ""]
+    elif any("retry" in r for r in results):
+        md += ["No configuration has error values: the sweep asked for a reference, but the build that ran it has "
+               "no reference passes (lines marked `retry`; resume in a build with them re-runs those lines).", ""]
+    elif not any(cfg(r, "reference", "off") != "off" for r in results):
+        md += ["No configuration has error values: the sweep asked for no reference. Add "
+               "`\"reference\": \"ao\"` (or `indirect`, `full`) to the sweep file for error-vs-time plots "
+               "(docs/benchmarks-howto.md).", ""]
     else:
-        md += ["No configuration has error values: run the sweep in a build with the reference passes "
-               "(sweep field `\"reference\"`, lines marked `retry` are re-run on resume).", ""]
+        md += ["No configuration has error values although some asked for a reference (see the lines' `error`).", ""]
 
     md += ["## Time vs work (log-log)", ""]
     scaling = plot_scaling(results, outdir)

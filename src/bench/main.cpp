@@ -1,13 +1,17 @@
 // rtgi-bench: the headless benchmark and main job (EGL; never links GLFW).
-#include "bench/cli.h"
+#include "app/cli.h"
+#include "app/progress_printer.h"
+#include "bench/reference_compare.h"
+#include "bench/results_csv.h"
 #include "bench/run.h"
 #include "bench/sweep.h"
 #include "gl/context.h"
 #include "gl/output_files.h"
 #include "gl/program.h"
-#include "render/reference/reference_runner.h"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -21,39 +25,70 @@ namespace {
 // 4 GL, 5 --check found NaN/Inf, 6 a result file could not be written.
 constexpr int kExitOutput = 6;
 
-// rtgi-bench --compare IMAGE REFERENCE [--out DIR], in any argument order:
-// no GL context needed.
+const char* kCompareUsage =
+    "usage: rtgi-bench --compare IMAGE REFERENCE [--out DIR] [--quantity auto|ao|ldr|radiance]\n"
+    "                  [--mask FILE | --background VALUE]\n"
+    "  IMAGE, REFERENCE   PNG, PFM or EXR files of the same size\n"
+    "  --quantity Q       auto (default): radiance for a PFM/EXR reference, else ldr;\n"
+    "                     ao: channel 0 in [0,1] (no relative RMSE); ldr: rgb in [0,1];\n"
+    "                     radiance: HDR rgb, PSNR/SSIM peak = the reference's largest luminance, relative RMSE\n"
+    "  --mask FILE        compare only where FILE's channel 0 > 0.5 (e.g. a geometry mask)\n"
+    "  --background V     compare only where the reference is not V (e.g. 0 for a black sky)\n"
+    "  --out DIR          where compare.json and error.heatmap.png go (default out)\n";
+
+// rtgi-bench --compare IMAGE REFERENCE [...], in any argument order: no GL context needed.
 int compareCommand(int argc, char** argv) {
-    std::string outDir = "out";
+    CompareOptions opts;
     std::vector<std::string> files;
-    for (int i = 1; i < argc; ++i) {
-        std::string a = argv[i];
-        if (a == "--compare") continue;
-        if (a == "--out") {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "rtgi-bench: --out: missing value\n");
-                return 2;
-            }
-            outDir = argv[++i];
-        } else if (a.rfind("--", 0) == 0) {
-            std::fprintf(stderr, "rtgi-bench: --compare: option '%s' does not apply (only --out DIR)\n", a.c_str());
-            return 2;
-        } else {
-            files.push_back(a);
+    try {
+        for (int i = 1; i < argc; ++i) {
+            std::string a = argv[i];
+            auto value = [&]() -> std::string {
+                if (i + 1 >= argc) throw ConfigError("--compare: " + a + ": missing value");
+                return argv[++i];
+            };
+            if (a == "--compare") continue;
+            if (a == "--help" || a == "-h") {
+                std::printf("%s", kCompareUsage);
+                return 0;
+            } else if (a == "--out") {
+                opts.outDir = value();
+                if (opts.outDir.empty()) throw ConfigError("--out: the output directory is empty");
+            } else if (a == "--quantity") opts.quantity = parseCompareQuantity(value());
+            else if (a == "--mask") opts.maskFile = value();
+            else if (a == "--background") {
+                std::string v = value();
+                char* end = nullptr;
+                double x = std::strtod(v.c_str(), &end);
+                if (v.empty() || *end || !std::isfinite(x)) throw ConfigError("--background '" + v + "': expected a number");
+                opts.background = x;
+            } else if (a.rfind("--", 0) == 0) {
+                throw ConfigError("--compare: option '" + a + "' does not apply (--out, --quantity, --mask, --background)");
+            } else files.push_back(a);
         }
-    }
-    if (files.size() != 2) {
-        std::fprintf(stderr, "rtgi-bench: --compare IMAGE REFERENCE [--out DIR]: expected two image files\n");
+        if (files.size() != 2) throw ConfigError("--compare: expected two image files (IMAGE REFERENCE)");
+        if (!opts.maskFile.empty() && opts.background)
+            throw ConfigError("--compare: --mask and --background exclude each other");
+    } catch (const ConfigError& e) {
+        std::fprintf(stderr, "rtgi-bench: %s\n%s", e.what(), kCompareUsage);
         return 2;
     }
     try {
-        prepareOutputDirectory(outDir);
-        nlohmann::json j = compareImageFiles(files[0], files[1], outDir);
-        std::cout << j.dump(2) << "\n  wrote " << outDir << "/compare.json, error.heatmap.png\n";
+        prepareOutputDirectory(opts.outDir);
+        nlohmann::json j = compareImageFiles(files[0], files[1], opts);
+        std::cout << j.dump(2) << "\n";
+        const auto& c = j["compared"];
+        std::cout << "  compared " << c["quantity"].get<std::string>() << " (" << c["channels"].get<std::string>()
+                  << ", from " << c["quantity_from"].get<std::string>() << ") over " << c["compared_pixels"] << " of "
+                  << c["total_pixels"] << " pixels: " << c["pixels"].get<std::string>() << "\n";
+        std::cout << "  wrote " << opts.outDir << "/compare.json, error.heatmap.png\n";
         return 0;
     } catch (const OutputError& e) {
         std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
         return kExitOutput;
+    } catch (const ConfigError& e) {
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
         return 3;
@@ -67,14 +102,18 @@ int main(int argc, char** argv) {
         if (std::string(argv[i]) == "--compare") return compareCommand(argc, argv);
     CommandLine cl;
     try {
-        cl = parseCommandLine(argc, argv);
+        cl = parseCommandLine(Host::Bench, argc, argv);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
         return 2;
     }
     if (cl.help) {
-        std::printf("rtgi-bench: headless real-time GI benchmark (OpenGL 4.5+ compute through EGL)\n\n%s\n%s",
-                    commonHelp().c_str(), settingsHelp().c_str());
+        std::printf("rtgi-bench: headless real-time GI benchmark (OpenGL 4.5+ compute through EGL)\n%s\n\n%s\n%s",
+                    versionString().c_str(), optionsHelp(Host::Bench).c_str(), settingsHelp().c_str());
+        return 0;
+    }
+    if (cl.version) {
+        std::printf("rtgi-bench %s\n", versionString().c_str());
         return 0;
     }
     if (cl.listDevices) {
@@ -97,6 +136,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         auto ctx = gl::HeadlessContext::create({cl.device, cl.debug});
+        ProgressPrinter progressPrinter("rtgi-bench");  // warm-up, measured frames, reference samples on stderr
         nlohmann::json r = runBenchmark(ctx->info(), scene, settingsFor(scene, cl), cl.run);
         writeFileAtomic(cl.run.outDir + "/results.json", r.dump(2) + "\n");
         std::string csv = resultsCsvHeader() + "\n";
@@ -110,7 +150,7 @@ int main(int argc, char** argv) {
                       << e["rmse"] << ", mae " << e["mae"] << ", psnr " << e["psnr"] << ", ssim " << e["ssim"] << "\n";
         }
         std::cout << "  wrote " << cl.run.outDir << "/results.json, results.csv"
-                  << (cl.run.writeImages ? ", final.png, final.pfm and debug images" : "") << "\n";
+                  << (cl.run.writeImages ? ", final.png, final.pfm, final.exr and debug images" : "") << "\n";
         if (cl.run.check && r["check"]["non_finite"].get<std::uint64_t>() > 0) {
             std::fprintf(stderr, "rtgi-bench: --check found non-finite values (see results.json \"check\")\n");
             return 5;

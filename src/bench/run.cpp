@@ -1,8 +1,11 @@
 #include "bench/run.h"
 
+#include "gl/image_files.h"
 #include "gl/image_io.h"
+#include "bench/reference_compare.h"
+#include "bench/results_csv.h"
 #include "render/memory_budget.h"
-#include "render/reference/reference_runner.h"
+#include "render/progress.h"
 #include "render/renderer.h"
 #include "render/visibility/visibility.h"
 
@@ -14,47 +17,6 @@
 #include <sstream>
 
 namespace rtgi {
-
-Scene loadScenes(const std::vector<std::string>& specs) {
-    if (specs.empty()) throw SceneError("--scene: no scene given");
-    std::vector<Scene> floors, models;
-    for (auto& s : specs) {
-        Scene sc = loadSceneSpec(s);
-        bool isFloor = s == "builtin:plane";
-        (isFloor && specs.size() > 1 ? floors : models).push_back(std::move(sc));
-    }
-    Scene merged;
-    for (auto& m : models) merged.merge(m);
-    if (floors.empty()) return merged;
-
-    Aabb mb = merged.bounds();
-    glm::vec3 shift(-mb.center().x, -mb.lo.y, -mb.center().z);
-    for (auto& v : merged.vertices) v.position += shift;
-    for (auto& l : merged.lights) l.position += shift;
-    for (auto& c : merged.cameras) {
-        c.position += shift;
-        c.target += shift;
-    }
-    float footprint = std::max(mb.extent().x, mb.extent().z);
-    Scene out;
-    for (auto& f : floors) {
-        Aabb fb = f.bounds();
-        float fext = std::max(fb.extent().x, fb.extent().z);
-        float scale = fext > 0 ? 10.0f * footprint / fext : 1.0f;
-        for (auto& v : f.vertices) v.position = glm::vec3(v.position.x * scale, v.position.y, v.position.z * scale);
-        f.cameras.clear();  // the floor's camera does not frame the model
-        out.merge(f);
-    }
-    Scene framed = merged;
-    out.merge(merged);
-    if (merged.cameras.empty()) {
-        out.cameras.insert(out.cameras.begin(), defaultCamera(framed));
-    }
-    std::string name;
-    for (auto& s : specs) name += (name.empty() ? "" : "+") + s;
-    out.name = name;
-    return out;
-}
 
 namespace {
 
@@ -93,14 +55,22 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     View prev;
     int total = opts.warmup + opts.frames;
     for (int f = 0; f < total; ++f) {
-        profiler.setMeasuring(f >= opts.warmup);
+        const bool warm = f < opts.warmup;
+        if (warm) progress::report("warm-up frames", f, opts.warmup);
+        else progress::report("measured frames", f - opts.warmup, opts.frames);
+        profiler.setMeasuring(!warm);
         View v = makeView(cam, opts.resolution, f == 0 ? nullptr : &prev, unsigned(f));
         renderer.render(v);
         prev = v;
+        if (progress::wantsSteps()) glFinish();  // a terminal shows each frame: count finished ones
+        if (f + 1 == opts.warmup) progress::report("warm-up frames", opts.warmup, opts.warmup);
     }
     profiler.flush();
+    progress::report("measured frames", opts.frames, opts.frames);
 
     nlohmann::json r;
+    r["version"] = versionString();
+    if (!opts.commandLine.empty()) r["command_line"] = opts.commandLine;
     r["device"] = info.renderer;
     r["driver"] = info.version;
     r["vendor"] = info.vendor;
@@ -110,7 +80,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["scene"] = scene.name;
     if (!scene.suggestedSettings.empty()) {
         nlohmann::json ss = nlohmann::json::object();
-        for (auto& [k, v] : scene.suggestedSettings) ss[k] = v;
+        for (auto& [k, v] : scene.suggestedSettings) ss[k] = typedValue(v);
         r["scene_settings"] = ss;  // the scene's suggestions; "config" holds what took effect
     }
     r["triangles"] = scene.triangleCount();
@@ -118,7 +88,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["frames"] = opts.frames;
     r["warmup"] = opts.warmup;
     nlohmann::json cfg = nlohmann::json::object();
-    for (auto& [k, v] : describe(settings)) cfg[k] = v;
+    for (auto& [k, v] : describe(settings)) cfg[k] = typedValue(v);  // numbers as numbers
     r["config"] = cfg;
     // Which rasterizer produced the G-buffer, shadow map and RSM (docs/visibility.md);
     // "compute-32" / "compute-64": the two-pass 32-bit or the 64-bit atomic path.
@@ -167,7 +137,13 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
         std::filesystem::create_directories(opts.outDir);
         FrameResources& res = renderer.resources();
         writeTexture(opts.outDir, "final", res.ldr, 1.0f, false);
-        if (res.hdr) writePfm(opts.outDir + "/final.pfm", readTexture(res.hdr));
+        if (res.hdr) {
+            FloatImage hdr = readTexture(res.hdr);
+            writePfm(opts.outDir + "/final.pfm", hdr);
+            // Half floats: the display image at a quarter of the float size
+            // (11-bit mantissa is below the RGBA16F target's own precision).
+            writeExr(opts.outDir + "/final.exr", hdr, 3, ExrPixel::Half);
+        }
         writeTexture(opts.outDir, "gbuffer.albedo", res.gbuffer.albedo, 1.0f, true);
         {
             FloatImage n = readTexture(res.gbuffer.normal);
@@ -190,34 +166,13 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
                 if (d.tex && *d.tex) writeTexture(opts.outDir, d.name, *d.tex, d.scale, false);
         r["images"] = opts.outDir;
     }
-    if (opts.reference) r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages);
-    return r;
-}
-
-std::string resultsCsvHeader() {
-    return "scene,resolution,timer,device,config,pass,median_ms,min_ms,max_ms,mean_ms,dispatches,total_ms,memory_bytes";
-}
-
-std::string csvQuote(const std::string& s) {
-    std::string o = "\"";
-    for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return o + "\"";
-}
-
-std::vector<std::string> resultsCsvRows(const nlohmann::json& r) {
-    std::string cfg;
-    for (auto& [k, v] : r["config"].items()) cfg += (cfg.empty() ? "" : ";") + k + "=" + v.get<std::string>();
-    auto q = [](const std::string& s) { return csvQuote(s); };
-    std::vector<std::string> rows;
-    for (auto& p : r["passes"]) {
-        std::ostringstream o;
-        o << q(r["scene"]) << "," << r["resolution"].get<std::string>() << "," << r["timer"].get<std::string>() << ","
-          << q(r["device"]) << "," << q(cfg) << "," << p["name"].get<std::string>() << "," << p["gpu_ms"]["median"]
-          << "," << p["gpu_ms"]["min"] << "," << p["gpu_ms"]["max"] << "," << p["gpu_ms"]["mean"] << ","
-          << p["dispatches"] << "," << r["total_ms"] << "," << r["memory_bytes"]["total"];
-        rows.push_back(o.str());
+    if (opts.reference) {
+        r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages);
+        // The frames above were timed without the reference passes; the
+        // configuration this result describes is compared with this kind.
+        r["config"]["reference"] = r["error"]["kind"];
     }
-    return rows;
+    return r;
 }
 
 std::string formatTimingTable(const nlohmann::json& r) {

@@ -1,5 +1,6 @@
 #include "bench/sweep.h"
 
+#include "bench/run.h"
 #include "bench/sweep_spec.h"
 #include "gl/output_files.h"
 #include "gl/program.h"

@@ -1,6 +1,6 @@
 #pragma once
 // Sweeps (--sweep FILE.json): many configurations in one process.
-#include "bench/cli.h"
+#include "app/cli.h"
 
 namespace rtgi {
 int runSweepCommand(const CommandLine& cl);

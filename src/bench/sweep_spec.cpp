@@ -1,6 +1,6 @@
 #include "bench/sweep_spec.h"
 
-#include "bench/run.h"
+#include "bench/results_csv.h"
 
 #include <algorithm>
 #include <cmath>
@@ -412,26 +412,8 @@ std::vector<SweepConfig> pending(const std::vector<SweepConfig>& configs, const 
     return out;
 }
 
-std::string sweepCsvHeader() { return "config_id,scene_label,view,axes," + resultsCsvHeader() + ",error"; }
+std::string sweepCsvHeader() { return resultsCsvHeader(); }
 
-std::vector<std::string> sweepCsvRows(const nlohmann::json& line) {
-    if (line.contains("failed")) return {};
-    const auto& sw = line["sweep"];
-    std::string axes;
-    for (auto& [k, v] : sw["axes"].items()) axes += (axes.empty() ? "" : ";") + k + "=" + v.get<std::string>();
-    std::string err;
-    if (line.contains("error") && line["error"].is_object())
-        for (auto& [k, v] : line["error"].items())
-            if (v.is_number()) {
-                char buf[64];
-                std::snprintf(buf, sizeof buf, "%.9g", v.get<double>());
-                err += (err.empty() ? "" : ";") + k + "=" + buf;
-            }
-    std::string prefix = sw["id"].get<std::string>() + "," + csvQuote(sw["scene_label"].get<std::string>()) + "," +
-                         csvQuote(sw["view"].get<std::string>()) + "," + csvQuote(axes) + ",";
-    std::vector<std::string> rows;
-    for (auto& r : resultsCsvRows(line)) rows.push_back(prefix + r + "," + csvQuote(err));
-    return rows;
-}
+std::vector<std::string> sweepCsvRows(const nlohmann::json& line) { return resultsCsvRows(line); }
 
 }  // namespace rtgi

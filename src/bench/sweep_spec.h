@@ -61,9 +61,8 @@ std::set<std::string> completedIds(std::istream& jsonl, int* unreadable = nullpt
 // The configurations still to run.
 std::vector<SweepConfig> pending(const std::vector<SweepConfig>& configs, const std::set<std::string>& done);
 
-// CSV of a sweep: one row per pass, the columns of resultsCsvHeader() (run.h)
-// prefixed by the configuration id, scene label, view and the axis values,
-// followed by the error metrics ("metric=value;...", empty without a reference).
+// CSV of a sweep: the tidy columns of results_csv.h (one row per
+// configuration × pass; config_id, sweep and scene_label filled in).
 std::string sweepCsvHeader();
 std::vector<std::string> sweepCsvRows(const nlohmann::json& resultLine);
 

@@ -1,7 +1,6 @@
 #include "gl/window_host.h"
 
 #include "gl/gl.h"
-#include "view/controls.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -9,14 +8,6 @@
 #include <stdexcept>
 
 namespace rtgi::gl {
-
-// The key codes view/controls.h names must be GLFW's.
-static_assert(view::key::Escape == GLFW_KEY_ESCAPE && view::key::Tab == GLFW_KEY_TAB &&
-              view::key::PageUp == GLFW_KEY_PAGE_UP && view::key::PageDown == GLFW_KEY_PAGE_DOWN &&
-              view::key::F1 == GLFW_KEY_F1 && view::key::F12 == GLFW_KEY_F12 && view::key::Comma == GLFW_KEY_COMMA &&
-              view::key::Period == GLFW_KEY_PERIOD && view::key::LeftBracket == GLFW_KEY_LEFT_BRACKET &&
-              view::key::RightBracket == GLFW_KEY_RIGHT_BRACKET && view::key::ModShift == GLFW_MOD_SHIFT &&
-              GLFW_KEY_A == 'A' && GLFW_KEY_1 == '1');
 
 namespace {
 

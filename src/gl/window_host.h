@@ -33,6 +33,8 @@ public:
     bool mouseButtonDown(int button) const;  // 0 left, 1 right
     glm::dvec2 cursor() const;
     void setTitle(const std::string& title);
+    // The GLFWwindow, for UI toolkits that bind to it (rtgi-view's ImGui).
+    void* nativeHandle() const { return window_; }
 
     // Key presses (and repeats) with GLFW key codes and modifier bits.
     std::function<void(int key, int mods)> onKey;

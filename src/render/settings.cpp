@@ -271,6 +271,16 @@ std::vector<SettingKey> buildKeys() {
 
 }  // namespace
 
+std::string defaultReferenceCacheDir() {
+    // XDG: an unset or empty XDG_CACHE_HOME (or a relative one, which the
+    // spec says to ignore) means $HOME/.cache.
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    if (xdg && *xdg == '/') return std::string(xdg) + "/rtgi";
+    const char* home = std::getenv("HOME");
+    if (home && *home) return std::string(home) + "/.cache/rtgi";
+    return "rtgi-cache";
+}
+
 const char* toString(Toggle t) { return kToggle[int(t)]; }
 const char* toString(AoSettings::Variant v) { return kAoVariant[int(v)]; }
 const char* toString(SsrSettings::Tracer t) { return kSsrTracer[int(t)]; }

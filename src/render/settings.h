@@ -88,11 +88,15 @@ struct SsrSettings {
     float roughnessCutoff = 0.5f;  // materials rougher than this get no SSR
 };
 
+// $XDG_CACHE_HOME/rtgi, else $HOME/.cache/rtgi (XDG Base Directory spec),
+// else ./rtgi-cache when neither variable is set (docs/reference.md).
+std::string defaultReferenceCacheDir();
+
 struct ReferenceSettings {
     enum class Kind { Off, Ao, Indirect, Full } kind = Kind::Off;
     int spp = 256;
     int bounces = 4;
-    std::string cacheDir = "rtgi-cache";  // "off" = no cache
+    std::string cacheDir = defaultReferenceCacheDir();  // "off" = no cache
     int seed = 1;                         // fixed seed of the sample sequence
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
 };

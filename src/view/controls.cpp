@@ -122,7 +122,7 @@ std::vector<std::string> keyHelp() {
         "P or F12        screenshot (PNG)",
         "J               dump camera+config JSON",
         "Y               vsync on/off",
-        "H or F1         this help",
+        "H or F1         hide / show the panel",
         "Esc             quit",
     };
 }
@@ -137,21 +137,6 @@ std::string dumpConfig(const Settings& settings, const Camera& c) {
     j["camera.near"] = c.near;
     j["camera.far"] = c.far;
     return j.dump(2) + "\n";
-}
-
-void SmoothedTimings::add(const std::vector<std::pair<std::string, double>>& latest) {
-    for (auto& [name, ms] : latest) {
-        auto it = std::find_if(values_.begin(), values_.end(), [&](auto& p) { return p.first == name; });
-        if (it == values_.end()) values_.emplace_back(name, ms);
-        else it->second += alpha_ * (ms - it->second);
-    }
-    // Passes that left the frame (a technique switched off) leave the overlay.
-    values_.erase(std::remove_if(values_.begin(), values_.end(),
-                                 [&](auto& p) {
-                                     return std::none_of(latest.begin(), latest.end(),
-                                                         [&](auto& q) { return q.first == p.first; });
-                                 }),
-                  values_.end());
 }
 
 }  // namespace rtgi::view

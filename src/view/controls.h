@@ -41,16 +41,4 @@ const std::vector<int>& aoSampleSteps();
 // its effective value, the camera keys set to `camera` and `view` cleared.
 std::string dumpConfig(const Settings& settings, const Camera& camera);
 
-// Exponential moving average of per-pass milliseconds for the overlay.
-class SmoothedTimings {
-public:
-    explicit SmoothedTimings(double alpha = 0.1) : alpha_(alpha) {}
-    void add(const std::vector<std::pair<std::string, double>>& latest);
-    const std::vector<std::pair<std::string, double>>& values() const { return values_; }
-
-private:
-    double alpha_;
-    std::vector<std::pair<std::string, double>> values_;
-};
-
 }  // namespace rtgi::view

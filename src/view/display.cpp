@@ -2,7 +2,6 @@
 
 #include "compute/lib/view_shared.h"
 
-#include <stb_easy_font.h>
 
 #include <algorithm>
 
@@ -65,8 +64,9 @@ ScreenPainter::ScreenPainter() {
     vao_.label("view.vao");
 }
 
-void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane) {
-    const gl::Program& prog = programs.raster("view/fullscreen.vert", "view/display.frag");
+void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane,
+                              const PresentOptions& opts) {
+    const gl::Program& prog = programs.raster("view/fullscreen.vert", "view/present.frag");
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, viewport.x, viewport.y);
     glDisable(GL_DEPTH_TEST);
@@ -75,13 +75,23 @@ void ScreenPainter::drawImage(gl::ProgramCache& programs, const DisplayImage& im
     glDisable(GL_SCISSOR_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glUseProgram(prog.id());
+    const bool compare = opts.compare != RTGI_VIEW_COMPARE_OFF && opts.reference && *opts.reference;
     prog.set(RTGI_VIEW_LOC_MODE, img.mode);
-    prog.set(RTGI_VIEW_LOC_SCALE, img.scale);
+    prog.set(RTGI_VIEW_LOC_SCALE, img.scale * opts.exposure);
     prog.set(RTGI_VIEW_LOC_FAR, farPlane);
-    // Producer: the renderer's passes wrote this texture with imageStore or as a render target.
+    prog.set(RTGI_VIEW_LOC_CHANNEL, opts.channel);
+    prog.set(RTGI_VIEW_LOC_COMPARE, compare ? opts.compare : RTGI_VIEW_COMPARE_OFF);
+    prog.set(RTGI_VIEW_LOC_SPLIT, opts.split);
+    prog.set(RTGI_VIEW_LOC_REF_MODE, opts.referenceMode);
+    prog.set(RTGI_VIEW_LOC_HEAT_MAX, opts.heatMax);
+    // Producer: the renderer's passes wrote these textures with imageStore or as render targets.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     img.tex->setSampling(GL_LINEAR, GL_LINEAR);
     glBindTextureUnit(RTGI_VIEW_TEX_IMAGE, img.tex->id());
+    // The reference unit always holds a texture (the image itself when there is none).
+    const gl::Texture& ref = compare ? *opts.reference : *img.tex;
+    ref.setSampling(GL_LINEAR, GL_LINEAR);
+    glBindTextureUnit(RTGI_VIEW_TEX_REFERENCE, ref.id());
     glBindVertexArray(vao_.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -116,51 +126,6 @@ void writeWindowScreenshot(const std::string& path, glm::ivec2 size) {
     im.data.resize(px.size());
     for (std::size_t i = 0; i < px.size(); ++i) im.data[i] = float(px[i]) / 255.0f;
     writePng(path, im);
-}
-
-void ScreenPainter::drawText(gl::ProgramCache& programs, glm::ivec2 viewport, const std::vector<std::string>& lines,
-                             float scale) {
-    if (lines.empty()) return;
-    // stb_easy_font: 4 vertices (x, y, z, rgba8 = 16 bytes) per quad; ~270 quads per 100 characters.
-    std::vector<float> quads;
-    std::vector<glm::vec2> tris;
-    float y = 4.0f, width = 0.0f;
-    for (auto& l : lines) {
-        std::vector<char> text(l.begin(), l.end());
-        text.push_back('\0');
-        quads.assign(std::size_t(l.size() + 1) * 270 * 4, 0.0f);
-        int n = stb_easy_font_print(4.0f, y, text.data(), nullptr, quads.data(), int(quads.size() * sizeof(float)));
-        for (int q = 0; q < n; ++q) {
-            glm::vec2 v[4];
-            for (int k = 0; k < 4; ++k) v[k] = glm::vec2(quads[std::size_t(q * 16 + k * 4)], quads[std::size_t(q * 16 + k * 4 + 1)]) * scale;
-            for (int k : {0, 1, 2, 0, 2, 3}) tris.push_back(v[k]);
-        }
-        width = std::max(width, float(stb_easy_font_width(text.data())));
-        y += 12.0f;
-    }
-    // Dark panel first (the same program, another colour).
-    glm::vec2 lo(0.0f), hi = glm::vec2(width + 10.0f, y + 4.0f) * scale;
-    std::vector<glm::vec2> all = {lo, {hi.x, lo.y}, hi, lo, hi, {lo.x, hi.y}};
-    all.insert(all.end(), tris.begin(), tris.end());
-    positions_.ensure(ledger_, "view.overlay", std::int64_t(std::max<std::size_t>(all.size(), 1024) * sizeof(glm::vec2)));
-    positions_.upload(all.data(), std::int64_t(all.size() * sizeof(glm::vec2)));
-
-    const gl::Program& prog = programs.raster("view/text.vert", "view/text.frag");
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, viewport.x, viewport.y);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glUseProgram(prog.id());
-    prog.set(RTGI_VIEW_LOC_WINDOW_SIZE, glm::vec2(viewport));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VIEW_SSBO_POSITIONS, positions_.id());
-    glBindVertexArray(vao_.id());
-    prog.set(RTGI_VIEW_LOC_COLOR, glm::vec4(0.0f, 0.0f, 0.0f, 0.6f));
-    glDrawArrays(GL_TRIANGLES, 0, 6);
-    prog.set(RTGI_VIEW_LOC_COLOR, glm::vec4(1.0f, 1.0f, 0.85f, 1.0f));
-    glDrawArrays(GL_TRIANGLES, 6, GLsizei(tris.size()));
-    glDisable(GL_BLEND);
 }
 
 }  // namespace rtgi::view

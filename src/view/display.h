@@ -1,7 +1,7 @@
 #pragma once
 // What rtgi-view can show: the final image, every 2D texture of
 // FrameResources and every pass's debugImages(), each with the mapping that
-// makes it visible (display.frag modes); and the overlay text.
+// makes it visible (present.frag modes, compute/lib/view_shared.h).
 #include "gl/handles.h"
 #include "gl/image_io.h"
 #include "gl/program.h"
@@ -16,7 +16,7 @@ namespace rtgi::view {
 struct DisplayImage {
     std::string name;
     const gl::Texture* tex = nullptr;
-    int mode = 0;       // display.frag: 0 ready, 1 radiance, 2 signed, 3 grey, 4 depth
+    int mode = 0;       // RTGI_VIEW_MODE_*: 0 ready, 1 radiance, 2 signed, 3 grey, 4 depth
     float scale = 1.0f;
 };
 
@@ -29,18 +29,26 @@ void writeScreenshot(const std::string& path, const DisplayImage& img, float far
 // The window's back buffer (image + overlay) as drawn this frame.
 void writeWindowScreenshot(const std::string& path, glm::ivec2 size);
 
+// How present.frag shows the image (compute/lib/view_shared.h).
+struct PresentOptions {
+    float exposure = 1.0f;   // multiplies the image's scale (radiance and grey modes)
+    int channel = 0;         // 0 rgb, 1 r, 2 g, 3 b, 4 a
+    int compare = 0;         // RTGI_VIEW_COMPARE_*: with `reference`
+    float split = 0.5f;      // split position (fraction of the width)
+    const gl::Texture* reference = nullptr;
+    int referenceMode = 3;   // RTGI_VIEW_MODE_* of the reference
+    float heatMax = 0.1f;
+};
+
 // Draws into the window's default framebuffer.
 class ScreenPainter {
 public:
     ScreenPainter();
     // `img` over the whole viewport.
-    void drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane);
-    // Text lines in a dark panel at the top left (stb_easy_font), x scale.
-    void drawText(gl::ProgramCache& programs, glm::ivec2 viewport, const std::vector<std::string>& lines, float scale);
+    void drawImage(gl::ProgramCache& programs, const DisplayImage& img, glm::ivec2 viewport, float farPlane,
+                   const PresentOptions& opts = {});
 
 private:
-    gl::MemoryLedger ledger_;
-    gl::Buffer positions_;
     gl::VertexArrayHandle vao_;
 };
 

@@ -1,19 +1,22 @@
-// rtgi-view: a window on the same renderer as rtgi-bench (GLFW; docs/viewer.md).
-#include "bench/cli.h"
-#include "bench/run.h"
+// rtgi-view: a window on the same renderer as rtgi-bench (GLFW + Dear ImGui;
+// docs/viewer.md). Uses app/ (command line, scenes), render/ and view/; never bench/.
+#include "app/cli.h"
+#include "compute/lib/view_shared.h"
 #include "gl/program.h"
 #include "gl/window_host.h"
 #include "render/renderer.h"
 #include "view/controls.h"
 #include "view/display.h"
 #include "view/fly_camera.h"
+#include "view/live_reference.h"
+#include "view/panel_model.h"
+#include "view/ui.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -22,52 +25,47 @@ using namespace rtgi;
 
 namespace {
 
-std::string fmtMs(double ms) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%7.3f", ms);
-    return b;
-}
-
-// One line per family with the keys the viewer steps through.
-std::vector<std::string> configLines(const Settings& s) {
-    auto d = describe(s);
-    return {"lpv=" + d["lpv"] + " path=" + d["lpv.path"] + " grid=" + d["lpv.grid"] + " it=" + d["lpv.iterations"],
-            "ao=" + d["ao"] + " samples=" + d["ao.samples"] + " radius=" + d["ao.radius"] + " res=" + d["ao.resolution"] +
-                " dir=" + d["ao.directional"],
-            "ssr=" + d["ssr"] + " steps=" + d["ssr.steps"] + "   reference=" + d["reference"]};
-}
-
 int run(int argc, char** argv) {
-    CommandLine cl = parseCommandLine(argc, argv, {{"--screenshot", true}, {"--no-vsync", false}});
+    CommandLine cl = parseCommandLine(Host::View, argc, argv);
     if (cl.help) {
-        std::printf("rtgi-view: a window on the rtgi renderer\n\n%s"
-                    "  --screenshot FILE        write the displayed image (PNG) after the last frame\n"
-                    "  --no-vsync               start with vsync off (Y toggles)\n"
+        std::printf("rtgi-view: a window on the rtgi renderer\n%s\n\n%s"
                     "  With --frames N (or --screenshot) rtgi-view renders N frames and exits.\n\nKeys:\n",
-                    commonHelp().c_str());
+                    versionString().c_str(), optionsHelp(Host::View).c_str());
         for (auto& l : view::keyHelp()) std::printf("  %s\n", l.c_str());
         std::printf("\n%s", settingsHelp().c_str());
         return 0;
     }
-    std::string screenshotPath;
-    bool vsync = true;
-    for (std::size_t i = 0; i < cl.extra.size(); ++i) {
-        if (cl.extra[i] == "--screenshot") screenshotPath = cl.extra[++i];
-        else if (cl.extra[i] == "--no-vsync") vsync = false;
+    if (cl.version) {
+        std::printf("rtgi-view %s\n", versionString().c_str());
+        return 0;
     }
-    bool framesGiven = false;
-    for (int i = 1; i < argc; ++i) framesGiven |= std::strcmp(argv[i], "--frames") == 0;
-    const bool automate = framesGiven || !screenshotPath.empty();
+    std::vector<view::ScriptAction> script;
+    if (!cl.script.empty()) {
+        std::ifstream in(cl.script);
+        if (!in) throw ConfigError("--script " + cl.script + ": cannot open the file");
+        std::stringstream ss;
+        ss << in.rdbuf();
+        script = view::parseScript(ss.str(), cl.script);
+    }
+    const std::string screenshotPath = cl.screenshot;
+    bool vsync = cl.vsync;
+    const bool automate = cl.framesGiven || !screenshotPath.empty();
 
     Scene scene = loadScenes(cl.run.scenes);
     for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", w.c_str());
     auto host = gl::WindowHost::create(cl.run.resolution, "rtgi-view: " + scene.name, cl.debug, vsync && !automate);
     gl::Profiler profiler(host->info().timerQuery);
     Settings settings = settingsFor(scene, cl);
+    // What the panel's reset buttons restore: the defaults with the scene's suggestions.
+    const Settings defaults = effectiveSettings(scene.suggestedSettings, {}, scene.name);
     Renderer renderer(scene, settings, profiler);
     gl::ProgramCache& programs = renderer.programs();
     view::ScreenPainter painter;
-    view::SmoothedTimings timings;
+    view::TimingHistory timings(240);
+    view::LiveReference live(4);
+    view::Ui ui(host->nativeHandle());
+    view::ViewState state;
+    state.liveReference = cl.liveReference;
 
     const Camera sceneCamera = resolveCamera(scene, settings);
     const float diagonal = glm::length(scene.bounds().extent());
@@ -78,55 +76,85 @@ int run(int argc, char** argv) {
 
     std::vector<std::pair<int, int>> keys;
     host->onKey = [&](int k, int mods) { keys.emplace_back(k, mods); };
-    bool help = false, cut = true;
-    std::string imageName = "final", message;
-    int frameMessage = 0;
+    bool cut = true;
     View prev;
     unsigned frame = 0;
     glm::dvec2 lastCursor = host->cursor();
     auto lastTime = std::chrono::steady_clock::now();
     int shots = 0;
+    std::size_t nextAction = 0;
+
+    auto say = [&](const std::string& m) {
+        state.message = m;
+        std::fprintf(stderr, "rtgi-view: %s\n", m.c_str());
+    };
+    // Every settings change (keys, panel widgets, --script) ends here:
+    // reconfigure, or keep the old frame and say why the new one cannot run.
+    auto reconfigure = [&](const Settings& before, const std::string& what) {
+        try {
+            renderer.configure(settings);
+            say(what);
+        } catch (const ConfigError& e) {
+            settings = before;
+            renderer.configure(settings);
+            say(e.what());
+        }
+        cut = true;
+    };
 
     while (!host->shouldClose()) {
         host->pollEvents();
         auto now = std::chrono::steady_clock::now();
         float dt = std::min(std::chrono::duration<float>(now - lastTime).count(), 0.1f);
         lastTime = now;
-        auto say = [&](const std::string& m) {
-            message = m;
-            frameMessage = int(frame);
-            std::fprintf(stderr, "rtgi-view: %s\n", m.c_str());
-        };
+
+        // --script: this frame's actions, through the panel's own functions.
+        std::vector<std::string> viewShots, windowShots;
+        for (; nextAction < script.size() && script[nextAction].frame <= int(frame); ++nextAction) {
+            const view::ScriptAction& a = script[nextAction];
+            const std::string& x = a.args[0];
+            if (a.verb == "set") {
+                Settings before = settings;
+                std::string err = view::applyPanelSetting(settings, a.args[0], a.args[1]);
+                if (!err.empty()) throw ConfigError(cl.script + ": " + err);
+                reconfigure(before, a.args[0] + "=" + a.args[1]);
+            } else if (a.verb == "image") state.imageName = x;
+            else if (a.verb == "exposure") state.present.exposure = std::stof(x);
+            else if (a.verb == "channel") {
+                const char* names[] = {"rgb", "r", "g", "b", "a"};
+                for (int c = 0; c < 5; ++c)
+                    if (x == names[c]) state.present.channel = c;
+            } else if (a.verb == "reference") state.liveReference = x == "on";
+            else if (a.verb == "compare") {
+                const char* names[] = {"off", "split", "toggle", "heatmap", "side"};
+                for (int c = 0; c < 5; ++c)
+                    if (x == names[c]) state.compare = c;
+            } else if (a.verb == "split") state.present.split = std::stof(x);
+            else if (a.verb == "screenshot") viewShots.push_back(x);
+            else if (a.verb == "window") windowShots.push_back(x);
+            else if (a.verb == "panel") state.showPanel = x == "on";
+        }
 
         bool screenshot = false;
         for (auto [k, mods] : keys) {
+            if (ui.wantsKeyboard()) break;  // typing into a panel field
             Settings before = settings;
             view::KeyAction a = view::handleKey(k, mods, settings);
-            if (a.reconfigure) {
-                try {
-                    renderer.configure(settings);
-                    say(a.message);
-                } catch (const ConfigError& e) {
-                    settings = before;  // e.g. a technique this scene cannot run: say why, keep the old frame
-                    renderer.configure(settings);
-                    say(e.what());
-                }
-                cut = true;
-            }
+            if (a.reconfigure) reconfigure(before, a.message);
             if (a.quit) host->requestClose();
-            if (a.toggleHelp) help = !help;
+            if (a.toggleHelp) state.showPanel = !state.showPanel;
             if (a.toggleVsync) {
                 vsync = !vsync;
                 host->setVsync(vsync);
                 say(std::string("vsync ") + (vsync ? "on" : "off"));
             }
-            if (a.finalImage) imageName = "final";
+            if (a.finalImage) state.imageName = "final";
             if (a.imageStep != 0) {
                 auto imgs = view::displayImages(renderer);
                 int n = int(imgs.size()), cur = 0;
                 for (int i = 0; i < n; ++i)
-                    if (imgs[std::size_t(i)].name == imageName) cur = i;
-                if (n > 0) imageName = imgs[std::size_t((cur + a.imageStep + n) % n)].name;
+                    if (imgs[std::size_t(i)].name == state.imageName) cur = i;
+                if (n > 0) state.imageName = imgs[std::size_t((cur + a.imageStep + n) % n)].name;
             }
             if ((a.viewStep != 0 && !views.empty()) || a.resetCamera) {
                 Settings s = settings;
@@ -157,26 +185,28 @@ int run(int argc, char** argv) {
         keys.clear();
 
         if (!automate) {
-            // Mouse look while the right button is held; WASD/QE movement.
+            // Mouse look while the right button is held (not over the panel); WASD/QE movement.
             glm::dvec2 c = host->cursor();
             bool flew = false;
-            if (host->mouseButtonDown(1)) {
+            if (host->mouseButtonDown(1) && !ui.wantsMouse()) {
                 fly.look(float(c.x - lastCursor.x), float(c.y - lastCursor.y), 0.003f);
                 flew = c != lastCursor;
             }
             lastCursor = c;
             glm::vec3 axes(0.0f);
-            if (host->keyDown(GLFW_KEY_W)) axes.z += 1;
-            if (host->keyDown(GLFW_KEY_S)) axes.z -= 1;
-            if (host->keyDown(GLFW_KEY_D)) axes.x += 1;
-            if (host->keyDown(GLFW_KEY_A)) axes.x -= 1;
-            if (host->keyDown(GLFW_KEY_E)) axes.y += 1;
-            if (host->keyDown(GLFW_KEY_Q)) axes.y -= 1;
+            if (!ui.wantsKeyboard()) {
+                if (host->keyDown(GLFW_KEY_W)) axes.z += 1;
+                if (host->keyDown(GLFW_KEY_S)) axes.z -= 1;
+                if (host->keyDown(GLFW_KEY_D)) axes.x += 1;
+                if (host->keyDown(GLFW_KEY_A)) axes.x -= 1;
+                if (host->keyDown(GLFW_KEY_E)) axes.y += 1;
+                if (host->keyDown(GLFW_KEY_Q)) axes.y -= 1;
+            }
             if (axes != glm::vec3(0.0f)) {
                 fly.move(axes, dt, host->keyDown(GLFW_KEY_LEFT_SHIFT) || host->keyDown(GLFW_KEY_RIGHT_SHIFT));
                 flew = true;
             }
-            if (flew) camera = fly.toCamera();
+            if (flew) camera = fly.toCamera();  // the live reference restarts: its view changed
         }
 
         glm::ivec2 size = host->framebufferSize();
@@ -187,32 +217,67 @@ int run(int argc, char** argv) {
         prev = v;
         cut = false;
 
+        // Live reference: a few more samples of the matching reference.
+        if (state.liveReference) {
+            try {
+                live.setSamplesPerFrame(state.samplesPerFrame);
+                live.update(renderer, v);
+            } catch (const std::exception& e) {
+                state.liveReference = false;
+                live.reset();
+                say(std::string("live reference: ") + e.what());
+            }
+        } else if (live.active()) {
+            live.reset();
+        }
+
         auto imgs = view::displayImages(renderer);
         const view::DisplayImage* shown = imgs.empty() ? nullptr : &imgs.front();
         for (auto& im : imgs)
-            if (im.name == imageName) shown = &im;
-        if (shown) painter.drawImage(programs, *shown, size, camera.far);
+            if (im.name == state.imageName) shown = &im;
+        if (state.autoHeat && live.errors().valid && live.errors().heatMax > 0)
+            state.present.heatMax = float(live.errors().heatMax);
+        view::PresentOptions opts = state.present;
+        view::DisplayImage comparedImage;
+        const gl::Texture* refTex = state.liveReference ? live.mean() : nullptr;
+        const gl::Texture* cmpTex = refTex ? live.compared(renderer) : nullptr;
+        if (refTex && cmpTex && state.compare != RTGI_VIEW_COMPARE_OFF) {
+            // Comparing: the technique's output that matches the reference, shown the same way.
+            const bool ao = live.kind() == ReferenceSettings::Kind::Ao;
+            comparedImage = {ao ? "ao" : "compared", cmpTex, ao ? RTGI_VIEW_MODE_GREY : RTGI_VIEW_MODE_RADIANCE,
+                             ao ? 1.0f : settings.post.exposure};
+            opts.compare = state.compare;
+            opts.reference = refTex;
+            opts.referenceMode = comparedImage.mode;
+            shown = &comparedImage;
+        }
+        if (shown) painter.drawImage(programs, *shown, size, camera.far, opts);
+        for (auto& f : viewShots) {  // the view as drawn, without the panel
+            view::writeWindowScreenshot(f, size);
+            say("wrote " + f);
+        }
 
-        // Overlay: timings in frame order, smoothed.
+        // Timings in execution order, frame total last.
         std::vector<std::pair<std::string, double>> latest;
         const auto& lat = profiler.latest();
         for (auto& p : renderer.passes())
             if (auto it = lat.find(p->name()); it != lat.end()) latest.emplace_back(p->name(), it->second);
         if (auto it = lat.find("frame"); it != lat.end()) latest.emplace_back("frame", it->second);
         timings.add(latest);
-        std::vector<std::string> lines = {scene.name + "  " + std::to_string(size.x) + "x" + std::to_string(size.y) +
-                                              "  timer=" + profiler.timer() + "  image: " +
-                                              (shown ? shown->name : std::string("-")) + "   (H: keys)"};
-        for (auto& l : configLines(settings)) lines.push_back(l);
-        for (auto& [name, ms] : timings.values()) lines.push_back(fmtMs(ms) + " ms  " + name);
-        if (!message.empty() && int(frame) - frameMessage < 300) lines.push_back(message);
-        if (help)
-            for (auto& l : view::keyHelp()) lines.push_back(l);
-        painter.drawText(programs, size, lines, size.y >= 900 ? 2.0f : 1.0f);
+
+        const std::string title = scene.name + "  " + std::to_string(size.x) + "x" + std::to_string(size.y) +
+                                  "  timer=" + profiler.timer() + "  (H: hide panel)";
+        Settings before = settings;
+        if (ui.build(settings, defaults, state, imgs, timings, live, title)) reconfigure(before, state.message);
+        ui.render();
+        for (auto& f : windowShots) {
+            view::writeWindowScreenshot(f, size);
+            say("wrote " + f);
+        }
 
         bool last = automate && int(frame) + 1 >= cl.run.frames;
         if ((screenshot || (last && !screenshotPath.empty())) && shown) {
-            // The displayed image at render resolution (as rtgi-bench writes it) and the window with the overlay.
+            // The displayed image at render resolution (as rtgi-bench writes it) and the window with the panel.
             std::string file = last && !screenshotPath.empty() ? screenshotPath
                                                                : "rtgi-view-" + std::to_string(shots++) + ".png";
             view::writeScreenshot(file, *shown, camera.far);

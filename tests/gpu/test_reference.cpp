@@ -313,3 +313,45 @@ TEST_CASE("Reference cache: a second renderer loads the stored reference") {
     CHECK_FALSE(renderReference(s, st).fromCache);
     std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("Reference: progressive mode (rtgi-view's live comparison) converges to the all-at-once trace; a new view restarts it") {
+    // Oracle: the normal trace of the same samples (sample i of a pixel is a
+    // pure function of pixel, i and seed); only the float summation order of
+    // the accumulation differs (4 samples a frame vs 16 a dispatch).
+    GpuFixture fx;
+    Scene s = cornerScene();
+    Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 16);
+    st.ao.radius = 1.0f;
+    RefResult all = renderReference(s, st);
+
+    gl::Profiler prof(false);
+    Renderer r(s, st, prof);
+    auto* out = dynamic_cast<ReferenceOutput*>(r.findPass("ref.ao"));
+    REQUIRE(out != nullptr);
+    out->setProgressive(4);
+    Camera cam = resolveCamera(s, st);
+    View v = makeView(cam, kSize, nullptr, 0);
+    std::vector<int> done;
+    FloatImage partial;
+    for (int f = 0; f < 5; ++f) {  // the fifth frame adds nothing: converged at reference.spp
+        r.render(v);
+        done.push_back(out->samplesDone());
+        if (f == 0) partial = readTexture(out->mean());
+    }
+    CHECK(done == std::vector<int>{4, 8, 12, 16, 16});
+    FloatImage prog = readTexture(out->mean()), progSe = readTexture(out->standardError());
+    double maxDiff = 0, maxSeDiff = 0, partialDiff = 0;
+    for (std::size_t i = 0; i < prog.data.size(); ++i) {
+        maxDiff = std::max(maxDiff, double(std::abs(prog.data[i] - all.mean.data[i])));
+        maxSeDiff = std::max(maxSeDiff, double(std::abs(progSe.data[i] - all.se.data[i])));
+        partialDiff = std::max(partialDiff, double(std::abs(partial.data[i] - all.mean.data[i])));
+    }
+    CHECK(maxDiff < 1e-5);
+    CHECK(maxSeDiff < 1e-4);
+    CHECK(partialDiff > 0.05);  // after 4 samples it is not yet the 16-sample image: the check can fail
+    // A camera move restarts the accumulation.
+    Camera moved = cam;
+    moved.position += glm::vec3(0.05f, 0.0f, 0.0f);
+    r.render(makeView(moved, kSize, nullptr, 0));
+    CHECK(out->samplesDone() == 4);
+}

@@ -4,7 +4,7 @@
 // each cell's footprint, pruning, and robustness (--check counts).
 #include "gpu_fixture.h"
 
-#include "render/reference/reference_runner.h"
+#include "bench/reference_compare.h"
 #include "render/ssr/ssr_constants.h"
 
 #include <glm/gtc/matrix_transform.hpp>

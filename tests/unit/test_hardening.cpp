@@ -1,6 +1,6 @@
 // Issue 16 without GL: atomic result files, NaN/Inf-safe metrics and heat
 // maps, sweep and command-line errors that name the file / option and key.
-#include "bench/cli.h"
+#include "app/cli.h"
 #include "bench/sweep_spec.h"
 #include "gl/output_files.h"
 #include "render/reference/metrics.h"
@@ -127,7 +127,7 @@ TEST_CASE("hardening: command line: empty --scene, --shard without --sweep, --ma
         argv.push_back(prog.data());
         for (auto& a : args) argv.push_back(a.data());
         try {
-            (void)parseCommandLine(int(argv.size()), argv.data());
+            (void)parseCommandLine(Host::Bench, int(argv.size()), argv.data());
         } catch (const ConfigError& e) {
             return std::string(e.what());
         }

@@ -1,9 +1,10 @@
 // Sweep expansion, ids, shards, resume and the CSV/JSON round trip (no GL).
-#include "bench/run.h"
+#include "bench/results_csv.h"
 #include "bench/sweep_spec.h"
 
 #include <doctest/doctest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -209,20 +210,34 @@ TEST_CASE("sweep: resume skips completed configurations, retries failed and surv
     CHECK(todo.front().id == c[1].id);  // order kept, the failed one is retried
 }
 
-TEST_CASE("sweep: CSV rows round-trip the JSON line") {
-    SweepSpec s = parseSweep(kProduct, "t.json");
-    const SweepConfig& c = s.configs[5];
-    // A results line as runBenchmark writes it, with awkward strings.
+namespace {
+// A results line as runBenchmark writes it, with awkward strings and one
+// configuration value still in the old all-strings form.
+nlohmann::json sampleResults(const SweepConfig& c) {
     nlohmann::json r = {
         {"scene", "builtin:\"atrium\", copy"}, {"resolution", "64x48"}, {"timer", "gpu"}, {"device", "GPU, \"x\""},
-        {"config", {{"ao", "hbao"}, {"camera.position", "1,2,3"}}},
+        {"version", "rtgi 0.9.0 (git abc)"}, {"frames", 5}, {"warmup", 1},
+        {"config", {{"ao", "hbao"}, {"camera.position", "1,2,3"}, {"ao.samples", 16}, {"ao.radius", 0.5},
+                    {"lpv.iterations", "8"}}},
         {"passes",
          {{{"name", "gbuffer"}, {"gpu_ms", {{"median", 0.25}, {"min", 0.125}, {"max", 1.5}, {"mean", 0.3}}}, {"dispatches", 1.0}},
           {{"name", "ao.hbao"}, {"gpu_ms", {{"median", 1.0625}, {"min", 1.0}, {"max", 2.0}, {"mean", 1.1}}}, {"dispatches", 2.0}}}},
         {"total_ms", 3.5}, {"memory_bytes", {{"total", 123456}}},
-        {"error", {{"rmse", 0.046}, {"psnr", 26.7}, {"reference", "ao spp=256"}}}};
+        {"error", {{"kind", "ao"}, {"rmse", 0.046}, {"psnr", 26.7}, {"interior", {{"rmse", 0.03}}},
+                   {"reference", {{"spp", 64}, {"mean_stderr", 0.0323}, {"from_cache", true}}}}}};
     r["sweep"] = c.describe();
+    r["sweep"]["name"] = "t";
+    return r;
+}
+}  // namespace
+
+TEST_CASE("sweep: tidy CSV rows round-trip the JSON line (one column per key and metric)") {
+    SweepSpec s = parseSweep(kProduct, "t.json");
+    const SweepConfig& c = s.configs[5];
+    nlohmann::json r = sampleResults(c);
     auto header = readCsvLine(sweepCsvHeader());
+    std::set<std::string> unique(header.begin(), header.end());
+    CHECK(unique.size() == header.size());  // no duplicate column names
     auto rows = sweepCsvRows(r);
     REQUIRE(rows.size() == 2u);
     for (std::size_t p = 0; p < rows.size(); ++p) {
@@ -232,33 +247,69 @@ TEST_CASE("sweep: CSV rows round-trip the JSON line") {
         for (std::size_t i = 0; i < header.size(); ++i) m[header[i]] = cells[i];
         const auto& pass = r["passes"][p];
         CHECK(m["config_id"] == c.id);
+        CHECK(m["sweep"] == "t");
         CHECK(m["scene_label"] == c.sceneLabel);
-        CHECK(m["view"] == value(c, "view"));
         CHECK(m["scene"] == r["scene"].get<std::string>());
         CHECK(m["device"] == r["device"].get<std::string>());
+        CHECK(m["width"] == "64");
+        CHECK(m["height"] == "48");
         CHECK(m["pass"] == pass["name"].get<std::string>());
         CHECK(std::stod(m["median_ms"]) == pass["gpu_ms"]["median"].get<double>());
         CHECK(std::stod(m["min_ms"]) == pass["gpu_ms"]["min"].get<double>());
         CHECK(std::stod(m["max_ms"]) == pass["gpu_ms"]["max"].get<double>());
         CHECK(std::stod(m["total_ms"]) == 3.5);
         CHECK(std::stod(m["memory_bytes"]) == 123456.0);
-        CHECK(m["config"] == "ao=hbao;camera.position=1,2,3");
-        // Axis values and numeric error metrics come back as key=value lists.
-        std::map<std::string, std::string> axes, err;
-        for (auto* target : {&axes, &err}) {
-            std::stringstream ss((target == &axes ? m["axes"] : m["error"]));
-            std::string kv;
-            while (std::getline(ss, kv, ';')) (*target)[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
-        }
-        for (auto& [k, v] : c.axisValues) CHECK(axes[k] == v);
-        CHECK(axes.size() == c.axisValues.size());
-        CHECK(std::stod(err["rmse"]) == doctest::Approx(0.046).epsilon(1e-9));  // printed with 9 significant digits
-        CHECK(std::stod(err["psnr"]) == doctest::Approx(26.7).epsilon(1e-9));
-        CHECK(err.count("reference") == 0);  // non-numeric entries stay in the JSON only
+        // One column per configuration key, typed (the old string "8" too).
+        CHECK(m["ao"] == "hbao");
+        CHECK(m["camera.position"] == "1,2,3");
+        CHECK(m["ao.samples"] == "16");
+        CHECK(m["ao.radius"] == "0.5");
+        CHECK(m["lpv.iterations"] == "8");
+        CHECK(m["ssr.steps"].empty());  // a key the line does not hold: empty cell
+        // One column per error metric.
+        CHECK(m["error.kind"] == "ao");
+        CHECK(std::stod(m["error.rmse"]) == doctest::Approx(0.046).epsilon(1e-9));
+        CHECK(std::stod(m["error.psnr"]) == doctest::Approx(26.7).epsilon(1e-9));
+        CHECK(std::stod(m["error.interior.rmse"]) == doctest::Approx(0.03).epsilon(1e-9));
+        CHECK(std::stod(m["error.reference.mean_stderr"]) == doctest::Approx(0.0323).epsilon(1e-9));
+        CHECK(m["error.reference.from_cache"] == "1");
+        CHECK(m["error.ssim"].empty());
     }
+    // Numbers are written bare and strings quoted, so readers can type columns.
+    CHECK(rows[0].find(",16,") != std::string::npos);
+    CHECK(rows[0].find("\"hbao\"") != std::string::npos);
     // A failed configuration has no CSV rows.
     nlohmann::json failed = {{"failed", "x"}, {"sweep", c.describe()}};
     CHECK(sweepCsvRows(failed).empty());
+}
+
+TEST_CASE("results.csv parses with Python's csv module into one typed column per key") {
+    // pandas-free: tests/unit/check_results_csv.py reads the file with csv.DictReader
+    // and checks that every numeric column's cells all parse as numbers.
+    SweepSpec s = parseSweep(kProduct, "t.json");
+    auto dir = std::filesystem::temp_directory_path() / "rtgi-csv-test";
+    std::filesystem::create_directories(dir);
+    const std::string file = (dir / "results.csv").string();
+    {
+        std::ofstream out(file);
+        out << resultsCsvHeader() << "\n";
+        for (std::size_t k : {std::size_t(0), std::size_t(5)}) {
+            nlohmann::json r = sampleResults(s.configs[k]);
+            // Typed config values of a full run: every key, as runBenchmark writes them.
+            for (auto& [key, v] : describe(s.configs[k].settings())) r["config"][key] = typedValue(v);
+            for (auto& row : resultsCsvRows(r)) out << row << "\n";
+        }
+        nlohmann::json single = sampleResults(s.configs[1]);  // a single run: no sweep columns
+        single.erase("sweep");
+        single.erase("error");
+        for (auto& row : resultsCsvRows(single)) out << row << "\n";
+    }
+    const std::string cmd = "python3 " RTGI_SOURCE_DIR "/tests/unit/check_results_csv.py " + file +
+                            " --rows 6 --numeric median_ms,total_ms,memory_bytes,width,ao.samples,ao.radius,"
+                            "lpv.iterations,shadow.size,error.rmse,error.reference.mean_stderr"
+                            " --string pass,scene,ao,lpv,error.kind";
+    INFO(cmd);
+    CHECK(std::system(cmd.c_str()) == 0);
 }
 
 TEST_CASE("sweep: every shipped sweep file parses and validates") {

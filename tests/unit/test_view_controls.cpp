@@ -119,14 +119,3 @@ TEST_CASE("view: the camera/config dump replays through --config to the same set
         if (k.rfind("camera.", 0) != 0 && k != "view") CHECK_MESSAGE(b[k] == v, k);
 }
 
-TEST_CASE("view: smoothed timings approach a constant and drop passes that left the frame") {
-    SmoothedTimings t(0.5);
-    t.add({{"gbuffer", 1.0}, {"ao.hbao", 4.0}});
-    t.add({{"gbuffer", 3.0}, {"ao.hbao", 4.0}});
-    REQUIRE(t.values().size() == 2u);
-    CHECK(t.values()[0].second == doctest::Approx(2.0));  // 1 + 0.5 (3 - 1)
-    for (int i = 0; i < 40; ++i) t.add({{"gbuffer", 3.0}});
-    REQUIRE(t.values().size() == 1u);
-    CHECK(t.values()[0].first == "gbuffer");
-    CHECK(t.values()[0].second == doctest::Approx(3.0).epsilon(1e-9));  // 2^-40 residual
-}

@@ -242,4 +242,19 @@ FloatImage errorHeatmap(const FloatImage& t, const FloatImage& r, int channels, 
     return out;
 }
 
+double rmsStandardError(const FloatImage& se, int channels, const std::vector<std::uint8_t>& mask) {
+    const std::size_t n = std::size_t(se.width) * std::size_t(se.height);
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!mask.empty() && !mask[i]) continue;
+        for (int c = 0; c < channels; ++c) {
+            const double v = se.data[i * std::size_t(se.channels) + std::size_t(c)];
+            sum += v * v;
+            ++count;
+        }
+    }
+    return count > 0 ? std::sqrt(sum / double(count)) : 0.0;
+}
+
 }  // namespace rtgi

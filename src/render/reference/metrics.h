@@ -49,4 +49,10 @@ FloatImage errorHeatmap(const FloatImage& test, const FloatImage& ref, int chann
 // The heat maps use q = 0.99 so that a few fireflies do not darken the rest.
 double errorQuantile(const FloatImage& test, const FloatImage& ref, int channels, double q);
 
+// Root mean square of a reference's per-pixel standard error over the masked
+// pixels (empty = all) and the first `channels` channels: the reference's own
+// noise on the scale of the RMSE it is compared with (results.json
+// error.reference.mean_stderr, rtgi-view's live comparison).
+double rmsStandardError(const FloatImage& se, int channels, const std::vector<std::uint8_t>& mask);
+
 }  // namespace rtgi

@@ -37,6 +37,12 @@ public:
     virtual const gl::Texture& standardError() const = 0;  // RGBA32F: per-channel standard error of the mean
     virtual bool fromCache() const = 0;
     virtual std::string cacheKey() const = 0;
+    // Progressive mode (rtgi-view's live comparison): each frame adds
+    // `samplesPerFrame` samples (up to reference.spp) to the running
+    // accumulation and resolves mean and standard error of what it has; a new
+    // view or size restarts it. No cache. 0 = the normal all-at-once trace.
+    virtual void setProgressive(int samplesPerFrame) = 0;
+    virtual int samplesDone() const = 0;
 };
 
 }  // namespace rtgi

@@ -1,5 +1,8 @@
-#include "render/reference/reference_runner.h"
+#include "bench/reference_compare.h"
 
+#include "app/cli.h"
+
+#include "gl/image_files.h"
 #include "gl/image_io.h"
 #include "gl/output_files.h"
 #include "render/reference/metrics.h"
@@ -10,16 +13,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace rtgi {
-
-ReferenceSettings::Kind referenceKindFor(const Settings& s, const FrameResources& res) {
-    using K = ReferenceSettings::Kind;
-    if (s.reference.kind != K::Off) return s.reference.kind;
-    if (s.ao.variant != AoSettings::Variant::Off && res.ao) return K::Ao;
-    if (res.indirectDiffuse) return K::Indirect;
-    return K::Full;
-}
 
 namespace {
 
@@ -49,7 +45,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     using K = ReferenceSettings::Kind;
     FrameResources& res = run.resources();
     K kind = referenceKindFor(run.settings(), res);
-    const gl::Texture& tested = kind == K::Ao ? res.ao : kind == K::Indirect ? res.indirectDiffuse : res.hdr;
+    const gl::Texture& tested = comparedTexture(kind, res);
     if (!tested)
         throw ConfigError(std::string("--reference: this run produced no ") +
                           (kind == K::Ao ? "AO (set ao=VARIANT)" : kind == K::Indirect ? "indirect light" : "image") +
@@ -59,11 +55,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
 
     // The reference renderer: the same scene, camera and lights, with the
     // real-time techniques off (they would only cost time).
-    Settings rs = run.settings();
-    rs.reference.kind = kind;
-    rs.ao.variant = AoSettings::Variant::Off;
-    rs.lpv.mode = Toggle::Off;
-    rs.ssr.tracer = SsrSettings::Tracer::Off;
+    Settings rs = referenceRunSettings(run.settings(), kind);
     gl::Profiler profiler(false);
     Renderer ref(run.scene(), rs, profiler);
     View v = makeView(camera, resolution, nullptr, 0);
@@ -80,6 +72,8 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     ErrorMetrics m = compareImages(test, mean, channels, peak, mask);
     nlohmann::json e = metricsJson(m, kind != K::Ao);
     e["compared"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirectDiffuse" : "hdr";
+    e["kind"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirect" : "full";  // results.json config.reference
+    e["pixels_compared"] = "geometry (linear depth > 0; sky excluded)";
     e["peak"] = peak;
     double heatMax = errorQuantile(test, mean, channels, 0.99);
     e["heatmap_max"] = heatMax;
@@ -111,6 +105,9 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     nlohmann::json refInfo = referenceSettingsJson(referenceConstants(rs, run.scene().bounds()));
     for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
     refInfo["spp"] = rs.reference.spp;
+    // The reference's own noise on the RMSE's scale: RMS of the per-pixel
+    // standard error over the compared pixels and channels (docs/reference.md).
+    refInfo["mean_stderr"] = rmsStandardError(se, channels, mask);
     refInfo["from_cache"] = out->fromCache();
     refInfo["cache_key"] = out->cacheKey();
     refInfo["cache_dir"] = rs.reference.cacheDir;
@@ -121,32 +118,93 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         writePng(outDir + "/error.heatmap.png", errorHeatmap(test, mean, channels, heatMax));
         writePfm(outDir + "/reference.pfm", mean);
         writePfm(outDir + "/reference.stderr.pfm", se);
+        // EXR (tev, Nuke, Blender, OpenImageIO read it): float, bit-exact, so
+        // the heat map's two inputs can be re-compared elsewhere.
+        writeExr(outDir + "/reference.exr", mean, channels, ExrPixel::Float);
+        writeExr(outDir + "/reference.stderr.exr", se, channels, ExrPixel::Float);
+        writeExr(outDir + "/compared.exr", test, channels, ExrPixel::Float);
+        {  // The compared pixels, for `rtgi-bench --compare ... --mask compared.mask.png`.
+            FloatImage mk = depth;
+            for (std::size_t i = 0; i < mask.size(); ++i)
+                for (int c = 0; c < 3; ++c) mk.data[i * 4 + std::size_t(c)] = mask[i] ? 1.0f : 0.0f;
+            writePng(outDir + "/compared.mask.png", mk);
+        }
         for (auto& d : ref.findPass(passName)->debugImages())
             if (d.tex && *d.tex) writePng(outDir + "/" + d.name + ".png", readTexture(*d.tex), d.scale, false);
-        e["images"] = {"error.heatmap.png", "reference.pfm", "reference.stderr.pfm"};
+        e["images"] = {"error.heatmap.png", "reference.exr", "reference.stderr.exr", "compared.exr", "compared.mask.png", "reference.pfm",
+                       "reference.stderr.pfm"};
     }
     return e;
 }
 
-nlohmann::json compareImageFiles(const std::string& image, const std::string& reference, const std::string& outDir) {
-    auto load = [](const std::string& p) {
-        std::string ext = std::filesystem::path(p).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        return ext == ".pfm" ? readPfm(p) : readImage(p);
-    };
-    bool hdr = std::filesystem::path(reference).extension() == ".pfm" || std::filesystem::path(reference).extension() == ".PFM";
-    FloatImage t = load(image), r = load(reference);
-    double peak = hdr ? peakLuminance(r, {}) : 1.0;
-    ErrorMetrics m = compareImages(t, r, 3, peak);
-    nlohmann::json j = metricsJson(m, hdr);
+const char* toString(CompareOptions::Quantity q) {
+    using Q = CompareOptions::Quantity;
+    return q == Q::Ao ? "ao" : q == Q::Ldr ? "ldr" : q == Q::Radiance ? "radiance" : "auto";
+}
+
+CompareOptions::Quantity parseCompareQuantity(const std::string& s) {
+    using Q = CompareOptions::Quantity;
+    for (Q q : {Q::Auto, Q::Ao, Q::Ldr, Q::Radiance})
+        if (s == toString(q)) return q;
+    throw ConfigError("--quantity '" + s + "': expected auto|ao|ldr|radiance");
+}
+
+nlohmann::json compareImageFiles(const std::string& image, const std::string& reference, const CompareOptions& opts) {
+    using Q = CompareOptions::Quantity;
+    FloatImage t = readImageFile(image), r = readImageFile(reference);
+    if (t.width != r.width || t.height != r.height)
+        throw ConfigError(image + " is " + std::to_string(t.width) + "x" + std::to_string(t.height) + " but " +
+                          reference + " is " + std::to_string(r.width) + "x" + std::to_string(r.height));
+    Q q = opts.quantity;
+    if (q == Q::Auto) q = isHdrImageFile(reference) ? Q::Radiance : Q::Ldr;
+    const int channels = q == Q::Ao ? 1 : 3;
+    const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
+
+    // Which pixels: a mask file, the reference's background value, or all.
+    std::vector<std::uint8_t> mask;
+    std::string maskDesc = "all pixels";
+    if (!opts.maskFile.empty()) {
+        FloatImage m = readImageFile(opts.maskFile);
+        if (m.width != r.width || m.height != r.height)
+            throw ConfigError("--mask " + opts.maskFile + ": " + std::to_string(m.width) + "x" +
+                              std::to_string(m.height) + " does not match the images' size");
+        mask.resize(n);
+        for (std::size_t i = 0; i < n; ++i) mask[i] = m.data[i * std::size_t(m.channels)] > 0.5f ? 1 : 0;
+        maskDesc = "mask " + opts.maskFile + " (channel 0 > 0.5)";
+    } else if (opts.background) {
+        mask.resize(n);
+        const double bg = *opts.background;
+        for (std::size_t i = 0; i < n; ++i) {
+            bool isBg = true;
+            for (int c = 0; c < channels; ++c)
+                isBg &= std::abs(double(r.data[i * std::size_t(r.channels) + std::size_t(c)]) - bg) <= 1e-6;
+            mask[i] = isBg ? 0 : 1;
+        }
+        std::ostringstream d;
+        d << "pixels whose reference is not the background value " << bg;
+        maskDesc = d.str();
+    }
+    std::size_t compared = mask.empty() ? n : std::size_t(std::count(mask.begin(), mask.end(), 1));
+    if (compared == 0) throw ConfigError("--compare: the mask leaves no pixel to compare (" + maskDesc + ")");
+
+    double peak = q == Q::Radiance ? peakLuminance(r, mask) : 1.0;
+    ErrorMetrics m = compareImages(t, r, channels, peak, mask);
+    nlohmann::json j = metricsJson(m, q == Q::Radiance);
     j["image"] = image;
     j["reference"] = reference;
+    j["version"] = versionString();
+    j["compared"] = {{"quantity", toString(q)},
+                     {"quantity_from", opts.quantity == Q::Auto ? "reference file type" : "--quantity"},
+                     {"channels", channels == 1 ? "channel 0" : "rgb"},
+                     {"pixels", maskDesc},
+                     {"compared_pixels", compared},
+                     {"total_pixels", n}};
     j["peak"] = peak;
-    double heatMax = errorQuantile(t, r, 3, 0.99);
+    double heatMax = errorQuantile(t, r, channels, 0.99);
     j["heatmap_max"] = heatMax;
-    std::filesystem::create_directories(outDir);
-    writePng(outDir + "/error.heatmap.png", errorHeatmap(t, r, 3, heatMax));
-    writeFileAtomic(outDir + "/compare.json", j.dump(2) + "\n");
+    std::filesystem::create_directories(opts.outDir);
+    writePng(opts.outDir + "/error.heatmap.png", errorHeatmap(t, r, channels, heatMax));
+    writeFileAtomic(opts.outDir + "/compare.json", j.dump(2) + "\n");
     return j;
 }
 
