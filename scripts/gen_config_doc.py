@@ -12,9 +12,12 @@ print("Set with `--set key=value` (repeatable), `--config FILE.json` (keys as be
 print('e.g. `{"lpv": {"grid": 16}}`) or in sweep files. Unknown keys and out-of-range values are errors that name the key.')
 print("`rtgi-bench --help` prints the same list; `scripts/gen_config_doc.py` regenerates this file and a unit test")
 print("keeps it in step with the key table.\n")
-print("| key | values | meaning |")
-print("|---|---|---|")
+print("Defaults are those of the code (`Settings{}`); a scene may suggest its own (e.g. `builtin:atrium` sets")
+print("`ao.radius=1.0`, `builtin:cornell` a smaller LPV grid), and explicit `--set`/`--config` values win.\n")
+print("| key | values | default | meaning |")
+print("|---|---|---|---|")
 for line in keys:
-    m = re.match(r"\s+(\S+)\s+(\S+)\s+(.*)", line)
+    m = re.match(r"\s+(\S+)\s+(\S+)\s+(.*) \(default: (.*)\)$", line)
     if m:
-        print("| `%s` | `%s` | %s |" % (m.group(1), m.group(2).replace("|", "\\|"), m.group(3)))
+        print("| `%s` | `%s` | `%s` | %s |" % (m.group(1), m.group(2).replace("|", "\\|"),
+                                           m.group(4).replace("|", "\\|"), m.group(3)))

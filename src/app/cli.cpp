@@ -57,6 +57,9 @@ const OptionSpec kOptions[] = {
     {"--script", "FILE", kView, "replay panel actions (one per line: FRAME set KEY VALUE | FRAME split X | ...)"},
     {"--debug", nullptr, kBoth, "KHR_debug output"},
     {"--list-devices", nullptr, kBench, "list EGL devices and exit"},
+    {"--print-frame", nullptr, kBench,
+     "print the frame for the scene + settings (passes, what each reads and writes,\n"
+     "skipped passes with why) and exit without rendering"},
     {"--version", nullptr, kBoth, "print the version and exit"},
     {"--help", nullptr, kBoth, "this text"},
 };
@@ -168,6 +171,7 @@ CommandLine parseCommandLine(Host host, int argc, char** argv) {
         else if (a == "--no-images") c.run.writeImages = false;
         else if (a == "--reference") (host == Host::Bench ? c.run.reference : c.liveReference) = true;
         else if (a == "--list-devices") c.listDevices = true;
+        else if (a == "--print-frame") c.printFrame = true;
         else if (a == "--screenshot") c.screenshot = value();
         else if (a == "--no-vsync") c.vsync = false;
         else if (a == "--script") c.script = value();
@@ -234,7 +238,7 @@ std::string settingsHelp() {
     for (auto& k : settingKeys()) {
         std::string line = "  " + k.key;
         if (line.size() < 26) line.resize(26, ' ');
-        s += line + " " + k.values + "  " + k.doc + "\n";
+        s += line + " " + k.values + "  " + k.doc + " (default: " + settingDefault(k) + ")\n";
     }
     return s;
 }

@@ -43,6 +43,7 @@ struct CommandLine {
     bool help = false;
     bool version = false;
     bool listDevices = false;
+    bool printFrame = false;  // --print-frame: print the pruned frame and exit
     bool validateOnly = false;  // --validate-only: load scenes and settings, no GL, exit 0
     bool framesGiven = false;
     std::string sweep;    // --sweep FILE.json

@@ -8,6 +8,7 @@
 #include "gl/context.h"
 #include "gl/output_files.h"
 #include "gl/program.h"
+#include "render/renderer.h"
 
 #include <cmath>
 #include <cstdio>
@@ -123,15 +124,20 @@ int main(int argc, char** argv) {
     }
     try {
         if (!cl.sweep.empty()) return runSweepCommand(cl);
-        if (!cl.validateOnly) {  // an unwritable --out fails before any work
+        if (!cl.validateOnly && !cl.printFrame) {  // an unwritable --out fails before any work
             prepareOutputDirectory(cl.run.outDir);
             checkOutputTarget(cl.run.outDir + "/results.json");
             checkOutputTarget(cl.run.outDir + "/results.csv");
         }
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        if (cl.printFrame) {  // the declared frame; no GL context needed
+            std::cout << FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl)).table();
+            return 0;
+        }
         if (cl.validateOnly) {
-            (void)settingsFor(scene, cl);  // the scene's suggested settings must be valid too
+            // The scene's suggested settings must be valid too, and the frame must build from them.
+            (void)FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl));
             std::printf("rtgi-bench: %s: valid (%zu triangles)\n", scene.name.c_str(), scene.triangleCount());
             return 0;
         }

@@ -129,7 +129,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
                 for (int c = 0; c < 3; ++c) mk.data[i * 4 + std::size_t(c)] = mask[i] ? 1.0f : 0.0f;
             writePng(outDir + "/compared.mask.png", mk);
         }
-        for (auto& d : ref.findPass(passName)->debugImages())
+        for (auto& d : ref.debugImages(*ref.findPass(passName)))
             if (d.tex && *d.tex) writePng(outDir + "/" + d.name + ".png", readTexture(*d.tex), d.scale, false);
         e["images"] = {"error.heatmap.png", "reference.exr", "reference.stderr.exr", "compared.exr", "compared.mask.png", "reference.pfm",
                        "reference.stderr.pfm"};

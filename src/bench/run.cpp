@@ -162,7 +162,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
         writeTexture(opts.outDir, "specular", res.specular, settings.post.exposure, true);
         writeTexture(opts.outDir, "ao", res.ao, 1.0f, false);
         for (auto& p : renderer.passes())
-            for (auto& d : p->debugImages())
+            for (auto& d : renderer.debugImages(*p))
                 if (d.tex && *d.tex) writeTexture(opts.outDir, d.name, *d.tex, d.scale, false);
         r["images"] = opts.outDir;
     }

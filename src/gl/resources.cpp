@@ -135,7 +135,9 @@ void Texture::clearInt(std::uint32_t v) const {
 }
 
 bool Texture::ensure(MemoryLedger& ledger, const std::string& label, const TextureDesc& desc) {
-    if (handle_ && desc == desc_ && label == label_) return false;
+    // Identity is the object, not its label: a second name for the same
+    // texture must never reallocate it (the label stays the first one).
+    if (handle_ && desc == desc_) return false;
     reset();
     *this = Texture(ledger, label, desc);
     return true;
@@ -169,7 +171,7 @@ void Buffer::clearZero() const {
     glClearNamedBufferData(id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &z);
 }
 bool Buffer::ensure(MemoryLedger& ledger, const std::string& label, std::int64_t bytes) {
-    if (handle_ && bytes == size_ && label == label_) return false;
+    if (handle_ && bytes == size_) return false;  // identity is the object, not its label
     reset();
     *this = Buffer(ledger, label, bytes);
     return true;

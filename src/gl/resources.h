@@ -77,7 +77,8 @@ public:
     // Every level to zero (done once at creation).
     void zeroAllLevels() const;
     // Re-creates the texture only when the description changed (XeGTAO-style
-    // ensureResources); returns true when it did.
+    // ensureResources); returns true when it did. The label names a new
+    // texture only: calling ensure with another label keeps the texture.
     bool ensure(MemoryLedger& ledger, const std::string& label, const TextureDesc& desc);
     void reset();
 

@@ -1,52 +1,91 @@
 #pragma once
-// Resources shared between passes (a typed blackboard, no string lookups).
-// The pass that produces a resource allocates it in its execute() through
-// Texture::ensure (so a pass that is not in the frame allocates nothing);
-// consumers test it (`if (res.ao)`) or declare it in reads() so the frame
-// checks the order when it is built.
+// Resources shared between passes. Each one is a named field of
+// FrameResources and has a typed handle (R::normal, R::ao, ...) that passes
+// use to declare what they read, write and accumulate into (render/pass.h).
+// The renderer allocates every shared resource that a pass of the frame
+// writes, from the resource's descriptor (resourceDesc) and by handle, never
+// by label; passes only fill them.
 #include "gl/resources.h"
 
 #include <glm/glm.hpp>
 
 namespace rtgi {
 
+// What --check counts on a texture (NaN/Inf always; negatives unless signed).
+enum class Check {
+    none,         // depth / unorm formats: cannot hold non-finite values
+    nonNegative,  // radiance, AO, distances: a negative value is a bug
+    signedValues  // normals, velocities, SH coefficients
+};
+
+// How big a shared texture is (the renderer derives the size each frame).
+enum class Extent {
+    view,    // the view's size
+    ao,      // the AO chain's resolution (half the view with ao.resolution=half)
+    shadow,  // shadow.size squared
+    brdfLut  // kBrdfLutSize squared
+};
+
+// Typed handle of one shared resource: an index into the resource table.
+struct Resource {
+    int index = -1;
+    constexpr bool operator==(const Resource& o) const { return index == o.index; }
+    constexpr bool operator<(const Resource& o) const { return index < o.index; }
+};
+
+// Every shared resource, in table order (resourceDesc).
+namespace R {
+inline constexpr Resource depth{0};             // D32F rasterizer depth
+inline constexpr Resource linearDepth{1};       // R32F positive view-space distance along -z (0 = sky)
+inline constexpr Resource normal{2};            // RGBA16F view-space unit normal (xyz), a = 1 for geometry
+inline constexpr Resource albedo{3};            // RGBA8 linear base colour
+inline constexpr Resource material{4};          // RGBA8 r roughness, g metallic
+inline constexpr Resource emissive{5};          // R11F_G11F_B10F emitted radiance
+inline constexpr Resource velocity{6};          // RG16F previous − current projected position in UV
+inline constexpr Resource shadowMap{7};         // D32F sun depth map (compare mode on)
+inline constexpr Resource direct{8};            // RGBA16F direct sun/punctual + emissive radiance
+inline constexpr Resource indirectDiffuse{9};   // RGBA16F outgoing indirect diffuse radiance (LPV, near-field)
+inline constexpr Resource specular{10};         // RGBA16F indirect specular radiance (LPV specular, SSR)
+inline constexpr Resource ao{11};               // R16F full resolution, final filtered AO (1 = unoccluded)
+inline constexpr Resource bentNormal{12};       // RGBA16F view-space bent normal (xyz) + AO (w), AO resolution
+inline constexpr Resource s3ho{13};             // RGBA16F SH visibility (bands 0-1), AO resolution
+inline constexpr Resource specularOcclusion{14};// R16F SSR confidence (1 = hit)
+inline constexpr Resource brdfLut{15};          // RG16F split-sum LUT (NdotV x roughness)
+inline constexpr Resource hdr{16};              // RGBA32F composed radiance
+inline constexpr Resource ldr{17};              // RGBA8 tonemapped, sRGB-encoded
+inline constexpr Resource history{18};          // RGBA16F previous frame's hdr
+inline constexpr Resource diffuseHistory{19};   // RGBA16F previous frame's diffuse-only radiance
+inline constexpr int count = 20;
+}  // namespace R
+
+// How the renderer allocates a shared resource and how --check reads it.
+struct ResourceDesc {
+    const char* name;  // label, results, --check, debug images, --print-frame
+    GLenum format;
+    Extent extent;
+    Check check;
+    GLenum filter;  // min/mag filter (GL_NEAREST unless a reader interpolates)
+};
+const ResourceDesc& resourceDesc(Resource r);
+
 struct GBuffer {
-    gl::Texture depth;       // D32F, rasterizer depth
-    gl::Texture linearDepth; // R32F, positive view-space distance along -z (0 = sky)
-    gl::Texture normal;      // RGBA16F, view-space unit normal (xyz), a = 1 for geometry
-    gl::Texture albedo;      // RGBA8, linear base colour
-    gl::Texture material;    // RGBA8, r roughness, g metallic
-    gl::Texture emissive;    // R11F_G11F_B10F, emitted radiance
-    gl::Texture velocity;    // RG16F, previous − current projected position in UV
+    gl::Texture depth, linearDepth, normal, albedo, material, emissive, velocity;
 };
 
 struct FrameResources {
     GBuffer gbuffer;
-
-    // shadow (sun)
-    gl::Texture shadowMap;     // D32F
+    gl::Texture shadowMap;
     glm::mat4 shadowViewProj{1.0f};
+    gl::Texture direct, indirectDiffuse, specular, ao, bentNormal, s3ho, specularOcclusion, brdfLut;
+    gl::Texture hdr, ldr, history, diffuseHistory;
+    // Constant input, not a frame product: made once on first use (render/noise.h).
+    gl::Texture blueNoise;  // RGBA8 64x64x8 2D array: 4 blue-noise channels, 8 per-frame variants
+    // Incremented whenever the renderer (re)allocates a shared texture: a
+    // pass that attaches shared textures to a framebuffer rebuilds it then.
+    unsigned allocationEpoch = 0;
 
-    // lighting
-    gl::Texture direct;           // RGBA16F, direct sun/punctual + emissive radiance
-    gl::Texture indirectDiffuse;  // RGBA16F, outgoing indirect diffuse radiance (LPV, near-field)
-    gl::Texture specular;         // RGBA16F, indirect specular radiance (LPV specular, SSR)
-    gl::Texture ao;               // R16F full resolution, final filtered AO (1 = unoccluded)
-    gl::Texture bentNormal;       // RGBA16F view-space bent normal (xyz) + AO (w), or empty
-    gl::Texture s3ho;             // RGBA16F SH visibility (band 0-1), or empty
-    gl::Texture specularOcclusion;// R16F SSR confidence (1 = hit), or empty
-    gl::Texture brdfLut;          // RG16F split-sum LUT (NdotV x roughness), made once by the brdf_lut pass
-    gl::Texture blueNoise;        // RGBA8 64x64x8 2D array: 4 blue-noise channels, 8 per-frame variants (render/noise.h)
-    // Frame index at which indirectDiffuse was last written by its producer
-    // (lpv.apply); ao.nearfield adds into it only when it is this frame's.
-    unsigned indirectDiffuseFrame = ~0u;
-
-    // output
-    gl::Texture hdr;       // RGBA16F composed radiance
-    gl::Texture ldr;       // RGBA8 tonemapped, sRGB-encoded
-    gl::Texture history;   // RGBA16F previous frame's hdr (only when a pass reads it)
-    gl::Texture diffuseHistory;  // RGBA16F previous frame's diffuse-only radiance (ssr.diffuse_history)
-    bool historyValid = false;
+    gl::Texture& operator[](Resource r);
+    const gl::Texture& operator[](Resource r) const;
 };
 
 }  // namespace rtgi

@@ -6,42 +6,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <set>
-#include <sstream>
 
 namespace rtgi {
 
 std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const FrameResources& r) {
-    const GBuffer& g = r.gbuffer;
-    return {
-        {"gbuffer.depth", &g.depth},       {"gbuffer.linearDepth", &g.linearDepth},
-        {"gbuffer.normal", &g.normal},     {"gbuffer.albedo", &g.albedo},
-        {"gbuffer.material", &g.material}, {"gbuffer.emissive", &g.emissive},
-        {"gbuffer.velocity", &g.velocity}, {"shadowMap", &r.shadowMap},
-        {"direct", &r.direct},             {"indirectDiffuse", &r.indirectDiffuse},
-        {"specular", &r.specular},         {"ao", &r.ao},
-        {"bentNormal", &r.bentNormal},     {"s3ho", &r.s3ho},
-        {"specularOcclusion", &r.specularOcclusion},
-        {"hdr", &r.hdr},                   {"ldr", &r.ldr},
-        {"history", &r.history},           {"diffuseHistory", &r.diffuseHistory},
-    };
-}
-
-const gl::Texture* findResource(const FrameResources& r, const std::string& n) {
-    for (auto& [name, tex] : namedResources(r))
-        if (n == name) return tex;
-    return nullptr;
-}
-
-std::vector<Pass::Output> Pass::checkedOutputs(const FrameResources& res) const {
-    std::vector<Output> out;
-    for (auto& w : writes()) {
-        const gl::Texture* t = findResource(res, w);
-        if (!t || !*t) continue;
-        if (w == "gbuffer.depth" || w == "shadowMap" || w == "ldr") continue;  // depth / unorm: cannot be non-finite
-        bool signedData = w == "gbuffer.normal" || w == "gbuffer.velocity" || w == "bentNormal" || w == "s3ho";
-        out.push_back({name() + ":" + w, t, signedData});
-    }
+    std::vector<std::pair<std::string, const gl::Texture*>> out;
+    for (int i = 0; i < R::count; ++i) out.push_back({resourceDesc({i}).name, &r[{i}]});
     return out;
 }
 
@@ -54,70 +24,73 @@ Renderer::Renderer(const Scene& scene, const Settings& settings, gl::Profiler& p
 Renderer::~Renderer() = default;
 
 Pass* Renderer::findPass(const std::string& name) const {
-    for (auto& p : passes_)
+    for (auto& p : passes())
         if (p->name() == name) return p.get();
     return nullptr;
+}
+
+int Renderer::indexOf(const Pass& pass) const {
+    for (std::size_t i = 0; i < passes().size(); ++i)
+        if (passes()[i].get() == &pass) return int(i);
+    throw std::logic_error("pass '" + pass.name() + "' is not in the frame");
+}
+
+std::vector<Renderer::Output> Renderer::checkedOutputs(const Pass& pass) const {
+    const PassDecl& d = plan_.decl(indexOf(pass));
+    std::vector<Output> out;
+    for (auto& u : d.uses())
+        if (u.access == PassDecl::Access::write || u.access == PassDecl::Access::accumulate) {
+            const ResourceDesc& desc = resourceDesc(u.resource);
+            if (desc.check != Check::none && res_[u.resource])
+                out.push_back({pass.name() + ":" + desc.name, &res_[u.resource], desc.check});
+        }
+    for (auto& o : d.outputs()) {
+        const gl::Texture* t = o.tex();
+        if (t && *t && o.check != Check::none) out.push_back({pass.name() + ":" + o.name, t, o.check});
+    }
+    return out;
+}
+
+std::vector<DebugImage> Renderer::debugImages(const Pass& pass) const {
+    std::vector<DebugImage> out;
+    for (auto& d : plan_.decl(indexOf(pass)).debugImages()) {
+        DebugImage img = d.make();
+        if (img.tex && *img.tex) out.push_back(img);
+    }
+    return out;
 }
 
 void Renderer::configure(const Settings& settings) {
     bool sceneChanged = !gpuScene_ || settings.light.emissiveScale != settings_.light.emissiveScale ||
                         settings.floorRoughness != settings_.floorRoughness;
     settings_ = settings;
-    passes_.clear();
-    skipped_.clear();
+    plan_ = FramePlan{};
     finite_.clear();  // --check counts belong to one configuration
-    res_ = FrameResources{};  // release everything; passes re-create what they need
+    res_ = FrameResources{};  // release everything; the new frame allocates what it writes
+    for (bool& b : writtenLastFrame_) b = false;
     if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_);
+    plan_ = FramePlan::build(frameScript(), frameFamilies(), scene_, settings_);
+}
 
-    std::set<std::string> forcedOff;
-    {
-        std::stringstream ss(settings_.post.passesOff);
-        std::string n;
-        while (std::getline(ss, n, ','))
-            if (!n.empty()) forcedOff.insert(n);
-    }
-    std::set<std::string> written, knownNames;
-    for (auto& pass : frameScript()) {
-        std::string n = pass->name();
-        knownNames.insert(n);
-        if (forcedOff.count(n)) {
-            skipped_.push_back({n, "forced off by passes.off"});
-            continue;
+// Every shared resource a pass of the frame writes, from its descriptor (by
+// handle, so two passes can never allocate one resource under two labels).
+void Renderer::allocateShared(const View& view) {
+    const glm::ivec2 s = view.size;
+    const glm::ivec2 aoSize = settings_.ao.halfResolution ? glm::max((s + 1) / 2, glm::ivec2(1)) : s;
+    for (int i = 0; i < R::count; ++i) {
+        const Resource r{i};
+        if (!plan_.written(r)) continue;
+        const ResourceDesc& d = resourceDesc(r);
+        glm::ivec2 size = d.extent == Extent::view     ? s
+                          : d.extent == Extent::ao     ? aoSize
+                          : d.extent == Extent::shadow ? glm::ivec2(settings_.light.shadowSize)
+                                                       : glm::ivec2(kBrdfLutSize);
+        if (res_[r].ensure(ledger_, d.name, {GL_TEXTURE_2D, d.format, size.x, size.y})) {
+            res_[r].setSampling(d.filter, d.filter);
+            ++res_.allocationEpoch;
+            writtenLastFrame_[i] = false;
         }
-        Need need = pass->needed(scene_, settings_);
-        if (!need.needed) {
-            skipped_.push_back({n, need.reason});
-            continue;
-        }
-        for (auto& r : pass->reads())
-            if (!written.count(r) && r != "history")
-                throw ConfigError("pass '" + n + "' reads '" + r +
-                                  "', which no earlier pass in this frame writes (is its producer forced off?)");
-        for (auto& w : pass->writes()) written.insert(w);
-        passes_.push_back(std::move(pass));
     }
-    for (auto& n : forcedOff)
-        if (!knownNames.count(n)) throw ConfigError("setting 'passes.off': there is no pass named '" + n + "'");
-
-    // A technique the user asked for explicitly must run, or say why not.
-    auto requireFamily = [&](bool requested, const std::string& family, const std::string& key) {
-        if (!requested) return;
-        for (auto& p : passes_)
-            if (p->name().rfind(family, 0) == 0) return;
-        std::string why;
-        for (auto& s : skipped_)
-            if (s.name.rfind(family, 0) == 0) {
-                why = s.reason;
-                break;
-            }
-        throw ConfigError("setting '" + key + "': requested, but " +
-                          (why.empty() ? std::string("this build has no such passes") : why));
-    };
-    requireFamily(settings_.lpv.mode == Toggle::On, "lpv.", "lpv");
-    requireFamily(settings_.ao.variant != AoSettings::Variant::Off, "ao.", "ao");
-    requireFamily(settings_.ssr.tracer != SsrSettings::Tracer::Auto && settings_.ssr.tracer != SsrSettings::Tracer::Off,
-                  "ssr.", "ssr");
-    requireFamily(settings_.reference.kind != ReferenceSettings::Kind::Off, "ref.", "reference");
 }
 
 void Renderer::uploadFrameUniforms(const View& v) {
@@ -148,21 +121,26 @@ void Renderer::uploadFrameUniforms(const View& v) {
 }
 
 void Renderer::render(const View& view) {
-    if (view.cut) res_.historyValid = false;
+    allocateShared(view);
+    for (int i = 0; i < R::count; ++i) previousValid_[i] = writtenLastFrame_[i] && !view.cut;
     uploadFrameUniforms(view);
-    FrameContext ctx{programs_, ledger_, profiler_, scene_, *gpuScene_, settings_, res_, view, frameUbo_.id()};
+    FrameContext ctx{programs_, ledger_, profiler_, scene_, *gpuScene_, settings_, res_, view, frameUbo_.id(),
+                     &plan_, 0, previousValid_};
     profiler_.beginFrame();
-    for (auto& pass : passes_) {
+    for (std::size_t i = 0; i < passes().size(); ++i) {
+        Pass& pass = *passes()[i];
+        ctx.passIndex = int(i);
         {
-            auto scope = profiler_.scope(pass->name().c_str());
+            auto scope = profiler_.scope(pass.name().c_str());
             // Every pass sets the state it relies on; the frame block is the
             // one binding all passes share.
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_FRAME, frameUbo_.id());
-            pass->execute(ctx);
+            pass.execute(ctx);
         }
-        if (check_) checkOutputs(*pass);
+        if (check_) checkOutputs(pass);
     }
     profiler_.endFrame();
+    for (int i = 0; i < R::count; ++i) writtenLastFrame_[i] = plan_.written({i});
 }
 
 FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const gl::Texture& t,
@@ -199,8 +177,8 @@ FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger,
 }
 
 void Renderer::checkOutputs(const Pass& pass) {
-    for (auto& out : pass.checkedOutputs(res_)) {
-        FiniteCount c = countNonFinite(programs_, ledger_, *out.tex, out.mayBeNegative);
+    for (auto& out : checkedOutputs(pass)) {
+        FiniteCount c = countNonFinite(programs_, ledger_, *out.tex, out.check == Check::signedValues);
         FiniteCount* fc = nullptr;
         for (auto& f : finite_)
             if (f.pass == pass.name() && f.resource == out.name) fc = &f;

@@ -6,6 +6,7 @@
 #include "gl/program.h"
 #include "gl/resources.h"
 #include "render/gpu_scene.h"
+#include "render/frame_plan.h"
 #include "render/pass.h"
 
 #include <memory>
@@ -14,13 +15,10 @@
 
 namespace rtgi {
 
-struct SkippedPass {
-    std::string name;
-    std::string reason;
-};
-
-// The frame script: every candidate pass in execution order (frame.cpp).
+// The frame script: every candidate pass in execution order, and the
+// families that decide whether their passes run (frame.cpp).
 std::vector<std::unique_ptr<Pass>> frameScript();
+std::vector<Family> frameFamilies();
 
 // Result of a finite check over one pass output (--check).
 struct FiniteCount {
@@ -37,9 +35,19 @@ public:
     void configure(const Settings& settings);
     void render(const View& view);
 
-    const std::vector<std::unique_ptr<Pass>>& passes() const { return passes_; }
-    const std::vector<SkippedPass>& skipped() const { return skipped_; }
+    const std::vector<std::unique_ptr<Pass>>& passes() const { return plan_.passes(); }
+    const std::vector<SkippedPass>& skipped() const { return plan_.skipped(); }
+    const FramePlan& plan() const { return plan_; }
     Pass* findPass(const std::string& name) const;
+    // From the pass's declaration: its shared writes and private outputs
+    // (--check), and its private debug images (made on request, outside the measured frame).
+    struct Output {
+        std::string name;  // "pass:resource"
+        const gl::Texture* tex;
+        Check check;
+    };
+    std::vector<Output> checkedOutputs(const Pass& pass) const;
+    std::vector<DebugImage> debugImages(const Pass& pass) const;
     FrameResources& resources() { return res_; }
     const Scene& scene() const { return scene_; }
     const Settings& settings() const { return settings_; }
@@ -54,7 +62,9 @@ public:
 
 private:
     void uploadFrameUniforms(const View& view);
+    void allocateShared(const View& view);
     void checkOutputs(const Pass& pass);
+    int indexOf(const Pass& pass) const;
 
     Scene scene_;
     Settings settings_;
@@ -64,8 +74,10 @@ private:
     std::unique_ptr<GpuScene> gpuScene_;
     gl::Buffer frameUbo_;
     FrameResources res_;
-    std::vector<std::unique_ptr<Pass>> passes_;
-    std::vector<SkippedPass> skipped_;
+    FramePlan plan_;
+    // Per shared resource: written in the previous frame / holds that value now.
+    bool writtenLastFrame_[R::count] = {};
+    bool previousValid_[R::count] = {};
     bool check_ = false;
     std::vector<FiniteCount> finite_;
 };
@@ -75,10 +87,7 @@ private:
 FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const gl::Texture& tex,
                            bool mayBeNegative);
 
-// Texture of FrameResources by the name used in Pass::reads()/writes()
-// (used only to validate the frame and by --check; nullptr when unknown).
-const gl::Texture* findResource(const FrameResources& res, const std::string& name);
-// Every shared texture of FrameResources with that name (the viewer's image list).
+// Every shared texture of FrameResources with its name (the viewer's image list).
 std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const FrameResources& res);
 
 }  // namespace rtgi

@@ -286,6 +286,11 @@ const char* toString(AoSettings::Variant v) { return kAoVariant[int(v)]; }
 const char* toString(SsrSettings::Tracer t) { return kSsrTracer[int(t)]; }
 const char* toString(RasterSettings::Path p) { return kRasterPath[int(p)]; }
 
+std::string settingDefault(const SettingKey& key) {
+    std::string v = key.show(Settings{});
+    return v.empty() ? "\"\"" : v;
+}
+
 const std::vector<SettingKey>& settingKeys() {
     static const std::vector<SettingKey> keys = buildKeys();
     return keys;

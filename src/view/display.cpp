@@ -47,7 +47,7 @@ std::vector<DisplayImage> displayImages(Renderer& r) {
     for (auto& [name, tex] : namedResources(res))
         if (name != "ldr" && displayable(tex)) out.push_back(mapResource(name, tex, exposure));
     for (auto& p : r.passes())
-        for (auto& d : p->debugImages())
+        for (auto& d : r.debugImages(*p))
             if (displayable(d.tex)) {
                 // Debug images are written to PNG as value x scale without sRGB (run.cpp): show them the same way.
                 bool single = d.tex->format() == GL_R8 || d.tex->format() == GL_R16F || d.tex->format() == GL_R32F;

@@ -1,6 +1,6 @@
 #pragma once
 // What rtgi-view can show: the final image, every 2D texture of
-// FrameResources and every pass's debugImages(), each with the mapping that
+// FrameResources and every debug image the passes declare, each with the mapping that
 // makes it visible (present.frag modes, compute/lib/view_shared.h).
 #include "gl/handles.h"
 #include "gl/image_io.h"

@@ -115,8 +115,10 @@ inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 si
 
 // LPV on at a size llvmpipe runs in well under a second (8^3, 4 iterations,
 // RSM 64^2, shadow map 256^2).
+// LPV alone (AO, and with it the bent-normal lookup, off: the LPV tests test the volume).
 inline Settings smallLpvSettings() {
     Settings s;
+    s.ao.variant = AoSettings::Variant::Off;
     s.lpv.mode = Toggle::On;
     s.lpv.grid = glm::ivec3(8);
     s.lpv.iterations = 4;

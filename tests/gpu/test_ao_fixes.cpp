@@ -135,11 +135,11 @@ TEST_CASE("ao.nearfield adds to the LPV's indirect light on builtin:cornell, nev
         if (nearfield > 0) {
             const Pass* p = r->findPass("ao.nearfield");
             REQUIRE(p != nullptr);
-            for (auto& o : p->checkedOutputs(r->resources()))
-                if (o.name == "ao.nearfield") nf = readTexture(*o.tex);
-            // One label for the shared texture: Texture::ensure compares labels,
-            // so "indirect_diffuse" here and "indirectDiffuse" in lpv.apply
-            // reallocated it twice a frame.
+            for (auto& o : r->checkedOutputs(*p))
+                if (o.name == "ao.nearfield:ao.nearfield") nf = readTexture(*o.tex);
+            // One label for the shared texture: the renderer allocates it from its
+            // descriptor (it was "indirect_diffuse" here and "indirectDiffuse" in
+            // lpv.apply, and Texture::ensure compared labels: two reallocations a frame).
             CHECK(r->resources().indirectDiffuse.label() == "indirectDiffuse");
         }
         return readTexture(r->resources().indirectDiffuse);

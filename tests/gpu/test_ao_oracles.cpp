@@ -293,8 +293,8 @@ struct Oracle {
 const gl::Texture* passOutput(Renderer& r, const std::string& pass, const std::string& name) {
     const Pass* p = r.findPass(pass);
     REQUIRE(p != nullptr);
-    for (auto& o : p->checkedOutputs(r.resources()))
-        if (o.name == name) return o.tex;
+    for (auto& o : r.checkedOutputs(*p))
+        if (o.name == pass + ":" + name) return o.tex;
     FAIL("no output " << name << " of " << pass);
     return nullptr;
 }

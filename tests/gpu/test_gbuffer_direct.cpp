@@ -117,14 +117,15 @@ TEST_CASE("a scene without a directional light skips the shadow pass and allocat
         }
     CHECK(skippedShadow);
     CHECK(r->findPass("shadow") == nullptr);
-    CHECK(r->ledger().entries().count("shadow.map") == 0);
+    // Shared textures are labelled with their resource name (render/frame_resources.cpp).
+    CHECK(r->ledger().entries().count("shadowMap") == 0);
     CHECK_FALSE(bool(r->resources().shadowMap));
     // With a sun the pass runs and its map is accounted for.
     Scene lit = floorScene(5, glm::vec3(0.5f), true);
     auto r2 = renderFrames(lit, st, {16, 16}, prof);
     CHECK(r2->findPass("shadow") != nullptr);
-    CHECK(r2->ledger().entries().count("shadow.map") == 1);
-    CHECK(r2->ledger().entries().at("shadow.map") == std::int64_t(st.light.shadowSize) * st.light.shadowSize * 4);
+    CHECK(r2->ledger().entries().count("shadowMap") == 1);
+    CHECK(r2->ledger().entries().at("shadowMap") == std::int64_t(st.light.shadowSize) * st.light.shadowSize * 4);
 }
 
 TEST_CASE("a shadow caster darkens the floor beneath it and nothing else") {

@@ -25,7 +25,7 @@ std::vector<float> accumulated(const Renderer& r) {
     std::vector<float> out;
     Pass* p = r.findPass("lpv.propagate");
     REQUIRE(p != nullptr);
-    for (auto& o : p->checkedOutputs(const_cast<Renderer&>(r).resources()))
+    for (auto& o : r.checkedOutputs(*p))
         for (int z = 0; z < o.tex->depth(); ++z) {
             FloatImage img = readTexture(*o.tex, z);
             out.insert(out.end(), img.data.begin(), img.data.end());

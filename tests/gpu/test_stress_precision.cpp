@@ -84,7 +84,7 @@ TEST_CASE("precision: near-field light in R11G11B10F against the same value in R
     auto r = frames(s, st, {32, 24}, prof, 3);
     const Pass* nf = r->findPass("ao.nearfield");
     REQUIRE(nf);
-    FloatImage packed = readTexture(*nf->debugImages().at(0).tex);
+    FloatImage packed = readTexture(*r->debugImages(*nf).at(0).tex);
     FloatImage half = readTexture(r->resources().indirectDiffuse);
     double worst = 0, sum = 0;
     int n = 0;

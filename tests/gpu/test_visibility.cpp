@@ -512,7 +512,7 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     FloatImage ia = readTexture(a->resources().ldr);
     std::vector<FloatImage> rsmA;
     if (Pass* rp = a->findPass("lpv.rsm"))
-        for (auto& d : rp->debugImages()) rsmA.push_back(readTexture(*d.tex));
+        for (auto& d : a->debugImages(*rp)) rsmA.push_back(readTexture(*d.tex));
     FloatImage sa, sb;
     bool shadow = bool(a->resources().shadowMap);
     if (shadow) sa = readTexture(a->resources().shadowMap);
@@ -524,7 +524,7 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     FloatImage ib = readTexture(b->resources().ldr);
     if (Pass* rp = b->findPass("lpv.rsm")) {
         // RSM flux and normal texels of the two paths (same ids: identical values).
-        auto dbg = rp->debugImages();
+        auto dbg = b->debugImages(*rp);
         for (std::size_t k = 0; k < dbg.size(); ++k) {
             FloatImage r = readTexture(*dbg[k].tex);
             std::size_t diff = 0;

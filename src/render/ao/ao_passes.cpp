@@ -21,7 +21,6 @@ namespace {
 
 using Variant = AoSettings::Variant;
 
-bool aoOn(const Settings& s) { return s.ao.variant != Variant::Off; }
 bool dynamicRadius(const AoSettings& a) { return int(a.radiusMode) >= int(AoSettings::RadiusMode::Dynamic1); }
 const FilterFormat kAoFormat{GL_R16F, "r16f"};
 
@@ -119,12 +118,11 @@ class DownsamplePass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
     std::string name() const override { return "ao.downsample"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (!s.ao.halfResolution) return Need::no("ao.resolution=full");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ao.halfResolution) return d.skip("ao.resolution=full");
+        d.read(R::linearDepth).read(R::normal);
+        d.output("ao.half.depth", &chain_->halfDepth).output("ao.half.normal", &chain_->halfNormal, Check::signedValues);
     }
-    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         glm::ivec2 a = c.aoSize(ctx);
@@ -139,9 +137,6 @@ public:
         glBindImageTexture(RTGI_AO_IMG_HALF_NORMAL, c.halfNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, a.x, a.y);
     }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ao.half.depth", &chain_->halfDepth}, {"ao.half.normal", &chain_->halfNormal, true}};
-    }
 };
 
 // ---- ao.radius (dynamic radius probe) ------------------------------------------
@@ -149,10 +144,10 @@ class RadiusPass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
     std::string name() const override { return "ao.radius"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (!dynamicRadius(s.ao)) return Need::no("ao.radius_mode is not dynamic1..dynamic6");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!dynamicRadius(s.ao)) return d.skip("ao.radius_mode is not dynamic1..dynamic6");
+        d.read(R::linearDepth).read(R::normal);
+        d.output("ao.radius.scale", &chain_->radiusScale).debugImage("ao.radius.scale", &chain_->radiusColor);
     }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
@@ -170,12 +165,6 @@ public:
         glBindImageTexture(RTGI_AO_IMG_SCALE_COLOR, c.radiusColor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
         gl::dispatch(prog, a.x, a.y);
     }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"ao.radius.scale", &chain_->radiusColor, 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ao.radius.scale", &chain_->radiusScale}};
-    }
 };
 
 // ---- ao.<variant> -------------------------------------------------------------
@@ -183,35 +172,26 @@ class EstimatePass final : public AoPassBase {
 public:
     EstimatePass(std::shared_ptr<AoChain> c, Variant v) : AoPassBase(std::move(c)), variant_(v) {}
     std::string name() const override { return std::string("ao.") + toString(variant_); }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (s.ao.variant != variant_) return Need::no(std::string("ao=") + toString(s.ao.variant));
-        if (s.ao.depthSource == AoSettings::DepthSource::Light) {
-            if (variant_ == Variant::Vo || variant_ == Variant::Hbao || variant_ == Variant::Gtao)
-                throw ConfigError("ao.depth_source=light needs a point-sampling variant (ssao-disk, ssao-sphere, "
-                                  "ssao-hemisphere); " + std::string(toString(variant_)) + " marches the camera depth");
-            if (!resolveSun(scene, s))
-                throw ConfigError("ao.depth_source=light needs a directional light (its shadow map)");
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (s.ao.variant != variant_) return d.skip(std::string("ao=") + toString(s.ao.variant));
+        d.read(R::linearDepth).read(R::normal).read(R::albedo);
+        if (s.ao.depthSource == AoSettings::DepthSource::Light) d.read(R::shadowMap);
+        if (s.ao.directional == AoSettings::Directional::BentNormals) d.write(R::bentNormal);
+        if (s.ao.directional == AoSettings::Directional::S3ho) d.write(R::s3ho);
+        if (lastStage(s.ao) == Stage::Estimate) {
+            d.write(R::ao);
+        } else {
+            d.output("ao.raw", &chain_->raw).debugImage("ao.raw", &chain_->raw);
         }
-        return Need::yes();
     }
-    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         const AoSettings& s = ctx.settings.ao;
         glm::ivec2 a = c.aoSize(ctx);
         gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
-        out.ensure(ctx.ledger, &out == &ctx.res.ao ? "ao" : "ao.raw", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
+        if (&out == &c.raw) out.ensure(ctx.ledger, "ao.raw", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
         int directional = int(s.directional);
-        gl::Texture* dirTex = nullptr;
-        if (directional == 1) {
-            dirTex = &ctx.res.bentNormal;
-            dirTex->ensure(ctx.ledger, "ao.bent_normal", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y});
-        } else if (directional == 2) {
-            dirTex = &ctx.res.s3ho;
-            dirTex->ensure(ctx.ledger, "ao.s3ho", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y});
-        }
-        if (dirTex) dirTex->setSampling(GL_LINEAR, GL_LINEAR);
+        gl::Texture* dirTex = directional == 1 ? &ctx.res.bentNormal : directional == 2 ? &ctx.res.s3ho : nullptr;
         bool light = s.depthSource == AoSettings::DepthSource::Light;
         int radius = s.radiusMode == AoSettings::RadiusMode::Fixed ? 0
                      : s.radiusMode == AoSettings::RadiusMode::Dual ? 1
@@ -245,27 +225,10 @@ public:
             if (light) glBindSampler(RTGI_AO_TEX_SHADOW_MAP, 0);  // the unit's next user samples with its texture's state
         }
         c.current = &out;
-        written_ = &out;
-        lastDirectional_ = dirTex;
-    }
-    std::vector<DebugImage> debugImages() const override {
-        std::vector<DebugImage> d;
-        if (chain_->current) d.push_back({"ao.raw", chain_->raw ? &chain_->raw : chain_->current, 1.0f});
-        if (lastDirectional_) d.push_back({lastDirectional_->label(), lastDirectional_, 1.0f});
-        return d;
-    }
-    // The texture written this frame: ao.raw, or res.ao when the estimate is the last stage.
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o;
-        if (written_ && *written_) o.push_back({written_->label(), written_});
-        if (lastDirectional_) o.push_back({lastDirectional_->label(), lastDirectional_, true});
-        return o;
     }
 
 private:
     Variant variant_;
-    const gl::Texture* written_ = nullptr;
-    const gl::Texture* lastDirectional_ = nullptr;
 };
 
 // ---- ao.blur / ao.blur2 -------------------------------------------------------
@@ -276,12 +239,19 @@ class BlurPass final : public AoPassBase {
 public:
     BlurPass(std::shared_ptr<AoChain> c, bool second) : AoPassBase(std::move(c)), second_(second) {}
     std::string name() const override { return second_ ? "ao.blur2" : "ao.blur"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (!s.ao.blur) return Need::no("ao.blur=off");
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ao.blur) return d.skip("ao.blur=off");
         if (second_ && !secondBlur(s.ao))
-            return Need::no(s.ao.temporal ? "ao.filter_chain=blur-temporal" : "ao.temporal=off");
-        return Need::yes();
+            return d.skip(s.ao.temporal ? "ao.filter_chain=blur-temporal" : "ao.temporal=off");
+        d.read(R::linearDepth).read(R::normal);
+        d.output(name() + ".tmp", &chain_->blurTmp);
+        const gl::Texture& own = second_ ? chain_->blurred2 : chain_->blurred;
+        if (lastStage(s.ao) == (second_ ? Stage::Blur2 : Stage::Blur)) {
+            d.write(R::ao);
+        } else {
+            d.output(second_ ? "ao.blurred2" : "ao.blurred", &own);
+            d.debugImage(second_ ? "ao.blurred2" : "ao.blurred", &own);
+        }
     }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
@@ -290,24 +260,10 @@ public:
         separableBlur(ctx.programs, ctx.ledger, &out == &ctx.res.ao ? "ao" : name(), kAoFormat, *c.current,
                       c.depth(ctx), c.normal(ctx), c.blurTmp, out);
         c.current = &out;
-        written_ = &out;
-    }
-    std::vector<DebugImage> debugImages() const override {
-        const gl::Texture& t = second_ ? chain_->blurred2 : chain_->blurred;
-        return t ? std::vector<DebugImage>{{second_ ? "ao.blurred2" : "ao.blurred", &t, 1.0f}}
-                 : std::vector<DebugImage>{};
-    }
-    // The horizontal pass's target and the texture written this frame (res.ao when last).
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o;
-        if (chain_->blurTmp) o.push_back({name() + ":tmp", &chain_->blurTmp});
-        if (written_ && *written_) o.push_back({name() + ":" + written_->label(), written_});
-        return o;
     }
 
 private:
     bool second_;
-    const gl::Texture* written_ = nullptr;
 };
 
 // ---- ao.temporal --------------------------------------------------------------
@@ -315,12 +271,15 @@ class TemporalPass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
     std::string name() const override { return "ao.temporal"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (!s.ao.temporal) return Need::no("ao.temporal=off");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ao.temporal) return d.skip("ao.temporal=off");
+        d.read(R::linearDepth).read(R::velocity);
+        auto filtered = [c = chain_] { return &c->temporal.output(); };
+        d.output("ao.temporal", filtered).debugImage("ao.temporal", [filtered] {
+            return DebugImage{"ao.temporal", filtered(), 1.0f};
+        });
+        if (lastStage(s.ao) == Stage::Temporal) d.write(R::ao);
     }
-    std::vector<std::string> reads() const override { return {"gbuffer.velocity"}; }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         const gl::Texture& filtered = c.temporal.run(ctx.programs, ctx.ledger, "ao.temporal", kAoFormat, *c.current,
@@ -328,19 +287,12 @@ public:
         c.current = &filtered;
         if (lastStage(ctx.settings.ao) == Stage::Temporal) {
             // The history must survive the next frame's passes, so res.ao gets a copy.
-            ctx.res.ao.ensure(ctx.ledger, "ao", {GL_TEXTURE_2D, GL_R16F, filtered.width(), filtered.height()});
             // Producer: the temporal dispatch above (image stores).
             glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
             glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, ctx.res.ao.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
                                filtered.width(), filtered.height(), 1);
             c.current = &ctx.res.ao;
         }
-    }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"ao.temporal", &chain_->temporal.output(), 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ao.temporal", &chain_->temporal.output()}};
     }
 };
 
@@ -349,12 +301,10 @@ class UpsamplePass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
     std::string name() const override { return "ao.upsample"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (!s.ao.halfResolution) return Need::no("ao.resolution=full");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ao.halfResolution) return d.skip("ao.resolution=full");
+        d.read(R::linearDepth).write(R::ao);
     }
-    std::vector<std::string> writes() const override { return {"ao"}; }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         upsample(ctx.programs, ctx.ledger, "ao", kAoFormat, *c.current, c.halfDepth, ctx.res.gbuffer.linearDepth,
@@ -368,28 +318,24 @@ class NearFieldPass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
     std::string name() const override { return "ao.nearfield"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!aoOn(s)) return Need::no("ao=off");
-        if (!(s.ao.nearfield > 0.0f)) return Need::no("ao.nearfield=0");
-        return Need::yes();
+    // Accumulates: adds to lpv.apply's indirect light when LPV runs, else is its first writer.
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!(s.ao.nearfield > 0.0f)) return d.skip("ao.nearfield=0");
+        d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material).read(R::velocity);
+        d.readPrevious(R::history).accumulate(R::indirectDiffuse);
+        d.output("ao.nearfield", &chain_->nearField).debugImage("ao.nearfield", &chain_->nearField);
     }
-    std::vector<std::string> reads() const override {
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.velocity"};
-    }
-    std::vector<std::string> writes() const override { return {"indirectDiffuse"}; }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         FrameResources& r = ctx.res;
         const glm::ivec2 s = ctx.view.size;
         c.nearField.ensure(ctx.ledger, "ao.nearfield", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
-        // Add into the indirect term only when its producer (lpv.apply) wrote it this frame.
-        bool accumulate = bool(r.indirectDiffuse) && r.indirectDiffuseFrame == ctx.view.frame;
-        r.indirectDiffuse.ensure(ctx.ledger, "indirectDiffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        r.indirectDiffuseFrame = ctx.view.frame;
+        // The frame decides: add when an earlier pass (lpv.apply) wrote the indirect term.
+        bool accumulate = ctx.accumulates(R::indirectDiffuse);
         const gl::Program& prog = ctx.programs.compute("ao/nearfield.comp");
         c.bindParams(ctx);
         const gl::Texture& noise = ensureBlueNoise(r, ctx.ledger);
-        bool history = bool(r.history) && r.historyValid;
+        bool history = ctx.hasPrevious(R::history);
         prog.set(RTGI_AO_LOC_ACCUMULATE, accumulate ? 1 : 0);
         prog.set(RTGI_AO_LOC_HISTORY_VALID, history ? 1 : 0);
         // Producers: gbuffer, post.history (last frame), lpv.apply (image stores).
@@ -405,10 +351,6 @@ public:
             .image(RTGI_AO_IMG_NEAR_FIELD, c.nearField, GL_WRITE_ONLY, GL_R11F_G11F_B10F)
             .image(RTGI_AO_IMG_INDIRECT, r.indirectDiffuse, GL_READ_WRITE, GL_RGBA16F);
         gl::dispatch(prog, s.x, s.y);
-    }
-    std::vector<DebugImage> debugImages() const override { return {{"ao.nearfield", &chain_->nearField, 1.0f}}; }
-    std::vector<Output> checkedOutputs(const FrameResources& r) const override {
-        return {{"ao.nearfield", &chain_->nearField}, {"indirectDiffuse", &r.indirectDiffuse}};
     }
 };
 
@@ -430,6 +372,24 @@ void appendAoPasses(std::vector<std::unique_ptr<Pass>>& f) {
 void appendNearFieldPasses(std::vector<std::unique_ptr<Pass>>& f) {
     // Its own chain: it needs only the AoParams block and its output image.
     f.push_back(std::make_unique<NearFieldPass>(std::make_shared<AoChain>()));
+}
+
+}  // namespace rtgi
+
+namespace rtgi {
+
+Need aoFamily(const Scene&, const Settings& s) {
+    if (s.ao.variant == Variant::Off) return Need::no("ao=off");
+    return Need::yes();
+}
+
+void validateAoSettings(const Scene& scene, const Settings& s) {
+    if (s.ao.depthSource != AoSettings::DepthSource::Light) return;
+    Variant v = s.ao.variant;
+    if (v == Variant::Vo || v == Variant::Hbao || v == Variant::Gtao)
+        throw ConfigError("ao.depth_source=light needs a point-sampling variant (ssao-disk, ssao-sphere, "
+                          "ssao-hemisphere); " + std::string(toString(v)) + " marches the camera depth");
+    if (!resolveSun(scene, s)) throw ConfigError("ao.depth_source=light needs a directional light (its shadow map)");
 }
 
 }  // namespace rtgi

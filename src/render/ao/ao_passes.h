@@ -8,6 +8,10 @@
 namespace rtgi {
 // ao.<variant>, ao.blur, ao.temporal, ao.upsample, ... (before LPV apply).
 void appendAoPasses(std::vector<std::unique_ptr<Pass>>& frame);
-// ao.nearfield (after LPV apply: adds into res.indirectDiffuse).
+// ao.nearfield (after LPV apply: accumulates into R::indirectDiffuse).
 void appendNearFieldPasses(std::vector<std::unique_ptr<Pass>>& frame);
+// Whether the ao.* passes run (ao != off).
+Need aoFamily(const Scene& scene, const Settings& settings);
+// ConfigError for AO settings that cannot work together (ao.depth_source=light).
+void validateAoSettings(const Scene& scene, const Settings& settings);
 }  // namespace rtgi

@@ -31,28 +31,23 @@ struct LpvState {
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
-    // Debug slices (made in debugImages(), outside the measured frame).
+    // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
 };
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
 
-// --check entries of one R, G, B volume triple (SH coefficients: signed).
-void addRgb(std::vector<Pass::Output>& o, const std::string& pass, const lpv::Rgb& v) {
-    for (const gl::Texture& t : v)
-        if (t) o.push_back({pass + ":" + t.label(), &t, true});
+// --check entries of one R, G, B volume triple (SH coefficients: signed);
+// `volume` picks the triple when the frame runs (it may alternate).
+void outputRgb(PassDecl& d, const std::string& name, std::function<const lpv::Rgb*()> volume) {
+    for (std::size_t c = 0; c < 3; ++c)
+        d.output(name + "." + "rgb"[c], [volume, c] { return &(*volume())[c]; }, Check::signedValues);
 }
 
 class LpvPass : public Pass {
 public:
     explicit LpvPass(std::shared_ptr<LpvState> st) : st_(std::move(st)) {}
-    Need needed(const Scene& scene, const Settings& s) const override {
-        if (s.lpv.mode == Toggle::Off) return Need::no("lpv=off");
-        if (!lpvActive(scene, s)) return Need::no("the scene has no directional light (no RSM, no LPV)");
-        return neededToo(scene, s);
-    }
-    virtual Need neededToo(const Scene&, const Settings&) const { return Need::yes(); }
 
 protected:
     std::shared_ptr<LpvState> st_;
@@ -125,12 +120,12 @@ public:
         prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
         rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"lpv.rsm.flux", &st_->rsm.flux}, {"lpv.rsm.normal", &st_->rsm.normal, true}};
-    }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)},
-                {"lpv.rsm.normal", &st_->rsm.normal, 1.0f}};
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        d.output("lpv.rsm.flux", &st_->rsm.flux).output("lpv.rsm.normal", &st_->rsm.normal, Check::signedValues);
+        d.debugImage("lpv.rsm.flux", [this] {
+            return DebugImage{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)};
+        });
+        d.debugImage("lpv.rsm.normal", &st_->rsm.normal);
     }
 
 private:
@@ -154,7 +149,6 @@ public:
         st.volumes.ensureLight(ctx.ledger, st.placement.grid,
                                ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
-        path_ = ls.path;
         if (ls.path == LpvSettings::Path::Raster) {
             lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes);
         } else {
@@ -170,19 +164,15 @@ public:
         return {{"dropped_texels", double(dropped)}};
     }
     // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o;
-        if (path_ == LpvSettings::Path::Raster) {
-            addRgb(o, name(), st_->volumes.step[0]);
-            addRgb(o, name(), st_->volumes.accum);
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        lpv::Volumes* v = &st_->volumes;
+        if (s.lpv.path == LpvSettings::Path::Raster) {
+            outputRgb(d, "lpv.step0", [v] { return &v->step[0]; });
+            outputRgb(d, "lpv.accum", [v] { return &v->accum; });
         } else {
-            addRgb(o, name(), st_->volumes.inject);
+            outputRgb(d, "lpv.inject", [v] { return &v->inject; });
         }
-        return o;
     }
-
-private:
-    LpvSettings::Path path_ = LpvSettings::Path::Compute;
 };
 
 // lpv.pack: fp32 accumulation -> propagation format (compute path only).
@@ -190,18 +180,14 @@ class PackPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.pack"; }
-    Need neededToo(const Scene&, const Settings& s) const override {
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (s.lpv.path == LpvSettings::Path::Raster)
-            return Need::no("lpv.path=raster injects straight into the propagation format");
-        return Need::yes();
+            return d.skip("lpv.path=raster injects straight into the propagation format");
+        // pack writes step 0 only; accum is first written by lpv.propagate.
+        lpv::Volumes* v = &st_->volumes;
+        outputRgb(d, "lpv.step0", [v] { return &v->step[0]; });
     }
     void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o;
-        // pack writes step 0 only; accum is first written by lpv.propagate.
-        addRgb(o, name(), st_->volumes.step[0]);
-        return o;
-    }
 };
 
 // lpv.inject_geometry: blocking potential from the RSM and the G-buffer.
@@ -209,12 +195,12 @@ class GeometryPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.inject_geometry"; }
-    Need neededToo(const Scene&, const Settings& s) const override {
-        if (!geometryNeeded(s)) return Need::no("lpv.occlusion and lpv.bounce are off");
-        return Need::yes();
-    }
-    std::vector<std::string> reads() const override {
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!geometryNeeded(s)) return d.skip("lpv.occlusion and lpv.bounce are off");
+        d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
+        d.output("lpv.geometry", &st_->volumes.geometry, Check::signedValues);
+        d.output("lpv.geometry_albedo", &st_->volumes.geometryAlbedo);
+        d.debugImage("lpv.geometry.slice", [this] { return geometrySlice(); });
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
@@ -223,9 +209,9 @@ public:
         lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
         lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, ctx.settings.lpv.rsm, gb, st.volumes);
     }
-    std::vector<DebugImage> debugImages() const override {
+    DebugImage geometrySlice() const {
         const lpv::Volumes& v = st_->volumes;
-        if (!v.geometry || !st_->programs) return {};
+        if (!v.geometry || !st_->programs) return {"lpv.geometry.slice", nullptr};
         glm::ivec3 d = v.grid + 1;
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp", {{"RTGI_LPV_SLICE_GEOMETRY", ""}});
@@ -235,12 +221,7 @@ public:
         glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->geometrySlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         prog.set(RTGI_LPV_LOC_Z, d.z / 2);
         gl::dispatch(prog, d.x, d.y);
-        return {{"lpv.geometry.slice", &st_->geometrySlice, 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        if (!st_->volumes.geometry) return {};
-        return {{name() + ":lpv.geometry", &st_->volumes.geometry, true},
-                {name() + ":lpv.geometry_albedo", &st_->volumes.geometryAlbedo}};
+        return {"lpv.geometry.slice", &st_->geometrySlice, 1.0f};
     }
 };
 
@@ -258,9 +239,15 @@ public:
             st.lastStep = lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
         st.result = &st.volumes.accum;
     }
-    std::vector<DebugImage> debugImages() const override {
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        LpvState* st = st_.get();
+        outputRgb(d, "lpv.accum", [st] { return &st->volumes.accum; });
+        outputRgb(d, "lpv.last_step", [st] { return &st->volumes.step[std::size_t(st->lastStep)]; });
+        d.debugImage("lpv.volume.slice", [this] { return lightSlice(); });
+    }
+    DebugImage lightSlice() const {
         const lpv::Volumes& v = st_->volumes;
-        if (!st_->result || !st_->programs) return {};
+        if (!st_->result || !st_->programs) return {"lpv.volume.slice", nullptr};
         st_->lightSlice.ensure(*st_->ledger, "lpv.debug.light_slice", {GL_TEXTURE_2D, GL_RGBA32F, v.grid.x, v.grid.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
@@ -273,13 +260,7 @@ public:
         float m = 0;
         for (std::size_t i = 0; i < img.data.size(); i += 4)
             m = std::max({m, img.data[i], img.data[i + 1], img.data[i + 2]});
-        return {{"lpv.volume.slice", &st_->lightSlice, m > 0 ? 1.0f / m : 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o;
-        addRgb(o, name(), st_->volumes.accum);
-        addRgb(o, name(), st_->volumes.step[std::size_t(st_->lastStep)]);
-        return o;
+        return {"lpv.volume.slice", &st_->lightSlice, m > 0 ? 1.0f / m : 1.0f};
     }
 };
 
@@ -288,9 +269,10 @@ class TemporalPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.temporal"; }
-    Need neededToo(const Scene&, const Settings& s) const override {
-        if (s.lpv.temporal <= 0.0f) return Need::no("lpv.temporal = 0");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
+        LpvState* st = st_.get();
+        outputRgb(d, "lpv.history", [st] { return &st->volumes.history[std::size_t(st->historyTarget)]; });
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
@@ -299,11 +281,6 @@ public:
         lpv::temporalBlend(ctx.programs, st.ubo, st.volumes, st.historyTarget);
         st.result = &st.volumes.history[std::size_t(st.historyTarget)];
     }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o;
-        addRgb(o, name(), st_->volumes.history[std::size_t(st_->historyTarget)]);
-        return o;
-    }
 };
 
 // lpv.apply: indirect diffuse (+ specular) radiance from the volume.
@@ -311,27 +288,26 @@ class ApplyPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.apply"; }
-    std::vector<std::string> reads() const override {
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
+        d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
+        d.readIfWritten(R::bentNormal).readIfWritten(R::s3ho);  // directional occlusion of the lookup
+        d.write(R::indirectDiffuse);
+        if (lpvSpecularActive(scene, s)) d.read(R::brdfLut).write(R::specular);
     }
-    std::vector<std::string> writes() const override { return {"indirectDiffuse", "specular"}; }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         FrameResources& r = ctx.res;
         const glm::ivec2 s = ctx.view.size;
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
-        r.indirectDiffuse.ensure(ctx.ledger, "indirectDiffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        if (specular) r.specular.ensure(ctx.ledger, "specular", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         lpv::ApplyInputs in;
         in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
         in.volume = st.result;
-        in.brdfLut = r.brdfLut ? &r.brdfLut : nullptr;
-        in.s3ho = r.s3ho ? &r.s3ho : nullptr;
-        in.bentNormal = r.bentNormal ? &r.bentNormal : nullptr;
+        in.brdfLut = specular ? &r.brdfLut : nullptr;
+        in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
+        in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
         in.indirect = &r.indirectDiffuse;
         in.specular = specular ? &r.specular : nullptr;
         lpv::applyCompute(ctx.programs, st.ubo, in);
-        r.indirectDiffuseFrame = ctx.view.frame;  // written this frame: ao.nearfield adds into it
     }
 };
 
@@ -346,6 +322,12 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
     f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
     f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
     f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
+}
+
+Need lpvFamily(const Scene& scene, const Settings& s) {
+    if (s.lpv.mode == Toggle::Off) return Need::no("lpv=off");
+    if (!lpvActive(scene, s)) return Need::no("the scene has no directional light (no RSM, no LPV)");
+    return Need::yes();
 }
 
 bool lpvActive(const Scene& scene, const Settings& s) {

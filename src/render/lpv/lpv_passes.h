@@ -8,6 +8,8 @@
 namespace rtgi {
 // Appends lpv.rsm, lpv.inject, lpv.inject_geometry, lpv.propagate, lpv.apply, ...
 void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& frame);
+// Whether the lpv.* passes run (lpv=off, or no sun for the RSM: no).
+Need lpvFamily(const Scene& scene, const Settings& settings);
 // Whether LPV runs for this scene + settings (auto: when the scene has a sun).
 bool lpvActive(const Scene& scene, const Settings& settings);
 // Whether LPV specular runs (auto: when a material is at most ssr.roughness_cutoff rough).

@@ -10,15 +10,15 @@ namespace {
 class ComposePass final : public Pass {
 public:
     std::string name() const override { return "post.compose"; }
-    Need needed(const Scene&, const Settings&) const override { return Need::yes(); }
-    std::vector<std::string> reads() const override { return {"direct", "gbuffer.albedo", "gbuffer.material"}; }
-    std::vector<std::string> writes() const override { return {"hdr", "ldr"}; }
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        d.read(R::direct).read(R::albedo).read(R::material);
+        d.readIfWritten(R::indirectDiffuse).readIfWritten(R::specular).readIfWritten(R::ao);
+        d.readIfWritten(R::bentNormal).readIfWritten(R::s3ho);
+        d.write(R::hdr).write(R::ldr);
+    }
 
     void execute(FrameContext& ctx) override {
-        const glm::ivec2 s = ctx.view.size;
         FrameResources& r = ctx.res;
-        r.hdr.ensure(ctx.ledger, "post.hdr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        r.ldr.ensure(ctx.ledger, "post.ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
         dispatchCompose(ctx, r.direct, r.hdr, &r.ldr, false);
     }
 };
@@ -32,19 +32,19 @@ void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Tex
         "post/compose.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
     // Producers: direct, ao.*, lpv.apply, ssr.* (all image stores).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    bool specular = bool(r.specular) && !diffuseOnly;
+    bool specular = ctx.has(R::specular) && !diffuseOnly;
+    bool indirect = ctx.has(R::indirectDiffuse), ao = ctx.has(R::ao);
     gl::ScopedBindings b;
     b.texture(RTGI_POST_TEX_DIRECT, direct)
         .texture(RTGI_POST_COMPOSE_TEX_ALBEDO, r.gbuffer.albedo)
         .texture(RTGI_POST_COMPOSE_TEX_MATERIAL, r.gbuffer.material)
-        .texture(RTGI_POST_TEX_INDIRECT, r.indirectDiffuse ? &r.indirectDiffuse : nullptr)
+        .texture(RTGI_POST_TEX_INDIRECT, indirect ? &r.indirectDiffuse : nullptr)
         .texture(RTGI_POST_TEX_SPECULAR, specular ? &r.specular : nullptr)
-        .texture(RTGI_POST_TEX_AO, r.ao ? &r.ao : nullptr);
+        .texture(RTGI_POST_TEX_AO, ao ? &r.ao : nullptr);
     // Occlusion is not applied to the indirect term twice when the LPV lookup
     // already used bent normals or S3HO.
-    bool aoInLpv = ctx.settings.ao.directional != AoSettings::Directional::Off && bool(r.indirectDiffuse) &&
-                   bool(r.bentNormal.id() || r.s3ho.id());
-    prog.set(RTGI_POST_LOC_HAVE, glm::ivec4(bool(r.indirectDiffuse), specular, bool(r.ao), aoInLpv));
+    bool aoInLpv = indirect && (ctx.has(R::bentNormal) || ctx.has(R::s3ho));
+    prog.set(RTGI_POST_LOC_HAVE, glm::ivec4(indirect, specular, ao, aoInLpv));
     b.image(RTGI_POST_IMG_HDR, hdr, GL_WRITE_ONLY, diffuseOnly ? GL_RGBA16F : GL_RGBA32F);
     if (ldr) b.image(RTGI_POST_IMG_LDR, *ldr, GL_WRITE_ONLY, GL_RGBA8);
     gl::dispatch(prog, hdr.width(), hdr.height());

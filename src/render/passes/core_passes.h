@@ -31,12 +31,6 @@ void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Tex
 void rasterizeScene(FrameContext& ctx, const gl::Program& prog, GLuint fbo, glm::ivec2 size, int colorTargets,
                     bool depthBias = false);
 
-// Allocates the G-buffer targets at the view size (hardware pass and
-// visibility.resolve); true when any was (re)created.
-bool ensureGBuffer(FrameContext& ctx);
-// Shadow-map texture with its compare sampling (hardware and compute paths).
-bool ensureShadowMap(FrameContext& ctx);
-
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).
 glm::mat4 orthoLightViewProj(const Aabb& box, glm::vec3 towardLight);

@@ -11,15 +11,12 @@ namespace {
 class DirectPass final : public Pass {
 public:
     std::string name() const override { return "direct"; }
-    Need needed(const Scene&, const Settings&) const override { return Need::yes(); }
-    std::vector<std::string> reads() const override {
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material).read(R::emissive);
+        d.readIfWritten(R::shadowMap).write(R::direct);
     }
-    std::vector<std::string> writes() const override { return {"direct"}; }
 
     void execute(FrameContext& ctx) override {
-        const glm::ivec2 s = ctx.view.size;
-        ctx.res.direct.ensure(ctx.ledger, "direct", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
         dispatchDirect(ctx, ctx.res.direct, false);
     }
 };
@@ -32,7 +29,7 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
         "post/direct.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
     // Producer: gbuffer and shadow raster passes (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    bool shadow = bool(ctx.res.shadowMap);
+    bool shadow = ctx.has(R::shadowMap);
     gl::ScopedBindings b;
     b.texture(RTGI_POST_TEX_LINEAR_DEPTH, g.linearDepth)
         .texture(RTGI_POST_TEX_NORMAL, g.normal)

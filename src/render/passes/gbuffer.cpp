@@ -6,40 +6,22 @@
 #include "render/visibility/visibility.h"
 
 namespace rtgi {
-
-bool ensureGBuffer(FrameContext& ctx) {
-    GBuffer& g = ctx.res.gbuffer;
-    const glm::ivec2 s = ctx.view.size;
-    bool changed = false;
-    changed |= g.depth.ensure(ctx.ledger, "gbuffer.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, s.x, s.y});
-    changed |= g.linearDepth.ensure(ctx.ledger, "gbuffer.linearDepth", {GL_TEXTURE_2D, GL_R32F, s.x, s.y});
-    changed |= g.normal.ensure(ctx.ledger, "gbuffer.normal", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-    changed |= g.albedo.ensure(ctx.ledger, "gbuffer.albedo", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-    changed |= g.material.ensure(ctx.ledger, "gbuffer.material", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
-    changed |= g.emissive.ensure(ctx.ledger, "gbuffer.emissive", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
-    changed |= g.velocity.ensure(ctx.ledger, "gbuffer.velocity", {GL_TEXTURE_2D, GL_RG16F, s.x, s.y});
-    return changed;
-}
-
 namespace {
 
 class GBufferPass final : public Pass {
 public:
     std::string name() const override { return "gbuffer"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (useComputeRaster(s)) return Need::no(rasterPathReason(s) + " (visibility.raster)");
-        return Need::yes();
-    }
-    std::vector<std::string> writes() const override {
-        return {"gbuffer.depth", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo",
-                "gbuffer.material", "gbuffer.emissive", "gbuffer.velocity"};
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (useComputeRaster(s)) return d.skip(rasterPathReason(s) + " (visibility.raster)");
+        d.write(R::depth).write(R::linearDepth).write(R::normal).write(R::albedo).write(R::material);
+        d.write(R::emissive).write(R::velocity);
     }
 
     void execute(FrameContext& ctx) override {
         GBuffer& g = ctx.res.gbuffer;
         const glm::ivec2 s = ctx.view.size;
-        bool changed = ensureGBuffer(ctx);
-        if (changed || !fbo_) {
+        if (epoch_ != ctx.res.allocationEpoch || !fbo_) {
+            epoch_ = ctx.res.allocationEpoch;
             GLuint f = 0;
             glCreateFramebuffers(1, &f);
             fbo_ = gl::FramebufferHandle(f);
@@ -61,6 +43,7 @@ public:
 
 private:
     gl::FramebufferHandle fbo_;
+    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffer was made for
 };
 
 }  // namespace

@@ -29,30 +29,23 @@ glm::mat4 orthoLightViewProj(const Aabb& box, glm::vec3 towardLight) {
     return proj * view;
 }
 
-bool ensureShadowMap(FrameContext& ctx) {
-    int n = ctx.settings.light.shadowSize;
-    if (!ctx.res.shadowMap.ensure(ctx.ledger, "shadow.map", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n})) return false;
-    ctx.res.shadowMap.setSampling(GL_LINEAR, GL_LINEAR);
-    glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    return true;
-}
-
 namespace {
 
 class ShadowPass final : public Pass {
 public:
     std::string name() const override { return "shadow"; }
-    Need needed(const Scene& scene, const Settings& settings) const override {
-        if (!resolveSun(scene, settings)) return Need::no("the scene has no directional light");
-        if (useComputeRaster(settings)) return Need::no(rasterPathReason(settings) + " (shadow.raster)");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
+        if (!resolveSun(scene, settings)) return d.skip("the scene has no directional light");
+        if (useComputeRaster(settings)) return d.skip(rasterPathReason(settings) + " (shadow.raster)");
+        d.write(R::shadowMap);
     }
-    std::vector<std::string> writes() const override { return {"shadowMap"}; }
 
     void execute(FrameContext& ctx) override {
         int n = ctx.settings.light.shadowSize;
-        if (ensureShadowMap(ctx) || !fbo_) {
+        if (epoch_ != ctx.res.allocationEpoch || !fbo_) {
+            epoch_ = ctx.res.allocationEpoch;
+            glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+            glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
             GLuint f = 0;
             glCreateFramebuffers(1, &f);
             fbo_ = gl::FramebufferHandle(f);
@@ -68,6 +61,7 @@ public:
 
 private:
     gl::FramebufferHandle fbo_;
+    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffer was made for
 };
 
 }  // namespace

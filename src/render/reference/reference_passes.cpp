@@ -54,10 +54,7 @@ class BvhUploadPass final : public Pass {
 public:
     explicit BvhUploadPass(std::shared_ptr<ReferenceState> st) : st_(std::move(st)) {}
     std::string name() const override { return "ref.bvh_upload"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (s.reference.kind == ReferenceSettings::Kind::Off) return Need::no("reference=off");
-        return Need::yes();
-    }
+    void declare(PassDecl&, const Scene&, const Settings&) const override {}
     void execute(FrameContext& ctx) override {
         if (st_->nodes) return;
         auto t0 = std::chrono::steady_clock::now();
@@ -88,16 +85,17 @@ class TracePass final : public Pass, public ReferenceOutput {
 public:
     TracePass(std::shared_ptr<ReferenceState> st, bool ao) : st_(std::move(st)), ao_(ao) {}
     std::string name() const override { return ao_ ? "ref.ao" : "ref.path"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        using K = ReferenceSettings::Kind;
-        if (s.reference.kind == K::Off) return Need::no("reference=off");
-        if ((s.reference.kind == K::Ao) != ao_)
-            return Need::no(ao_ ? "reference is a path-traced image" : "reference=ao traces AO rays only");
-        return Need::yes();
-    }
-    std::vector<std::string> reads() const override {
-        if (ao_) return {"gbuffer.linearDepth", "gbuffer.normal"};
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if ((s.reference.kind == ReferenceSettings::Kind::Ao) != ao_)
+            return d.skip(ao_ ? "reference is a path-traced image" : "reference=ao traces AO rays only");
+        d.read(R::linearDepth).read(R::normal);
+        if (!ao_) d.read(R::albedo).read(R::material).read(R::emissive);
+        d.output("mean", &mean_).output("stderr", &se_);
+        if (ao_) {
+            d.debugImage("ref.ao", &mean_).debugImage("ref.ao.stderr", &se_, 10.0f);
+        } else {
+            d.debugImage("ref.path", &ldr_).debugImage("ref.path.stderr", &se_, 10.0f);
+        }
     }
 
     void execute(FrameContext& ctx) override {
@@ -133,13 +131,6 @@ public:
         summarize(ctx);
     }
 
-    std::vector<DebugImage> debugImages() const override {
-        if (ao_) return {{"ref.ao", &mean_, 1.0f}, {"ref.ao.stderr", &se_, 10.0f}};
-        return {{"ref.path", &ldr_, 1.0f}, {"ref.path.stderr", &se_, 10.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{name() + ":mean", &mean_}, {name() + ":stderr", &se_}};
-    }
     std::vector<std::pair<std::string, double>> stats() override {
         return {{"spp", double(spp_)},         {"seconds", seconds_},
                 {"rays", rays_},               {"rays_per_s", seconds_ > 0 ? rays_ / seconds_ : 0.0},
@@ -318,6 +309,11 @@ private:
 };
 
 }  // namespace
+
+Need referenceFamily(const Scene&, const Settings& s) {
+    if (s.reference.kind == ReferenceSettings::Kind::Off) return Need::no("reference=off");
+    return Need::yes();
+}
 
 void appendReferencePasses(std::vector<std::unique_ptr<Pass>>& frame) {
     auto st = std::make_shared<ReferenceState>();

@@ -14,6 +14,8 @@
 namespace rtgi {
 
 void appendReferencePasses(std::vector<std::unique_ptr<Pass>>& frame);
+// Whether the ref.* passes run (reference != off).
+Need referenceFamily(const Scene& scene, const Settings& settings);
 
 // GPU constants of the reference (the one pure function of this family).
 struct ReferenceConstants {

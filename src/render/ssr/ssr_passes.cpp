@@ -34,7 +34,6 @@ struct SsrState {
     const gl::Texture* reflection = nullptr;  // what ssr.shade reads this frame (full resolution)
     bool resolvedHadHistory = false;   // this frame's resolve fetched a valid history
     bool temporalHasReflections = false;  // the temporal history comes from a frame that resolved a history
-    bool diffuseHistoryValid = false;  // res.diffuseHistory holds the previous frame
 
     SsrSettings::Tracer tracer(const FrameContext& ctx) const { return effectiveSsrTracer(ctx.scene, ctx.settings); }
     glm::ivec2 traceSize(const FrameContext& ctx) const {
@@ -56,7 +55,9 @@ struct SsrState {
     }
 };
 
-Need ssrNeed(const Scene& scene, const Settings& s) {
+}  // namespace
+
+Need ssrFamily(const Scene& scene, const Settings& s) {
     if (s.ssr.tracer == SsrSettings::Tracer::Off) return Need::no("ssr=off");
     if (effectiveSsrTracer(scene, s) == SsrSettings::Tracer::Off) {
         char why[160];
@@ -67,21 +68,15 @@ Need ssrNeed(const Scene& scene, const Settings& s) {
     return Need::yes();
 }
 
-// Base of every ssr.* pass: its name, the shared state, and ssrNeed; a pass
-// that belongs to the chain only in some configurations says why it does not
-// in notInChain() (nullptr: it does).
+namespace {
+
+// Base of every ssr.* pass: its name and the shared state.
 class SsrPass : public Pass {
 public:
     SsrPass(std::shared_ptr<SsrState> st, std::string name) : st_(std::move(st)), name_(std::move(name)) {}
     std::string name() const override { return name_; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        Need n = ssrNeed(scene, s);
-        const char* why = n.needed ? notInChain(scene, s) : nullptr;
-        return why ? Need::no(why) : n;
-    }
 
 protected:
-    virtual const char* notInChain(const Scene&, const Settings&) const { return nullptr; }
     std::shared_ptr<SsrState> st_;
 
 private:
@@ -92,11 +87,11 @@ private:
 class HizPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    const char* notInChain(const Scene& scene, const Settings& s) const override {
-        bool hiz = effectiveSsrTracer(scene, s) == SsrSettings::Tracer::Hiz;
-        return hiz ? nullptr : "only the hiz tracer reads the depth pyramid";
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
+        if (effectiveSsrTracer(scene, s) != SsrSettings::Tracer::Hiz)
+            return d.skip("only the hiz tracer reads the depth pyramid");
+        d.read(R::linearDepth).output("ssr.hiz", &st_->hiz).debugImage("ssr.hiz.level0", &st_->hiz, 0.05f);
     }
-    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth"}; }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
         const int levels = hizLevelCount(s);
@@ -117,16 +112,20 @@ public:
             gl::dispatch(reduce, ls.x, ls.y);
         }
     }
-    std::vector<DebugImage> debugImages() const override { return {{"ssr.hiz.level0", &st_->hiz, 0.05f}}; }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override { return {{"ssr.hiz", &st_->hiz}}; }
 };
 
 // ---- ssr.trace -------------------------------------------------------------
 class TracePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::vector<std::string> reads() const override {
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.material"};
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        d.read(R::linearDepth).read(R::normal).read(R::material);
+        d.output("ssr.hit", &st_->hit, Check::signedValues).output("ssr.confidence", &st_->confidence);
+        d.output("ssr.hit_distance", &st_->hitDistance);
+        if (s.ssr.halfResolution)
+            d.output("ssr.trace.depth", &st_->traceDepth).output("ssr.trace.normal", &st_->traceNormal, Check::signedValues);
+        d.debugImage("ssr.trace.hit_mask", &st_->confidence).debugImage("ssr.trace.hit_offset", &st_->hit);
+        d.debugImage("ssr.trace.hit_distance", &st_->hitDistance, 0.1f);
     }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 t = st_->traceSize(ctx);
@@ -162,34 +161,24 @@ public:
         }
         gl::dispatch(prog, t.x, t.y);
     }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"ssr.trace.hit_mask", &st_->confidence, 1.0f},
-                {"ssr.trace.hit_offset", &st_->hit, 1.0f},
-                {"ssr.trace.hit_distance", &st_->hitDistance, 0.1f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        std::vector<Output> o{{"ssr.hit", &st_->hit, true}, {"ssr.confidence", &st_->confidence},
-                              {"ssr.hit_distance", &st_->hitDistance}};
-        if (st_->traceDepth) o.push_back({"ssr.trace.depth", &st_->traceDepth});
-        if (st_->traceNormal) o.push_back({"ssr.trace.normal", &st_->traceNormal, true});
-        return o;
-    }
 };
 
 // ---- ssr.resolve -----------------------------------------------------------
 class ResolvePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    // With ssr.diffuse_history the previous frame's res.diffuseHistory is read
-    // instead (written by ssr.diffuse_history at the end of the chain).
-    std::vector<std::string> reads() const override { return {"gbuffer.velocity", "history"}; }
+    // The previous frame's radiance (post.history), or with ssr.diffuse_history
+    // its diffuse-only radiance (written by ssr.diffuse_history at the end of the chain).
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        d.read(R::velocity).readPrevious(s.ssr.diffuseHistory ? R::diffuseHistory : R::history);
+        d.output("ssr.resolved", &st_->resolved).debugImage("ssr.resolve.reflection", &st_->resolved);
+    }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 t = st_->traceSize(ctx);
         const bool diffuse = ctx.settings.ssr.diffuseHistory;
         st_->resolved.ensure(ctx.ledger, "ssr.resolved", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y});
-        if (ctx.view.cut) st_->diffuseHistoryValid = false;
         const gl::Texture& history = diffuse ? ctx.res.diffuseHistory : ctx.res.history;
-        bool have = bool(history) && (diffuse ? st_->diffuseHistoryValid : ctx.res.historyValid);
+        bool have = ctx.hasPrevious(diffuse ? R::diffuseHistory : R::history);
         st_->resolvedHadHistory = have;
         const gl::Program& prog = ctx.programs.compute("ssr/resolve.comp");
         st_->bindUniforms(ctx);
@@ -203,26 +192,20 @@ public:
         glBindImageTexture(RTGI_SSR_IMG_RESOLVED, st_->resolved.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, t.x, t.y);
     }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"ssr.resolve.reflection", &st_->resolved, 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.resolved", &st_->resolved}};
-    }
 };
 
 // ---- ssr.blur --------------------------------------------------------------
 class BlurPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.normal"}; }
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        d.read(R::linearDepth).read(R::normal);
+        d.output("ssr.blur_temp", &st_->blurTemp).output("ssr.blurred", &st_->blurred);
+    }
     void execute(FrameContext& ctx) override {
         using F = SsrFilterConstants;
         separableBlur(ctx.programs, ctx.ledger, "ssr.blur", kSsrFormat, st_->resolved, st_->depth(ctx),
                       st_->normal(ctx), st_->blurTemp, st_->blurred, {F::kDepthThreshold, F::kNormalThreshold});
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.blur_temp", &st_->blurTemp}, {"ssr.blurred", &st_->blurred}};
     }
 };
 
@@ -230,7 +213,13 @@ public:
 class TemporalPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth", "gbuffer.velocity"}; }
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        d.read(R::linearDepth).read(R::velocity);
+        auto out = [st = st_] { return &st->temporal.output(); };
+        d.output("ssr.temporal", out).debugImage("ssr.temporal.reflection", [out] {
+            return DebugImage{"ssr.temporal.reflection", out(), 1.0f};
+        });
+    }
     void execute(FrameContext& ctx) override {
         // A frame resolved without history is all misses: never blend it in later.
         const bool reset = ctx.view.cut || !st_->temporalHasReflections;
@@ -239,33 +228,22 @@ public:
         st_->temporalHasReflections = st_->resolvedHadHistory;
         st_->reflection = &out;
     }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"ssr.temporal.reflection", &st_->temporal.output(), 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.temporal", &st_->temporal.output()}};
-    }
 };
 
 // ---- ssr.upsample ----------------------------------------------------------
 class UpsamplePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    const char* notInChain(const Scene&, const Settings& s) const override {
-        return s.ssr.halfResolution ? nullptr : "ssr.resolution=full";
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ssr.halfResolution) return d.skip("ssr.resolution=full");
+        d.read(R::linearDepth).output("ssr.upsample", &st_->upsampled);
+        d.debugImage("ssr.upsample.reflection", &st_->upsampled);
     }
-    std::vector<std::string> reads() const override { return {"gbuffer.linearDepth"}; }
     void execute(FrameContext& ctx) override {
         // Joint bilateral (depth-aware) so receivers do not take reflections across depth edges.
         upsample(ctx.programs, ctx.ledger, "ssr.upsample", kSsrFormat, *st_->reflection, st_->traceDepth,
                  ctx.res.gbuffer.linearDepth, st_->upsampled, true);
         st_->reflection = &st_->upsampled;
-    }
-    std::vector<DebugImage> debugImages() const override {
-        return {{"ssr.upsample.reflection", &st_->upsampled, 1.0f}};
-    }
-    std::vector<Output> checkedOutputs(const FrameResources&) const override {
-        return {{"ssr.upsample", &st_->upsampled}};
     }
 };
 
@@ -273,16 +251,15 @@ public:
 class ShadePass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    std::vector<std::string> reads() const override {
-        return {"brdfLut", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material"};
+    // Accumulates: adds to lpv.apply's specular when LPV specular runs, else is its first writer.
+    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+        d.read(R::brdfLut).read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
+        d.accumulate(R::specular).write(R::specularOcclusion);
     }
-    std::vector<std::string> writes() const override { return {"specular", "specularOcclusion"}; }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
         FrameResources& r = ctx.res;
-        bool haveLpv = bool(r.specular);  // written by lpv.apply when LPV specular runs
-        r.specular.ensure(ctx.ledger, "specular", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        r.specularOcclusion.ensure(ctx.ledger, "ssr.specular_occlusion", {GL_TEXTURE_2D, GL_R16F, s.x, s.y});
+        bool haveLpv = ctx.accumulates(R::specular);
         const gl::Program& prog = ctx.programs.compute("ssr/shade.comp");
         st_->bindUniforms(ctx);
         const gl::Texture& reflection = *st_->reflection;
@@ -309,29 +286,21 @@ public:
 class DiffuseHistoryPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
-    const char* notInChain(const Scene&, const Settings& s) const override {
-        return s.ssr.diffuseHistory ? nullptr : "ssr.diffuse_history=off (full HDR history)";
+    // The inputs of dispatchDirect and dispatchCompose.
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ssr.diffuseHistory) return d.skip("ssr.diffuse_history=off (full HDR history)");
+        d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material).read(R::emissive);
+        d.readIfWritten(R::shadowMap).readIfWritten(R::indirectDiffuse).readIfWritten(R::ao);
+        d.readIfWritten(R::bentNormal).readIfWritten(R::s3ho);
+        d.write(R::diffuseHistory).output("ssr.direct_diffuse", &st_->directDiffuse);
     }
-    std::vector<std::string> reads() const override {
-        return {"gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo", "gbuffer.material", "gbuffer.emissive"};
-    }
-    std::vector<std::string> writes() const override { return {"diffuseHistory"}; }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
         FrameResources& r = ctx.res;
         st_->directDiffuse.ensure(ctx.ledger, "ssr.direct_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        r.diffuseHistory.ensure(ctx.ledger, "ssr.diffuse_history", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
-        r.diffuseHistory.setSampling(GL_LINEAR, GL_LINEAR);
         dispatchDirect(ctx, st_->directDiffuse, true);
         // Producer: the diffuse-only direct dispatch above (barrier inside dispatchCompose).
         dispatchCompose(ctx, st_->directDiffuse, r.diffuseHistory, nullptr, true);
-        st_->diffuseHistoryValid = true;
-    }
-    // res.diffuseHistory through writes(); the diffuse-only direct light is private.
-    std::vector<Output> checkedOutputs(const FrameResources& res) const override {
-        std::vector<Output> o = Pass::checkedOutputs(res);
-        o.push_back({"ssr.direct_diffuse", &st_->directDiffuse});
-        return o;
     }
 };
 

@@ -31,11 +31,11 @@ class VisibilityRasterPass final : public Pass {
 public:
     explicit VisibilityRasterPass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
     std::string name() const override { return "visibility.raster"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!computePath(s)) return Need::no(rasterPathReason(s) + " (gbuffer)");
-        return Need::yes();
+    // Its output is the private visibility buffer (st_), read only by
+    // visibility.resolve, which runs under the same condition right after it.
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!computePath(s)) return d.skip(rasterPathReason(s) + " (gbuffer)");
     }
-    std::vector<std::string> writes() const override { return {"visibility"}; }
     void execute(FrameContext& ctx) override {
         rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, ctx.view.viewProj(), ctx.view.size, st_->target,
                             visibilityOptions(ctx.settings));
@@ -59,19 +59,21 @@ class VisibilityResolvePass final : public Pass {
 public:
     explicit VisibilityResolvePass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
     std::string name() const override { return "visibility.resolve"; }
-    Need needed(const Scene&, const Settings& s) const override {
-        if (!computePath(s)) return Need::no(rasterPathReason(s) + " (gbuffer)");
-        return Need::yes();
-    }
-    std::vector<std::string> reads() const override { return {"visibility"}; }
-    std::vector<std::string> writes() const override {
-        return {"gbuffer.depth", "gbuffer.linearDepth", "gbuffer.normal", "gbuffer.albedo",
-                "gbuffer.material", "gbuffer.emissive", "gbuffer.velocity"};
+    // The same seven G-buffer resources as the hardware pass `gbuffer`; the
+    // renderer allocates them from their descriptors.
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!computePath(s)) return d.skip(rasterPathReason(s) + " (gbuffer)");
+        d.write(R::depth).write(R::linearDepth).write(R::normal).write(R::albedo).write(R::material);
+        d.write(R::emissive).write(R::velocity);
     }
     void execute(FrameContext& ctx) override {
-        ensureGBuffer(ctx);
         GBuffer& g = ctx.res.gbuffer;
         VisibilityTarget& t = st_->target;
+        if (epoch_ != ctx.res.allocationEpoch) {  // reallocated: a texture name may be reused, rebuild the copy FBO
+            epoch_ = ctx.res.allocationEpoch;
+            t.depthFbo = gl::FramebufferHandle();
+            t.depthFboTexture = 0;
+        }
         const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
         bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
         glBindImageTexture(RTGI_VISIBILITY_IMG_LINEAR_DEPTH, g.linearDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -89,6 +91,7 @@ public:
 
 private:
     std::shared_ptr<VisibilityState> st_;
+    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the depth-copy framebuffer was made for
 };
 
 // shadow.raster: the sun's depth map (same light frustum and slope-scaled
@@ -96,14 +99,20 @@ private:
 class ShadowRasterPass final : public Pass {
 public:
     std::string name() const override { return "shadow.raster"; }
-    Need needed(const Scene& scene, const Settings& s) const override {
-        if (!resolveSun(scene, s)) return Need::no("the scene has no directional light");
-        if (!computePath(s)) return Need::no(rasterPathReason(s) + " (shadow)");
-        return Need::yes();
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
+        if (!resolveSun(scene, s)) return d.skip("the scene has no directional light");
+        if (!computePath(s)) return d.skip(rasterPathReason(s) + " (shadow)");
+        d.write(R::shadowMap);
     }
-    std::vector<std::string> writes() const override { return {"shadowMap"}; }
     void execute(FrameContext& ctx) override {
-        ensureShadowMap(ctx);
+        if (epoch_ != ctx.res.allocationEpoch) {
+            // Same sampling as the hardware pass: readers use sampler2DShadow.
+            epoch_ = ctx.res.allocationEpoch;
+            glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+            glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+            target_.depthFbo = gl::FramebufferHandle();
+            target_.depthFboTexture = 0;
+        }
         int n = ctx.settings.light.shadowSize;
         VisibilityOptions o = visibilityOptions(ctx.settings);
         o.depthBias = true;
@@ -121,6 +130,7 @@ public:
 
 private:
     VisibilityTarget target_{"shadow.raster"};
+    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the compare mode and copy FBO were set for
 };
 
 }  // namespace
