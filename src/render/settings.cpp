@@ -92,6 +92,7 @@ const char* onOff(bool b) { return b ? "on" : "off"; }
 
 const char* const kToggle[] = {"auto", "on", "off"};
 const char* const kLpvPath[] = {"compute", "raster"};
+const char* const kRasterPath[] = {"hardware", "compute", "auto"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
@@ -151,6 +152,13 @@ std::vector<SettingKey> buildKeys() {
             s.light.localShadowSize = parseInt("shadow.local_size", v, 16, 8192), fmt(s.light.localShadowSize)),
         KEY("emissive.lights", "each connected emissive region becomes a shadowed area light of the real-time path",
             "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
+        // ---- rasterization ----------------------------------------------------
+        KEY("raster.path", "visibility of every rasterized view: hardware rasterizer or the compute rasterizer (auto: compute where 64-bit atomics exist)", "hardware|compute|auto",
+            s.raster.path = parseEnum<RasterSettings::Path>("raster.path", v, kRasterPath), kRasterPath[int(s.raster.path)]),
+        KEY("raster.atomic64", "compute rasterizer: one 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists) or the two-pass 32-bit path", "auto|on|off",
+            s.raster.atomic64 = parseEnum<Toggle>("raster.atomic64", v, kToggle), kToggle[int(s.raster.atomic64)]),
+        KEY("raster.bin_scale", "compute rasterizer: multiplier on the tile-bin capacities (raise when a bin overflows)", "1..64",
+            s.raster.binScale = parseInt("raster.bin_scale", v, 1, 64), fmt(s.raster.binScale)),
         KEY("post.exposure", "exposure multiplier before tonemapping", "1e-12..1e12",
             s.post.exposure = parseFloat("post.exposure", v, 1e-12, 1e12), fmt(s.post.exposure)),
         KEY("passes.off", "comma-separated pass names forced off", "name,name,...", s.post.passesOff = v,
@@ -284,6 +292,7 @@ std::string defaultReferenceCacheDir() {
 const char* toString(Toggle t) { return kToggle[int(t)]; }
 const char* toString(AoSettings::Variant v) { return kAoVariant[int(v)]; }
 const char* toString(SsrSettings::Tracer t) { return kSsrTracer[int(t)]; }
+const char* toString(RasterSettings::Path p) { return kRasterPath[int(p)]; }
 
 std::string settingDefault(const SettingKey& key) {
     std::string v = key.show(Settings{});

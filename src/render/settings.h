@@ -110,8 +110,17 @@ struct ReferenceSettings {
     bool lightSampling = true;            // next-event estimation of emissive triangles with MIS (off: BRDF sampling only)
 };
 
+// Visibility: hardware rasterization or the compute rasterizer (docs/visibility.md).
+struct RasterSettings {
+    // auto: compute where GL_NV_shader_atomic_int64 exists (NVIDIA), hardware elsewhere (llvmpipe)
+    enum class Path { Hardware, Compute, Auto } path = Path::Hardware;
+    Toggle atomic64 = Toggle::Auto;  // 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists)
+    int binScale = 1;                // multiplier on the compute rasterizer's bin capacities
+};
+
 struct Settings {
     CameraSettings camera;
+    RasterSettings raster;
     LightSettings light;
     PostSettings post;
     LpvSettings lpv;
@@ -160,6 +169,7 @@ Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignment
                            const std::string& sceneName);
 
 const char* toString(Toggle t);
+const char* toString(RasterSettings::Path p);
 const char* toString(AoSettings::Variant v);
 const char* toString(SsrSettings::Tracer t);
 

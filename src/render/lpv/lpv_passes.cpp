@@ -11,7 +11,9 @@
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 #include "compute/lib/raster_shared.h"
+#include "compute/lib/visibility_shared.h"
 
 #include <algorithm>
 
@@ -34,6 +36,7 @@ struct LpvState {
     bool sunRsm = false;
     std::vector<LocalRsm> local;  // one per face of a kept spot / point / area light
     int localUsed = 0;            // how many of `local` this frame rendered
+    VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer ubo, stats;
     lpv::Placement placement, previous;
     bool havePrevious = false;
@@ -90,8 +93,27 @@ public:
         st.havePrevious = true;
 
         int n = ls.rsm;
-        if (st.sunRsm) {
-            ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
+        if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
+        if (st.sunRsm && useComputeRaster(ctx.settings)) {
+            // Compute rasterizer (sun RSM only; local lights' RSMs stay on the
+            // hardware rasterizer): visibility buffer of the light's view, then
+            // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+            VisibilityTarget& t = st.rsmVis;
+            rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, in.rsmViewProj, {n, n}, t,
+                                visibilityOptions(ctx.settings));
+            if (!t.checked) {
+                t.checkOverflow(name());
+                t.checked = true;
+            }
+            const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", visibilityDefines(t));
+            bindVisibility(resolve, ctx.gpuScene, in.rsmViewProj, t);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+            gl::dispatch(resolve, n, n);
+            copyVisibilityDepth(ctx.programs, t, st.rsm.depth);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        } else if (st.sunRsm) {
             const gl::Program& prog =
                 ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
             prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);

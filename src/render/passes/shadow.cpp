@@ -7,6 +7,7 @@
 #include "render/gpu_scene.h"
 #include "render/lights.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -38,6 +39,7 @@ public:
     std::string name() const override { return "shadow"; }
     void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
         if (!resolveSun(scene, settings)) return d.skip("the scene has no directional light");
+        if (useComputeRaster(settings)) return d.skip(rasterPathReason(settings) + " (shadow.raster)");
         d.write(R::shadowMap);
     }
 
