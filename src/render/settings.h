@@ -105,8 +105,17 @@ struct ReferenceSettings {
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
 };
 
+// Visibility: hardware rasterization or the compute rasterizer (docs/visibility.md).
+struct RasterSettings {
+    // auto: compute where GL_NV_shader_atomic_int64 exists (NVIDIA), hardware elsewhere (llvmpipe)
+    enum class Path { Hardware, Compute, Auto } path = Path::Hardware;
+    Toggle atomic64 = Toggle::Auto;  // 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists)
+    int binScale = 1;                // multiplier on the compute rasterizer's bin capacities
+};
+
 struct Settings {
     CameraSettings camera;
+    RasterSettings raster;
     LightSettings light;
     PostSettings post;
     LpvSettings lpv;
@@ -155,6 +164,7 @@ Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignment
                            const std::string& sceneName);
 
 const char* toString(Toggle t);
+const char* toString(RasterSettings::Path p);
 const char* toString(AoSettings::Variant v);
 const char* toString(SsrSettings::Tracer t);
 

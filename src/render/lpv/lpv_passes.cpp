@@ -10,7 +10,9 @@
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 #include "compute/lib/raster_shared.h"
+#include "compute/lib/visibility_shared.h"
 
 #include <algorithm>
 
@@ -21,6 +23,7 @@ struct LpvState {
     lpv::Volumes volumes;
     lpv::Rsm rsm;
     gl::FramebufferHandle rsmFbo;
+    VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer ubo, stats;
     lpv::Placement placement, previous;
     bool havePrevious = false;
@@ -79,6 +82,26 @@ public:
         bool changed = st.rsm.flux.ensure(ctx.ledger, "lpv.rsm.flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
         changed |= st.rsm.normal.ensure(ctx.ledger, "lpv.rsm.normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
         changed |= st.rsm.depth.ensure(ctx.ledger, "lpv.rsm.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        if (useComputeRaster(ctx.settings)) {
+            // Compute rasterizer: visibility buffer of the light's view, then
+            // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
+            VisibilityTarget& t = st.rsmVis;
+            rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, in.rsmViewProj, {n, n}, t,
+                                visibilityOptions(ctx.settings));
+            if (!t.checked) {
+                t.checkOverflow(name());
+                t.checked = true;
+            }
+            const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", visibilityDefines(t));
+            bindVisibility(resolve, ctx.gpuScene, in.rsmViewProj, t);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+            gl::dispatch(resolve, n, n);
+            copyVisibilityDepth(ctx.programs, t, st.rsm.depth);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            return;
+        }
         if (changed || !st.rsmFbo) {
             GLuint f = 0;
             glCreateFramebuffers(1, &f);
@@ -95,7 +118,6 @@ public:
         const gl::Program& prog =
             ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
         prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
-        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
         rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
     void declare(PassDecl& d, const Scene&, const Settings&) const override {

@@ -4,6 +4,7 @@
 #include "compute/lib/raster_shared.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -35,6 +36,7 @@ public:
     std::string name() const override { return "shadow"; }
     void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
         if (!resolveSun(scene, settings)) return d.skip("the scene has no directional light");
+        if (useComputeRaster(settings)) return d.skip(rasterPathReason(settings) + " (shadow.raster)");
         d.write(R::shadowMap);
     }
 
