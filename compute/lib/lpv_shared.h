@@ -108,4 +108,17 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 // uniform locations
 #define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
+// stage interfaces of the seed's raster baseline (varyings and colour outputs)
+#define RTGI_LPV_VARY_CELL 0    // inject_raster.vert -> .geom
+#define RTGI_LPV_VARY_R 1
+#define RTGI_LPV_VARY_G 2
+#define RTGI_LPV_VARY_B 3
+#define RTGI_LPV_VARY_LAYER 0   // propagate_raster.vert -> .geom
+#define RTGI_LPV_OUT_R 0        // colour attachments of inject/propagate_raster.frag
+#define RTGI_LPV_OUT_G 1
+#define RTGI_LPV_OUT_B 2
+#define RTGI_LPV_OUT_ACCUM_R 3
+#define RTGI_LPV_OUT_ACCUM_G 4
+#define RTGI_LPV_OUT_ACCUM_B 5
+
 #endif

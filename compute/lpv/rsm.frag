@@ -1,12 +1,13 @@
 // lpv.rsm (raster path): see lpv/rsm.glsl.
 #include "lpv/rsm.glsl"
+#include "lib/raster_shared.h"
 
-layout(location = 0) in vec3 vWorldPos;
-layout(location = 1) in vec3 vNormal;
-layout(location = 2) in vec2 vUv;
-layout(location = 3) flat in uint vMaterial;
+layout(location = RTGI_RASTER_VARY_WORLD_POS) in vec3 vWorldPos;
+layout(location = RTGI_RASTER_VARY_NORMAL) in vec3 vNormal;
+layout(location = RTGI_RASTER_VARY_UV) in vec2 vUv;
+layout(location = RTGI_RASTER_VARY_MATERIAL) flat in uint vMaterial;
 
-layout(location = 0) out vec4 outFlux;
-layout(location = 1) out vec4 outNormal;
+layout(location = RTGI_RASTER_RSM_OUT_FLUX) out vec4 outFlux;
+layout(location = RTGI_RASTER_RSM_OUT_NORMAL) out vec4 outNormal;
 
 void main() { rsmTexel(vNormal, vMaterial, materialBaseColor(vMaterial, vUv), outFlux, outNormal); }
