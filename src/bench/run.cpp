@@ -167,7 +167,8 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
         r["images"] = opts.outDir;
     }
     if (opts.reference) {
-        r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages);
+        r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages,
+                                          opts.referenceKind);
         // The frames above were timed without the reference passes; the
         // configuration this result describes is compared with this kind.
         r["config"]["reference"] = r["error"]["kind"];

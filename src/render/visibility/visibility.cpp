@@ -40,6 +40,10 @@ void ensureBuffer(gl::Buffer& b, gl::MemoryLedger& ledger, const std::string& la
 }  // namespace
 
 bool visibilityAtomic64Supported() {
+    // Without a loaded GL context (--print-frame, --validate-only, settings
+    // checks before the context exists) the answer is unknown: say no, and do
+    // not cache it, so a later call with a context asks the driver.
+    if (!glGetIntegerv || !glGetStringi) return false;
     static const bool supported = [] {
         GLint n = 0;
         glGetIntegerv(GL_NUM_EXTENSIONS, &n);
