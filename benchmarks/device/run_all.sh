@@ -8,7 +8,7 @@ export BENCH SCENES
 RAW="${RAW:-/tmp/rtgi-device-results}"
 mkdir -p "$RAW"
 families=("$@")
-[ ${#families[@]} -eq 0 ] && families=(foundation lpv ao ssr reference stability)
+[ ${#families[@]} -eq 0 ] && families=(foundation lpv ao ssr reference stability lights raster)
 for f in "${families[@]}"; do
     script="benchmarks/device/$f.sh"
     [ -f "$script" ] || { echo "skip $f (no $script)"; continue; }

@@ -15,6 +15,27 @@ struct Hit {
 
 const float BVH_MISS = 1e30;
 
+// Robust secondary-ray origin (Wächter & Binder, "A Fast and Robust Method
+// for Avoiding Self-Intersection", Ray Tracing Gems ch. 6): p moves off the
+// surface along the geometric normal n (facing the side the new ray leaves
+// to) by 256 ulps of each coordinate, done on the float's integer bits, so
+// the offset follows the point's own floating-point magnitude instead of a
+// scene-size constant. W&B switch to a fixed offset (1/65536) for
+// coordinates within 1/32 of zero, whose ulps are too small to cover the
+// error of the arithmetic that produced them; that error is relative to the
+// magnitudes the point was computed from, so here the region and the
+// offset are scaled by `magnitude` (the largest |coordinate| involved: the
+// point, the ray origin or camera it came from). magnitude = 1 is W&B's
+// original; the offset never depends on the scene's size.
+vec3 offsetRayOrigin(vec3 p, vec3 n, float magnitude) {
+    ivec3 of = ivec3(256.0 * n);
+    vec3 pi = intBitsToFloat(floatBitsToInt(p) + mix(of, -of, lessThan(p, vec3(0.0))));
+    float m = max(magnitude, max(abs(p.x), max(abs(p.y), abs(p.z))));
+    vec3 near0 = p + (m * (1.0 / 65536.0)) * n;
+    return mix(pi, near0, lessThan(abs(p), vec3(m * (1.0 / 32.0))));
+}
+float maxAbs(vec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
+
 // Rays traced by this invocation; a kernel adds it once to the slot of its
 // dispatch (slot = the dispatch's first sample index), so a progressive
 // reference reads all counters back once at the end, not after every dispatch.

@@ -20,6 +20,7 @@ using uint = std::uint32_t;
 #define RTGI_SSBO_REF_INDICES 6    // GpuScene index buffer (3 per original triangle)
 #define RTGI_SSBO_REF_RAYS 7       // test rays (trace_test.comp)
 #define RTGI_SSBO_REF_COUNTER 8    // uint: rays traced by a dispatch (rays/s statistics)
+#define RTGI_SSBO_REF_EMITTERS 9   // uint pairs: emissive triangle id, area CDF (float bits)
 #define RTGI_BVH_STACK 48          // traversal stack depth (the builder caps the tree depth below it)
 #define RTGI_REF_LOCAL 8           // workgroup edge of the per-pixel reference kernels
 
@@ -64,6 +65,7 @@ RTGI_BVH_STRUCT(BvhTriangle) {
 #define RTGI_REF_IMG_LDR      4  // ref/resolve.comp
 // uniform locations
 #define RTGI_REF_LOC_SAMPLES 0  // ref/ao.comp ref/path.comp
-#define RTGI_REF_LOC_RAY     1  // ref/ao.comp ref/path.comp
+#define RTGI_REF_LOC_RAY     1  // ref/ao.comp: maximum ray length
+#define RTGI_REF_LOC_EMITTERS 2 // ref/path.comp: emitter count, total emissive area
 #define RTGI_REF_LOC_COUNT   0  // ref/trace_test.comp
 #endif

@@ -194,5 +194,19 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_PROBE_IMG_ACCUM_G 1
 #define RTGI_LPV_PROBE_IMG_ACCUM_B 2
 #define RTGI_LPV_PROBE_LOC_PARAMS  0  // uvec4: directions per cell, bounces, seed, first z slice
-#define RTGI_LPV_PROBE_LOC_RAY     1  // float: origin offset along the geometric normal
+#define RTGI_LPV_RSM_LOC_LIGHT 1  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 1-4
+#define RTGI_LPV_RSM_LOC_FACE  5  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
+// stage interfaces of the seed's raster baseline (varyings and colour outputs)
+#define RTGI_LPV_VARY_CELL 0    // inject_raster.vert -> .geom
+#define RTGI_LPV_VARY_R 1
+#define RTGI_LPV_VARY_G 2
+#define RTGI_LPV_VARY_B 3
+#define RTGI_LPV_VARY_LAYER 0   // propagate_raster.vert -> .geom
+#define RTGI_LPV_OUT_R 0        // colour attachments of inject/propagate_raster.frag
+#define RTGI_LPV_OUT_G 1
+#define RTGI_LPV_OUT_B 2
+#define RTGI_LPV_OUT_ACCUM_R 3
+#define RTGI_LPV_OUT_ACCUM_G 4
+#define RTGI_LPV_OUT_ACCUM_B 5
+
 #endif

@@ -1,13 +1,14 @@
 // Scene access and light transport pieces of the reference path tracer:
 // surface data at a BVH hit (GpuScene vertex/index buffers, material
-// table), next-event estimation of the sun and punctual lights with shadow
-// rays, BRDF sampling.
+// table), next-event estimation of the sun, punctual lights and emissive
+// triangles with shadow rays, BRDF sampling.
 #pragma once
 #include "lib/common.glsl"
 #include "lib/brdf.glsl"
 #include "lib/random.glsl"
 #include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
+#include "lib/lights.glsl"
 
 layout(std430, binding = RTGI_SSBO_MATERIALS) readonly buffer RefMaterialBlock { GpuMaterial materials[]; };
 layout(std430, binding = RTGI_SSBO_LIGHTS) readonly buffer RefLightBlock { GpuLight lights[]; };
@@ -15,6 +16,13 @@ layout(std430, binding = RTGI_SSBO_LIGHTS) readonly buffer RefLightBlock { GpuLi
 layout(std430, binding = RTGI_SSBO_REF_VERTICES) readonly buffer RefVertexBlock { float refVertexWords[]; };
 layout(std430, binding = RTGI_SSBO_REF_INDICES) readonly buffer RefIndexBlock { uint refIndices[]; };
 layout(binding = RTGI_TEX_MATERIALS) uniform sampler2DArray uBaseColorTextures;
+// Emissive triangles for next-event estimation: pairs (triangle id, CDF of
+// area up to and including it, as float bits), in GpuScene index order.
+layout(std430, binding = RTGI_SSBO_REF_EMITTERS) readonly buffer RefEmitterBlock { uint refEmitters[]; };
+#ifdef RTGI_REF_EMITTER_NEE
+// x: emitter count, y: total emissive area
+layout(location = RTGI_REF_LOC_EMITTERS) uniform vec2 uEmitters;
+#endif
 
 struct Surface {
     vec3 position;
@@ -73,9 +81,11 @@ vec3 refBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, float roughness, float meta
 #endif
 }
 
-// Sun and point/spot lights at p with shadow rays (the same attenuation as
-// post/direct.comp: inverse square, KHR_lights_punctual range window, spot
-// smoothstep). origin = p offset off the surface.
+// Sun and point/spot lights at p with shadow rays (the attenuation of
+// lib/lights.glsl, shared with post/direct.comp). origin = p offset off the
+// surface. Only the scene's own lights (frame.counts.x): emissive surfaces
+// are sampled as what they are (sampleEmitters), not as the real-time
+// path's area-light approximations.
 vec3 directLight(Surface s, vec3 v, vec3 origin) {
     vec3 L = vec3(0.0);
     if (frame.sunDirection.w > 0.0) {
@@ -85,16 +95,9 @@ vec3 directLight(Surface s, vec3 v, vec3 origin) {
     }
     for (int i = 0; i < frame.counts.x; ++i) {
         GpuLight g = lights[i];
-        vec3 toL = g.positionRange.xyz - s.position;
-        float dist2 = max(dot(toL, toL), 1e-8);
-        float dist = sqrt(dist2);
-        vec3 l = toL / dist;
-        float atten = 1.0 / dist2;
-        if (g.positionRange.w > 0.0) {
-            float r = dist / g.positionRange.w;
-            atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
-        }
-        if (int(g.directionType.w) == RTGI_LIGHT_SPOT) atten *= smoothstep(g.cone.y, g.cone.x, dot(-l, normalize(g.directionType.xyz)));
+        vec3 l;
+        float dist;
+        float atten = localLightAttenuation(g, s.position, l, dist);
         if (atten <= 0.0 || dot(s.geometric, l) <= 0.0) continue;
         if (traceAny(origin, l, 0.0, dist)) continue;
         L += refBrdfCos(s.normal, v, l, s.albedo, s.roughness, s.metallic) * g.colorIntensity.rgb * atten;
@@ -102,21 +105,37 @@ vec3 directLight(Surface s, vec3 v, vec3 origin) {
     return L;
 }
 
-// Samples an outgoing direction for the BRDF at n: one-sample mixture of
-// the cosine lobe and GGX half-vector sampling (pdf D·NdotH, Walter et al.
-// 2007 eq. 35/38), weight = BRDF·cos / mixture pdf (balance heuristic over
-// the two techniques). Returns false when the direction is below the surface.
-bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, inout Rng rng, out vec3 l,
-                out vec3 weight) {
 #ifdef RTGI_REF_DIFFUSE_ONLY
-    const float pSpec = 0.0;
+const float REF_P_SPEC = 0.0;
 #else
-    const float pSpec = 0.5;
+const float REF_P_SPEC = 0.5;
 #endif
+
+// Solid-angle pdf of sampleBrdf's one-sample mixture: cosine lobe (1 − p)
+// and GGX half-vector sampling p (pdf D·N·H / (4 V·H), Walter et al. 2007
+// eq. 35/38). The MIS weights of emitter sampling need it for any l.
+float brdfPdf(vec3 n, vec3 v, vec3 l, float roughness) {
+    float nl = dot(n, l);
+    if (nl <= 0.0) return 0.0;
+    float pdf = (1.0 - REF_P_SPEC) * nl * INV_PI;
+    if (REF_P_SPEC > 0.0) {
+        float alpha = max(roughness * roughness, 1e-3);
+        vec3 h = normalize(l + v);
+        pdf += REF_P_SPEC * ggxD(max(dot(n, h), 0.0), alpha) * max(dot(n, h), 0.0) / max(4.0 * dot(v, h), 1e-6);
+    }
+    return pdf;
+}
+
+// Samples an outgoing direction for the BRDF at n from the mixture above;
+// weight = BRDF·cos / mixture pdf (balance heuristic over the two
+// techniques), pdf = the mixture's solid-angle pdf. Returns false when the
+// direction is below the surface.
+bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, inout Rng rng, out vec3 l,
+                out vec3 weight, out float pdf) {
     float alpha = max(roughness * roughness, 1e-3);
     float choose = rngNext(rng);
     vec2 u = rngNext2(rng);
-    if (choose < pSpec) {
+    if (choose < REF_P_SPEC) {
         float phi = TWO_PI * u.x;
         float cosT = sqrt((1.0 - u.y) / (1.0 + (alpha * alpha - 1.0) * u.y));
         float sinT = sqrt(max(1.0 - cosT * cosT, 0.0));
@@ -125,39 +144,125 @@ bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, in
     } else {
         l = cosineHemisphere(u, n);
     }
-    float nl = dot(n, l);
     weight = vec3(0.0);
-    if (nl <= 0.0) return false;
-    vec3 h = normalize(l + v);
-    float pdf = (1.0 - pSpec) * nl * INV_PI;
-    if (pSpec > 0.0) pdf += pSpec * ggxD(max(dot(n, h), 0.0), alpha) * max(dot(n, h), 0.0) / max(4.0 * dot(v, h), 1e-6);
+    pdf = brdfPdf(n, v, l, roughness);
     if (!(pdf > 0.0)) return false;
     weight = refBrdfCos(n, v, l, albedo, roughness, metallic) / pdf;
     return true;
 }
 
+// ---- emissive triangles: area-weighted light sampling with MIS ----------
+// An emitter point y is drawn uniformly over the total emissive area A
+// (pick a triangle by its area CDF, then a uniform point on it), so its
+// solid-angle pdf at x is p_light = d² / (|cos θ_y| · A). Emitters are
+// two-sided, like the BRDF-sampled hits that see their emission from
+// either side. Both techniques are combined with the power heuristic
+// (Veach 1997, ch. 9): a BRDF-sampled ray that hits an emitter is weighted
+// p_brdf² / (p_brdf² + p_light²), the light sample by the complement.
+
+#ifdef RTGI_REF_EMITTER_NEE
+float emitterLightPdf(float dist2, float cosY) {
+    return uEmitters.y > 0.0 && cosY > 0.0 ? dist2 / (cosY * uEmitters.y) : 0.0;
+}
+#endif
+
+float misPower(float a, float b) {
+    float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+}
+
+// MIS weight of emission found by a BRDF-sampled ray (pdf brdfPdfValue)
+// that left `from` and hit the emitter at distance t with geometric normal ng.
+float emissionMisWeight(float brdfPdfValue, float t, vec3 rd, vec3 ng) {
+#ifdef RTGI_REF_EMITTER_NEE
+    return misPower(brdfPdfValue, emitterLightPdf(t * t, abs(dot(ng, rd))));
+#else
+    return 1.0;
+#endif
+}
+
+// One light sample on the emissive triangles for the surface s seen from v;
+// origin = s.position offset off the surface, magnitude = its fp scale.
+vec3 sampleEmitters(Surface s, vec3 v, vec3 origin, inout Rng rng) {
+#ifdef RTGI_REF_EMITTER_NEE
+    int count = int(uEmitters.x);
+    if (count <= 0 || !(uEmitters.y > 0.0)) return vec3(0.0);
+    float target = rngNext(rng) * uEmitters.y;
+    // Binary search for the first emitter whose CDF exceeds target.
+    int lo = 0, hi = count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (uintBitsToFloat(refEmitters[2 * mid + 1]) > target) hi = mid;
+        else lo = mid + 1;
+    }
+    uint tri = refEmitters[2 * lo];
+    vec2 u = rngNext2(rng);
+    uint i0 = refIndices[3u * tri], i1 = refIndices[3u * tri + 1u], i2 = refIndices[3u * tri + 2u];
+    vec3 p0 = refVertexVec3(i0, 0u), p1 = refVertexVec3(i1, 0u), p2 = refVertexVec3(i2, 0u);
+    float su = sqrt(u.x);  // uniform on the triangle (Turk 1990)
+    vec3 y = (1.0 - su) * p0 + su * (1.0 - u.y) * p1 + su * u.y * p2;
+    vec3 ng = cross(p1 - p0, p2 - p0);
+    float lg = length(ng);
+    if (!(lg > 0.0)) return vec3(0.0);
+    ng /= lg;
+    vec3 toY = y - s.position;
+    float dist2 = dot(toY, toY);
+    if (!(dist2 > 0.0)) return vec3(0.0);
+    vec3 l = toY * inversesqrt(dist2);
+    float cosY = abs(dot(ng, l));
+    if (dot(s.geometric, l) <= 0.0 || dot(s.normal, l) <= 0.0 || cosY <= 0.0) return vec3(0.0);
+    vec3 le = materials[floatBitsToUint(refVertexWords[i0 * 9u + 8u])].emissive.rgb;
+    if (all(equal(le, vec3(0.0)))) return vec3(0.0);
+    // The shadow ray ends at y moved off the emitter towards the receiver,
+    // so the emitter itself never occludes its own sample.
+    vec3 yOff = offsetRayOrigin(y, dot(ng, l) < 0.0 ? ng : -ng, maxAbs(s.position));
+    vec3 seg = yOff - origin;
+    float len = length(seg);
+    if (!(len > 0.0) || traceAny(origin, seg / len, 0.0, len)) return vec3(0.0);
+    float pl = emitterLightPdf(dist2, cosY);
+    float w = misPower(pl, brdfPdf(s.normal, v, l, s.roughness));
+    return refBrdfCos(s.normal, v, l, s.albedo, s.roughness, s.metallic) * le * (w / pl);
+#else
+    return vec3(0.0);
+#endif
+}
+
 // Radiance arriving along (ro, rd), times `throughput`: at most maxBounces
 // surfaces (each adds its emission and next-event direct light), Russian
-// roulette from the third on. A ray escaping at the first segment sees the
-// sky only with skyFirst (ref.path's indirect mode leaves the sky seen
-// directly from the G-buffer surface to the compose pass's ambient term;
-// the LPV probe reference, lpv/probe.comp, does the same). eps: origin
-// offset along the geometric normal. Shared by ref/path.comp and lpv/probe.comp.
-vec3 refTraceRadiance(vec3 ro, vec3 rd, vec3 throughput, uint maxBounces, float eps, bool skyFirst, inout Rng rng) {
+// roulette from the third on; the ray was sampled at its origin with
+// solid-angle pdf `pdf` (the MIS weight of emission it hits). Without
+// RTGI_REF_FULL (indirect kind), the first segment is the one leaving the
+// G-buffer surface x1: a ray escaping there sees no sky (the compose pass's
+// ambient term) and emission hit there is weighted 1 (x1 samples no
+// emitters), or 0 with RTGI_REF_EMISSION_IS_DIRECT. Shared by ref/path.comp
+// and the LPV probe reference lpv/probe.comp (a cell centre in place of x1,
+// the same matching-bounce transport).
+vec3 refTraceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, uint maxBounces, inout Rng rng) {
     vec3 L = vec3(0.0);
     for (uint bounce = 1u; bounce <= maxBounces; ++bounce) {
         Hit h;
         if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
-            if (bounce > 1u || skyFirst) L += throughput * frame.sky.rgb;
+#ifndef RTGI_REF_FULL
+            if (bounce == 1u) break;  // direct skylight at x1: the compose pass's ambient term
+#endif
+            L += throughput * frame.sky.rgb;
             break;
         }
         Surface x = surfaceAt(h, ro, rd);
         vec3 v = -rd;
-        vec3 origin = x.position + x.geometric * eps;
-        L += throughput * (x.emission + directLight(x, v, origin));
+        vec3 origin = offsetRayOrigin(x.position, x.geometric, maxAbs(ro));
+        float misWeight = emissionMisWeight(pdf, h.t, rd, x.geometric);
+#ifndef RTGI_REF_FULL
+        if (bounce == 1u) misWeight = 1.0;  // x1 samples no emitters in the indirect kind
+#ifdef RTGI_REF_EMISSION_IS_DIRECT
+        if (bounce == 1u) misWeight = 0.0;  // emission seen from x1 is x1's direct light (emissive.lights=on)
+#endif
+#endif
+        L += throughput * x.emission * misWeight;
+        L += throughput * (directLight(x, v, origin) + sampleEmitters(x, v, origin, rng));
         if (bounce == maxBounces) break;
         vec3 l, w;
-        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w)) break;
+        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w, pdf)) break;
         if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
         throughput *= w;
         if (bounce >= 3u) {

@@ -21,6 +21,7 @@ using uint = std::uint32_t;
 #define RTGI_SSBO_MATERIALS 1   // GpuMaterial[]
 #define RTGI_SSBO_LIGHTS 2      // GpuLight[]
 #define RTGI_TEX_MATERIALS 0    // sampler2DArray of base-colour textures (raster passes)
+#define RTGI_SSBO_LOCAL_SHADOW_MATRICES 10  // mat4[]: world -> clip of every local-light shadow layer
 #define RTGI_ATTR_POSITION 0
 #define RTGI_ATTR_NORMAL 1
 #define RTGI_ATTR_UV 2
@@ -42,7 +43,8 @@ RTGI_STRUCT(FrameUniforms) {
     vec4 sky;             // rgb: constant sky radiance; a = exposure
     vec4 projParams;      // near, far, tan(fovY/2), aspect
     ivec4 size;           // width, height, frame index, camera cut (1) or not (0)
-    ivec4 counts;         // number of punctual (point/spot) lights, material count, flags, unused
+    ivec4 counts;         // x: scene point/spot lights (the reference's), y: material count, z: flags,
+                          // w: lights of the real-time path (x scene lights, then the emissive-region lights)
 };
 
 // Material table (std430): index stored per vertex.
@@ -55,13 +57,14 @@ RTGI_STRUCT(GpuMaterial) {
 // Point / spot lights (std430). Directional lights live in FrameUniforms.
 RTGI_STRUCT(GpuLight) {
     vec4 positionRange;   // xyz world position, w range (0 = infinite)
-    vec4 colorIntensity;  // rgb colour × intensity (W/sr)
-    vec4 directionType;   // xyz direction the light travels, w: 1 point, 2 spot
-    vec4 cone;            // cos(inner), cos(outer)
+    vec4 colorIntensity;  // rgb colour × intensity (W/sr; area: Le·A)
+    vec4 directionType;   // xyz direction the light travels (area: its normal), w: type (0: culled this frame)
+    vec4 cone;            // cos(inner), cos(outer), first shadow layer (−1: none), shadow texel size per unit distance
 };
 
 #define RTGI_LIGHT_POINT 1
 #define RTGI_LIGHT_SPOT 2
+#define RTGI_LIGHT_AREA 3  // emissive region: I0 = Le·A along the normal, max(cos, 0) lobe
 
 #ifndef RTGI_GLSL
 }  // namespace rtgi::gpu

@@ -33,4 +33,8 @@
 #define RTGI_VIEW_COMPARE_HEATMAP 3    // |Δ luminance| heat map
 #define RTGI_VIEW_COMPARE_SIDE 4       // side by side, each at half size
 
+// stage interface of the presentation shaders
+#define RTGI_VIEW_VARY_UV 0
+#define RTGI_VIEW_OUT_COLOR 0
+
 #endif

@@ -1,16 +1,17 @@
 // Moves the injected point to its cell: x/y in the viewport, z as the layer.
 #include "lpv/lpv_common.glsl"
+#include "lib/lpv_shared.h"
 
 layout(points) in;
 layout(points, max_vertices = 1) out;
 
-layout(location = 0) flat in ivec4 vCell[];
-layout(location = 1) flat in vec4 vR[];
-layout(location = 2) flat in vec4 vG[];
-layout(location = 3) flat in vec4 vB[];
-layout(location = 1) flat out vec4 gR;
-layout(location = 2) flat out vec4 gG;
-layout(location = 3) flat out vec4 gB;
+layout(location = RTGI_LPV_VARY_CELL) flat in ivec4 vCell[];
+layout(location = RTGI_LPV_VARY_R) flat in vec4 vR[];
+layout(location = RTGI_LPV_VARY_G) flat in vec4 vG[];
+layout(location = RTGI_LPV_VARY_B) flat in vec4 vB[];
+layout(location = RTGI_LPV_VARY_R) flat out vec4 gR;
+layout(location = RTGI_LPV_VARY_G) flat out vec4 gG;
+layout(location = RTGI_LPV_VARY_B) flat out vec4 gB;
 
 void main() {
     if (vCell[0].w == 0) return;

@@ -8,10 +8,10 @@ layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
 layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;
 layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2D uDepth;
 
-layout(location = 0) flat out ivec4 vCell;  // xyz cell, w = 1 when injected
-layout(location = 1) flat out vec4 vR;
-layout(location = 2) flat out vec4 vG;
-layout(location = 3) flat out vec4 vB;
+layout(location = RTGI_LPV_VARY_CELL) flat out ivec4 vCell;  // xyz cell, w = 1 when injected
+layout(location = RTGI_LPV_VARY_R) flat out vec4 vR;
+layout(location = RTGI_LPV_VARY_G) flat out vec4 vG;
+layout(location = RTGI_LPV_VARY_B) flat out vec4 vB;
 
 void main() {
     int R = lpv.grid.w;

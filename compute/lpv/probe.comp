@@ -34,7 +34,6 @@ layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_PROBE_IMG_ACCUM_LAST) uniform writeon
 #define lpvProbeBasis shBasis
 #endif
 layout(location = RTGI_LPV_PROBE_LOC_PARAMS) uniform uvec4 uParams;  // directions, bounces, seed, first z slice
-layout(location = RTGI_LPV_PROBE_LOC_RAY) uniform float uEps;
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID) + ivec3(0, 0, int(uParams.w));
@@ -50,7 +49,7 @@ void main() {
         // Strata j < m^2: cell (j % m, j / m) of the unit square; the rest uniform.
         if (j < m * m) u = (vec2(float(j % m), float(j / m)) + u) / float(m);
         vec3 w = uniformSphere(u);
-        vec3 L = refTraceRadiance(x, w, vec3(1.0), uParams.y, uEps, false, rng);
+        vec3 L = refTraceRadiance(x, w, 0.25 * INV_PI, vec3(1.0), uParams.y, rng);
         if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
         LpvSh y = lpvProbeBasis(w);
         pr += L.r * y;

@@ -11,12 +11,12 @@ layout(binding = RTGI_LPV_TEX_GEOMETRY) uniform sampler3D uGeometry;
 layout(binding = RTGI_LPV_TEX_GEOMETRY_ALBEDO) uniform sampler3D uGeometryAlbedo;
 layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 
-layout(location = 0) out vec4 outR;
-layout(location = 1) out vec4 outG;
-layout(location = 2) out vec4 outB;
-layout(location = 3) out vec4 outAccumR;
-layout(location = 4) out vec4 outAccumG;
-layout(location = 5) out vec4 outAccumB;
+layout(location = RTGI_LPV_OUT_R) out vec4 outR;
+layout(location = RTGI_LPV_OUT_G) out vec4 outG;
+layout(location = RTGI_LPV_OUT_B) out vec4 outB;
+layout(location = RTGI_LPV_OUT_ACCUM_R) out vec4 outAccumR;
+layout(location = RTGI_LPV_OUT_ACCUM_G) out vec4 outAccumG;
+layout(location = RTGI_LPV_OUT_ACCUM_B) out vec4 outAccumB;
 
 void main() {
     ivec3 c = ivec3(ivec2(gl_FragCoord.xy), gl_Layer);

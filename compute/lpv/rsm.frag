@@ -1,25 +1,26 @@
-// lpv.rsm: reflected flux per texel = albedo * E_perp * A_texel (SPEC 3.2; no
-// n.l factor for an orthographic light, SPEC 11.3) and the world normal of
-// the lit side.
-#include "lpv/lpv_common.glsl"
-#include "lib/brdf.glsl"
-#include "raster/material.glsl"
+// lpv.rsm (raster path): see lpv/rsm.glsl. RTGI_RSM_LOCAL: a face of a
+// spot / point / area light's perspective RSM.
+#include "lpv/rsm.glsl"
+#include "lib/raster_shared.h"
+#ifdef RTGI_RSM_LOCAL
+layout(location = RTGI_LPV_RSM_LOC_LIGHT) uniform vec4 uLight[4];  // the GpuLight: positionRange, colorIntensity, directionType, cone
+layout(location = RTGI_LPV_RSM_LOC_FACE) uniform vec2 uFace;       // tan(half field of view), RSM side R
+#endif
 
-layout(location = 0) in vec3 vWorldPos;
-layout(location = 1) in vec3 vNormal;
-layout(location = 2) in vec2 vUv;
-layout(location = 3) flat in uint vMaterial;
+layout(location = RTGI_RASTER_VARY_WORLD_POS) in vec3 vWorldPos;
+layout(location = RTGI_RASTER_VARY_NORMAL) in vec3 vNormal;
+layout(location = RTGI_RASTER_VARY_UV) in vec2 vUv;
+layout(location = RTGI_RASTER_VARY_MATERIAL) flat in uint vMaterial;
 
-layout(location = 0) out vec4 outFlux;
-layout(location = 1) out vec4 outNormal;
+layout(location = RTGI_RASTER_RSM_OUT_FLUX) out vec4 outFlux;
+layout(location = RTGI_RASTER_RSM_OUT_NORMAL) out vec4 outNormal;
 
 void main() {
-    vec3 n = vNormal;
-    float len = length(n);
-    n = len > 0.0 ? n / len : frame.sunDirection.xyz;
-    // Two-sided surfaces: the side the sun sees is the side that reflects.
-    if (dot(n, frame.sunDirection.xyz) < 0.0) n = -n;
-    vec3 albedo = diffuseAlbedo(materialBaseColor(vMaterial, vUv).rgb, materials[vMaterial].params.y);
-    outFlux = vec4(albedo * frame.sunIrradiance.rgb * lpv.rsm.x, 1.0);
-    outNormal = vec4(n, 1.0);
+    vec4 baseColor = materialBaseColor(vMaterial, vUv);
+#ifdef RTGI_RSM_LOCAL
+    GpuLight g = GpuLight(uLight[0], uLight[1], uLight[2], uLight[3]);
+    rsmTexelLocal(g, vWorldPos, vNormal, vMaterial, baseColor, floor(gl_FragCoord.xy), uFace, outFlux, outNormal);
+#else
+    rsmTexel(vNormal, vMaterial, baseColor, outFlux, outNormal);
+#endif
 }

@@ -1,10 +1,12 @@
-// Direct lighting: sun (shadow-mapped, 3x3 PCF), point/spot lights
-// (unshadowed), emission; sky radiance where no geometry was rasterized.
+// Direct lighting: sun (shadow-mapped, 3x3 PCF), point/spot/area lights
+// (shadow-mapped with RTGI_LOCAL_SHADOWS, 3x3 PCF, lib/lights.glsl),
+// emission; sky radiance where no geometry was rasterized.
 // RTGI_DIFFUSE_ONLY drops the specular lobe (ssr.diffuse_history).
 #include "lib/common.glsl"
 #include "lib/post_shared.h"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
+#include "lib/lights.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -15,6 +17,9 @@ layout(binding = RTGI_POST_DIRECT_TEX_MATERIAL) uniform sampler2D uMaterial;
 layout(binding = RTGI_POST_TEX_EMISSIVE) uniform sampler2D uEmissive;
 layout(binding = RTGI_POST_TEX_SHADOW_MAP) uniform sampler2DShadow uShadowMap;
 layout(rgba16f, binding = RTGI_POST_IMG_DIRECT) uniform writeonly image2D uDirect;
+#ifdef RTGI_LOCAL_SHADOWS
+layout(binding = RTGI_POST_DIRECT_TEX_LOCAL_SHADOWS) uniform sampler2DArrayShadow uLocalShadows;
+#endif
 
 layout(location = RTGI_POST_LOC_HAS_SHADOW_MAP) uniform int uHasShadowMap;
 
@@ -62,20 +67,15 @@ void main() {
         vec3 l = frame.sunDirection.xyz;
         radiance += lightBrdfCos(n, v, l, albedo, rm) * frame.sunIrradiance.rgb * sunVisibility(wp, n);
     }
-    for (int i = 0; i < frame.counts.x; ++i) {
+    for (int i = 0; i < frame.counts.w; ++i) {
         GpuLight L = lights[i];
-        vec3 toL = L.positionRange.xyz - wp;
-        float dist2 = max(dot(toL, toL), 1e-8);
-        vec3 l = toL * inversesqrt(dist2);
-        float atten = 1.0 / dist2;
-        if (L.positionRange.w > 0.0) {  // KHR_lights_punctual range window
-            float r = sqrt(dist2) / L.positionRange.w;
-            atten *= clamp(1.0 - r * r * r * r, 0.0, 1.0);
-        }
-        if (int(L.directionType.w) == RTGI_LIGHT_SPOT) {
-            float cd = dot(-l, normalize(L.directionType.xyz));
-            atten *= smoothstep(L.cone.y, L.cone.x, cd);
-        }
+        vec3 l;
+        float dist;
+        float atten = localLightAttenuation(L, wp, l, dist);
+        if (atten <= 0.0 || dot(n, l) <= 0.0) continue;
+#ifdef RTGI_LOCAL_SHADOWS
+        atten *= localShadow(uLocalShadows, L, wp, n, dist);
+#endif
         radiance += lightBrdfCos(n, v, l, albedo, rm) * L.colorIntensity.rgb * atten;
     }
     imageStore(uDirect, p, vec4(clampHalf(radiance), 1.0));

@@ -11,3 +11,11 @@ vec4 materialBaseColor(uint m, vec2 uv) {
     if (layer >= 0.0) c *= texture(uBaseColorTextures, vec3(uv, layer));
     return c;
 }
+
+// With explicit UV derivatives (compute resolves of the visibility buffer).
+vec4 materialBaseColorGrad(uint m, vec2 uv, vec2 dUvDx, vec2 dUvDy) {
+    vec4 c = materials[m].baseColor;
+    float layer = materials[m].params.z;
+    if (layer >= 0.0) c *= textureGrad(uBaseColorTextures, vec3(uv, layer), dUvDx, dUvDy);
+    return c;
+}

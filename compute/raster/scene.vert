@@ -10,12 +10,12 @@ layout(location = RTGI_ATTR_MATERIAL) in uint inMaterial;
 
 layout(location = RTGI_RASTER_LOC_LIGHT_VIEW_PROJ) uniform mat4 uLightViewProj;  // used by shadow/RSM variants
 
-layout(location = 0) out vec3 vWorldPos;
-layout(location = 1) out vec3 vNormal;
-layout(location = 2) out vec2 vUv;
-layout(location = 3) flat out uint vMaterial;
-layout(location = 4) out vec4 vCurClip;
-layout(location = 5) out vec4 vPrevClip;
+layout(location = RTGI_RASTER_VARY_WORLD_POS) out vec3 vWorldPos;
+layout(location = RTGI_RASTER_VARY_NORMAL) out vec3 vNormal;
+layout(location = RTGI_RASTER_VARY_UV) out vec2 vUv;
+layout(location = RTGI_RASTER_VARY_MATERIAL) flat out uint vMaterial;
+layout(location = RTGI_RASTER_VARY_CUR_CLIP) out vec4 vCurClip;
+layout(location = RTGI_RASTER_VARY_PREV_CLIP) out vec4 vPrevClip;
 
 void main() {
     vWorldPos = inPosition;  // the scene is flattened to world space

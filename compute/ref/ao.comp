@@ -1,5 +1,5 @@
 // ref.ao: ray-traced ambient occlusion from the G-buffer surface (SPEC 7.1a):
-// cosine-weighted hemisphere rays of maximum length uRay.x; visibility 1
+// cosine-weighted hemisphere rays of maximum length uRayLength; visibility 1
 // when nothing is hit. Adds this dispatch's samples to the accumulation
 // images (one invocation owns its pixel: plain load/store, no atomics).
 #include "lib/common.glsl"
@@ -18,7 +18,7 @@ layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // �
 
 
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed
-layout(location = RTGI_REF_LOC_RAY) uniform vec2 uRay;       // maximum ray length, origin offset along the normal
+layout(location = RTGI_REF_LOC_RAY) uniform float uRayLength;    // maximum ray length
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -33,12 +33,14 @@ void main() {
         float len = length(nrm);
         nrm = len > 0.0 ? nrm / len : vec3(0.0, 1.0, 0.0);
         if (dot(nrm, frame.cameraPos.xyz - wp) < 0.0) nrm = -nrm;
-        vec3 origin = wp + nrm * uRay.y;
+        // x1 comes from linear depth: its error is relative to the camera
+        // position and the depth (offset: bvh.glsl offsetRayOrigin).
+        vec3 origin = offsetRayOrigin(wp, nrm, max(maxAbs(frame.cameraPos.xyz), d));
         visible = 0.0;
         for (uint s = 0u; s < uSamples.y; ++s) {
             Rng rng = rngInit(uvec2(p), uSamples.x + s, uSamples.z);
             vec3 dir = cosineHemisphere(rngNext2(rng), nrm);
-            if (!traceAny(origin, dir, 0.0, uRay.x)) visible += 1.0;
+            if (!traceAny(origin, dir, 0.0, uRayLength)) visible += 1.0;
         }
     }
     // Visibility is 0 or 1, so Σx² = Σx.

@@ -6,9 +6,14 @@
 //     (diffuseAlbedo/π·E, the convention of res.indirectDiffuse). x1's own
 //     emission, its direct sun/punctual light and sky seen directly from x1
 //     (the compose pass's ambient term) are excluded.
-// Next-event estimation for the sun and punctual lights; emission and sky
-// are picked up by BRDF-sampled rays (no double counting). uSamples.w caps
-// the number of bounces after x1; Russian roulette from the third on.
+// Next-event estimation for the sun and punctual lights (shadow rays) and,
+// with RTGI_REF_EMITTER_NEE, for emissive triangles (area sampling, MIS with
+// the BRDF-sampled rays that hit them, ref_scene.glsl); sky is picked up by
+// BRDF-sampled rays. In the indirect kind with RTGI_REF_EMISSION_IS_DIRECT
+// (emissive.lights=on), emission seen directly from x1 is x1's direct light
+// (the real-time path turns emitters into lights of the direct pass) and is
+// left out. uSamples.w caps the number of bounces
+// after x1; Russian roulette from the third on.
 #include "lib/common.glsl"
 #include "lib/bvh_shared.h"
 #include "lib/depth.glsl"
@@ -16,6 +21,7 @@
 #include "lib/random.glsl"
 #include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
+#include "lib/lights.glsl"
 #include "lib/ref_scene.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
@@ -30,7 +36,10 @@ layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // �
 
 
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
-layout(location = RTGI_REF_LOC_RAY) uniform vec2 uRay;       // unused, origin offset along the normal
+
+// Reconstruction of x1 from linear depth: its error is relative to the
+// camera position and the depth, so the origin offset scales with them.
+float gbufferMagnitude(float d) { return max(maxAbs(frame.cameraPos.xyz), d); }
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -58,17 +67,18 @@ void main() {
         s.roughness = rm.x;
         s.metallic = rm.y;
         s.emission = texelFetch(uEmissive, p, 0).rgb;
-        vec3 origin = s.position + n * uRay.y;
+        vec3 origin = offsetRayOrigin(s.position, n, gbufferMagnitude(d));
         for (uint k = 0u; k < uSamples.y; ++k) {
             Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
 #ifdef RTGI_REF_FULL
-            vec3 L = s.emission + directLight(s, v, origin);
+            vec3 L = s.emission + directLight(s, v, origin) + sampleEmitters(s, v, origin, rng);
             vec3 l, w;
-            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w))
-                L += refTraceRadiance(origin, l, w, uSamples.w, uRay.y, true, rng);
+            float pdf;
+            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w, pdf))
+                L += refTraceRadiance(origin, l, pdf, w, uSamples.w, rng);
 #else
             vec3 l = cosineHemisphere(rngNext2(rng), n);
-            vec3 L = refTraceRadiance(origin, l, diffuseAlbedo(s.albedo, s.metallic), uSamples.w, uRay.y, false, rng);
+            vec3 L = refTraceRadiance(origin, l, dot(n, l) * INV_PI, diffuseAlbedo(s.albedo, s.metallic), uSamples.w, rng);
 #endif
             // A non-finite sample (degenerate geometry) is dropped, never accumulated.
             if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);

@@ -1,5 +1,6 @@
 // One triangle covering the viewport (rtgi-view's image display); no vertex buffer.
-layout(location = 0) out vec2 vUv;
+#include "lib/view_shared.h"
+layout(location = RTGI_VIEW_VARY_UV) out vec2 vUv;
 
 void main() {
     vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);

@@ -16,8 +16,8 @@ layout(location = RTGI_VIEW_LOC_SPLIT) uniform float uSplit;
 layout(location = RTGI_VIEW_LOC_REF_MODE) uniform int uRefMode;
 layout(location = RTGI_VIEW_LOC_HEAT_MAX) uniform float uHeatMax;
 
-layout(location = 0) in vec2 vUv;
-layout(location = 0) out vec4 outColor;
+layout(location = RTGI_VIEW_VARY_UV) in vec2 vUv;
+layout(location = RTGI_VIEW_OUT_COLOR) out vec4 outColor;
 
 vec4 pickChannel(vec4 t) {
     if (uChannel == 0) return t;

@@ -30,6 +30,9 @@ struct RunOptions {
     bool check = false;
     bool quiet = false;      // no progress output (sweeps print one line per configuration instead)
     bool reference = false;  // --reference: compare the output with the matching ray-traced reference
+    // The kind a sweep asked for: its frames are timed without the reference
+    // passes (reference=off), so the kind travels here (Off: what the run produces).
+    ReferenceSettings::Kind referenceKind = ReferenceSettings::Kind::Off;
     std::int64_t maxMemory = 0;  // --max-memory: GPU memory budget in bytes (0 = what the device reports)
     // Provenance recorded in results.json (SPEC 12: any figure can be reproduced).
     std::string commandLine;  // the exact argv, shell-quoted

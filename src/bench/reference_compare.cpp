@@ -54,10 +54,10 @@ double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mas
 }  // namespace
 
 nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::ivec2 resolution,
-                                    const std::string& outDir, bool writeImages) {
+                                    const std::string& outDir, bool writeImages, ReferenceSettings::Kind requested) {
     using K = ReferenceSettings::Kind;
     FrameResources& res = run.resources();
-    K kind = referenceKindFor(run.settings(), res);
+    K kind = requested != K::Off ? requested : referenceKindFor(run.settings(), res);
     const gl::Texture& tested = comparedTexture(kind, res);
     if (!tested)
         throw ConfigError(std::string("--reference: this run produced no ") +

@@ -17,7 +17,8 @@ namespace rtgi {
 // Compares `run`'s current output with the matching reference; writes
 // reference images and the error heat map into outDir when writeImages.
 nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::ivec2 resolution,
-                                    const std::string& outDir, bool writeImages);
+                                    const std::string& outDir, bool writeImages,
+                                    ReferenceSettings::Kind requested = ReferenceSettings::Kind::Off);
 
 // What `rtgi-bench --compare` compares (docs/reference.md, "Comparing image
 // files"): the quantity and which pixels.

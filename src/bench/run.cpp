@@ -7,6 +7,7 @@
 #include "render/memory_budget.h"
 #include "render/progress.h"
 #include "render/renderer.h"
+#include "render/visibility/visibility.h"
 
 #include <algorithm>
 #include <cmath>
@@ -89,6 +90,11 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     nlohmann::json cfg = nlohmann::json::object();
     for (auto& [k, v] : describe(settings)) cfg[k] = typedValue(v);  // numbers as numbers
     r["config"] = cfg;
+    // Which rasterizer produced the G-buffer, shadow map and RSM (docs/visibility.md);
+    // "compute-32" / "compute-64": the two-pass 32-bit or the 64-bit atomic path.
+    r["raster_path"] = !useComputeRaster(settings) ? std::string("hardware")
+                       : visibilityOptions(settings).atomic64 && visibilityAtomic64Supported() ? std::string("compute-64")
+                                                                                                : std::string("compute-32");
     r["camera"] = {{"position", {cam.position.x, cam.position.y, cam.position.z}},
                    {"target", {cam.target.x, cam.target.y, cam.target.z}},
                    {"fov", glm::degrees(cam.fovY)}, {"near", cam.near}, {"far", cam.far}};
@@ -162,7 +168,8 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
         r["images"] = opts.outDir;
     }
     if (opts.reference) {
-        r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages);
+        r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages,
+                                          opts.referenceKind);
         // The frames above were timed without the reference passes; the
         // configuration this result describes is compared with this kind.
         r["config"]["reference"] = r["error"]["kind"];

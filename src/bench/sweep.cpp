@@ -133,7 +133,8 @@ int runSweepCommand(const CommandLine& cl) {
             // reference passes would run inside the measured frames) and then
             // compared with it, as `--reference` does; the kind follows from
             // what the configuration produces (AO, indirect light, image).
-            bool compare = settings.reference.kind != ReferenceSettings::Kind::Off;
+            const ReferenceSettings::Kind requested = settings.reference.kind;
+            bool compare = requested != ReferenceSettings::Kind::Off;
             settings.reference.kind = ReferenceSettings::Kind::Off;
             if (compare && !haveReference) {
                 // Time the techniques now; the errors come when the reference
@@ -157,6 +158,7 @@ int runSweepCommand(const CommandLine& cl) {
             opts.check = spec.check || cl.run.check;
             opts.quiet = true;
             opts.reference = compare;
+            opts.referenceKind = requested;  // e.g. full-frame asks for "full", not the AO the frame also makes
             line = runBenchmark(ctx->info(), *renderer, opts);
         } catch (const std::exception& e) {
             // A configuration the build cannot run (a technique not landed, a

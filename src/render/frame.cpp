@@ -11,6 +11,7 @@
 #include "render/reference/reference_passes.h"
 #include "render/renderer.h"
 #include "render/ssr/ssr_passes.h"
+#include "render/visibility/visibility_passes.h"
 
 namespace rtgi {
 namespace {
@@ -40,7 +41,10 @@ public:
 std::vector<std::unique_ptr<Pass>> frameScript() {
     std::vector<std::unique_ptr<Pass>> f;
     f.push_back(makeGBufferPass());  // rasterize depth, normals, albedo, material, emission, velocity
+    appendVisibilityPasses(f);       // raster.path=compute: visibility.raster -> visibility.resolve (the same G-buffer)
     f.push_back(makeShadowPass());   // sun shadow map (rasterized)
+    f.push_back(makeLocalShadowPass());  // spot / point / area-light shadow maps
+    f.push_back(makeShadowRasterPass());  // raster.path=compute: the same shadow map from the compute rasterizer
     f.push_back(makeDirectPass());   // direct sun + punctual lights + emission (compute)
     f.push_back(makeBrdfLutPass());  // split-sum BRDF table, once, while SSR or LPV specular reads it
     appendAoPasses(f);               // ao.<variant> -> blur -> temporal -> upsample (+ bent normals / S3HO)

@@ -32,6 +32,7 @@ const std::array<ResourceDesc, R::count> kResources{{
     // Linear: reprojection reads them at sub-pixel positions.
     {"history", GL_RGBA16F, E::view, C::nonNegative, GL_LINEAR},
     {"diffuseHistory", GL_RGBA16F, E::view, C::nonNegative, GL_LINEAR},
+    {"localShadowMaps", GL_DEPTH_COMPONENT32F, E::localShadow, C::none, GL_LINEAR},
 }};
 
 }  // namespace
@@ -50,7 +51,8 @@ const gl::Texture& FrameResources::operator[](Resource r) const {
     const gl::Texture* t[R::count] = {&g.depth,     &g.linearDepth, &g.normal,   &g.albedo, &g.material,
                                       &g.emissive,  &g.velocity,    &shadowMap,  &direct,   &indirectDiffuse,
                                       &specular,    &ao,            &bentNormal, &s3ho,     &specularOcclusion,
-                                      &brdfLut,     &hdr,           &ldr,        &history,  &diffuseHistory};
+                                      &brdfLut,     &hdr,           &ldr,        &history,  &diffuseHistory,
+                                      &localShadowMaps};
     resourceDesc(r);  // validates the handle
     return *t[r.index];
 }

@@ -6,8 +6,11 @@
 // writes, from the resource's descriptor (resourceDesc) and by handle, never
 // by label; passes only fill them.
 #include "gl/resources.h"
+#include "render/gpu_types.h"
 
 #include <glm/glm.hpp>
+
+#include <vector>
 
 namespace rtgi {
 
@@ -23,7 +26,8 @@ enum class Extent {
     view,    // the view's size
     ao,      // the AO chain's resolution (half the view with ao.resolution=half)
     shadow,  // shadow.size squared
-    brdfLut  // kBrdfLutSize squared
+    brdfLut,     // kBrdfLutSize squared
+    localShadow  // light.local_shadow_size squared, FrameResources::localShadowLayers layers (2D array)
 };
 
 // Typed handle of one shared resource: an index into the resource table.
@@ -55,7 +59,8 @@ inline constexpr Resource hdr{16};              // RGBA32F composed radiance
 inline constexpr Resource ldr{17};              // RGBA8 tonemapped, sRGB-encoded
 inline constexpr Resource history{18};          // RGBA16F previous frame's hdr
 inline constexpr Resource diffuseHistory{19};   // RGBA16F previous frame's diffuse-only radiance
-inline constexpr int count = 20;
+inline constexpr Resource localShadowMaps{20};  // D32F 2D array, one layer per local-light shadow face (compare mode on)
+inline constexpr int count = 21;
 }  // namespace R
 
 // How the renderer allocates a shared resource and how --check reads it.
@@ -78,6 +83,7 @@ struct FrameResources {
     glm::mat4 shadowViewProj{1.0f};
     gl::Texture direct, indirectDiffuse, specular, ao, bentNormal, s3ho, specularOcclusion, brdfLut;
     gl::Texture hdr, ldr, history, diffuseHistory;
+    gl::Texture localShadowMaps;
     // Constant input, not a frame product: made once on first use (render/noise.h).
     gl::Texture blueNoise;  // RGBA8 64x64x8 2D array: 4 blue-noise channels, 8 per-frame variants
     // Incremented whenever the renderer (re)allocates a shared texture: a
@@ -86,6 +92,23 @@ struct FrameResources {
 
     gl::Texture& operator[](Resource r);
     const gl::Texture& operator[](Resource r) const;
+
+    // Local lights (render/lights.h): this frame's GpuLight list of the
+    // real-time path (culled ones have type 0), the world -> clip matrix of
+    // every shadow layer; the layered depth maps are R::localShadowMaps.
+    gl::Buffer localLights;          // GpuLight[] (bound at RTGI_SSBO_LIGHTS by the real-time passes)
+    int localLightCount = 0;
+    int localLightsCulled = 0;       // this frame: outside the view (influence sphere) or zero intensity
+    int localShadowLayers = 1;       // layers of localShadowMaps (every light at once, so culling never reallocates)
+    gl::Buffer localShadowMatrices;  // mat4[] per layer
+    struct LocalShadowView {
+        glm::mat4 viewProj;
+        int light, layer;
+        float tanHalfFov;  // of the square perspective frustum
+    };
+    std::vector<LocalShadowView> localShadowViews;  // layers rendered this frame
+    std::vector<gpu::GpuLight> localLightsCpu;      // the uploaded list (lpv.rsm reads the lights' data)
+    std::vector<LocalShadowView> localRsmViews;     // RSM faces of the kept local lights (LPV on), lpv.rsm size
 };
 
 }  // namespace rtgi

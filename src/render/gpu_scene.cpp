@@ -182,8 +182,9 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
         gpu::GpuLight g{};
         g.positionRange = glm::vec4(l.position, l.range);
         g.colorIntensity = glm::vec4(l.color * l.intensity, 0);
-        g.directionType = glm::vec4(l.direction, l.type == LightType::Point ? RTGI_LIGHT_POINT : RTGI_LIGHT_SPOT);
-        g.cone = glm::vec4(std::cos(l.innerCone), std::cos(l.outerCone), 0, 0);
+        glm::vec3 dir = glm::length(l.direction) > 0 ? glm::normalize(l.direction) : glm::vec3(0, -1, 0);
+        g.directionType = glm::vec4(dir, l.type == LightType::Point ? RTGI_LIGHT_POINT : RTGI_LIGHT_SPOT);
+        g.cone = glm::vec4(std::cos(l.innerCone), std::cos(l.outerCone), -1, 0);  // the reference has no shadow maps
         gls.push_back(g);
     }
     lightCount_ = int(gls.size());

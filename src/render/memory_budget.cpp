@@ -1,5 +1,7 @@
 #include "render/memory_budget.h"
 
+#include "render/visibility/visibility.h"
+
 #include "render/renderer.h"
 
 #include <algorithm>
@@ -74,6 +76,14 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
 
     if (hasFamily(r, "shadow"))
         by["shadow.size=" + std::to_string(s.light.shadowSize)] += 4.0 * double(s.light.shadowSize) * s.light.shadowSize;
+    // The compute rasterizer's visibility buffer and bins, per rasterized view
+    // (src/render/visibility/visibility.cpp, visibilityCapacity).
+    const std::int64_t triangles = std::int64_t(r.scene().triangleCount());
+    auto visibility = [&](glm::ivec2 size) { return double(visibilityCapacity(size, triangles, s.raster.binScale).bytes); };
+    if (hasFamily(r, "visibility.")) by[resKey] += visibility(res);
+    if (hasFamily(r, "shadow.raster"))
+        by["shadow.size=" + std::to_string(s.light.shadowSize)] += visibility(glm::ivec2(s.light.shadowSize));
+    if (hasFamily(r, "lpv.") && useComputeRaster(s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += visibility(glm::ivec2(s.lpv.rsm));
     if (hasFamily(r, "lpv.")) {
         const glm::dvec3 g(s.lpv.grid);
         const double cells = g.x * g.y * g.z, geometryCells = (g.x + 1) * (g.y + 1) * (g.z + 1);

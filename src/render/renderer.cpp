@@ -70,6 +70,16 @@ void Renderer::configure(const Settings& settings) {
     for (bool& b : writtenLastFrame_) b = false;
     if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_);
     plan_ = FramePlan::build(frameScript(), frameFamilies(), scene_, settings_);
+    skipped_ = plan_.skipped();
+
+    // Local lights: the per-frame list and the shadow matrices live as long as this configuration.
+    localLights_ = resolveLocalLights(scene_, settings_);
+    for (auto& [light, reason] : localLights_.leftOut) skipped_.push_back({"light:" + light, reason});
+    res_.localShadowLayers = std::max(1, maxShadowLayers(localLights_));
+    res_.localLights = gl::Buffer(ledger_, "lights.local",
+                                  std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLight)));
+    res_.localShadowMatrices = gl::Buffer(ledger_, "shadow.local.matrices",
+                                          std::int64_t(res_.localShadowLayers * sizeof(glm::mat4)));
 }
 
 // Every shared resource a pass of the frame writes, from its descriptor (by
@@ -81,11 +91,15 @@ void Renderer::allocateShared(const View& view) {
         const Resource r{i};
         if (!plan_.written(r)) continue;
         const ResourceDesc& d = resourceDesc(r);
-        glm::ivec2 size = d.extent == Extent::view     ? s
-                          : d.extent == Extent::ao     ? aoSize
-                          : d.extent == Extent::shadow ? glm::ivec2(settings_.light.shadowSize)
-                                                       : glm::ivec2(kBrdfLutSize);
-        if (res_[r].ensure(ledger_, d.name, {GL_TEXTURE_2D, d.format, size.x, size.y})) {
+        glm::ivec2 size = d.extent == Extent::view          ? s
+                          : d.extent == Extent::ao          ? aoSize
+                          : d.extent == Extent::shadow      ? glm::ivec2(settings_.light.shadowSize)
+                          : d.extent == Extent::localShadow ? glm::ivec2(settings_.light.localShadowSize)
+                                                            : glm::ivec2(kBrdfLutSize);
+        const bool layered = d.extent == Extent::localShadow;
+        if (res_[r].ensure(ledger_, d.name,
+                           {layered ? GLenum(GL_TEXTURE_2D_ARRAY) : GLenum(GL_TEXTURE_2D), d.format, size.x, size.y,
+                            layered ? res_.localShadowLayers : 1})) {
             res_[r].setSampling(d.filter, d.filter);
             ++res_.allocationEpoch;
             writtenLastFrame_[i] = false;
@@ -116,7 +130,26 @@ void Renderer::uploadFrameUniforms(const View& v) {
     u.sky = glm::vec4(resolveSky(scene_, settings_), settings_.post.exposure);
     u.projParams = glm::vec4(v.nearPlane, v.farPlane, std::tan(0.5f * v.fovY), float(v.size.x) / float(v.size.y));
     u.size = glm::ivec4(v.size, int(v.frame), v.cut ? 1 : 0);
-    u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, 0);
+    FrameLights fl = frameLights(localLights_, u.viewProj, box, findPass("shadow.local") != nullptr,
+                                 settings_.light.localShadowSize);
+    if (!fl.gpu.empty()) res_.localLights.upload(fl.gpu.data(), std::int64_t(fl.gpu.size() * sizeof(gpu::GpuLight)));
+    res_.localLightCount = int(fl.gpu.size());
+    res_.localShadowViews.clear();
+    std::vector<glm::mat4> mats;
+    for (auto& sv : fl.views) {
+        res_.localShadowViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
+        mats.push_back(sv.viewProj);
+    }
+    res_.localLightsCpu = fl.gpu;
+    res_.localRsmViews.clear();
+    if (findPass("lpv.rsm"))  // the same culling and frusta at the RSM's size
+        for (auto& sv : frameLights(localLights_, u.viewProj, box, true, settings_.lpv.rsm).views)
+            res_.localRsmViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
+    if (!mats.empty()) res_.localShadowMatrices.upload(mats.data(), std::int64_t(mats.size() * sizeof(glm::mat4)));
+    localCulled_ = fl.culled;
+    res_.localLightsCulled = fl.culled;
+    localShadowed_ = fl.shadowed;
+    u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, res_.localLightCount);
     frameUbo_.upload(&u, sizeof(u));
 }
 

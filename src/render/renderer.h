@@ -2,6 +2,7 @@
 // The renderer shared by rtgi-bench, the tests and rtgi-view: owns the GPU
 // scene, the program cache, the memory ledger and the frame (a list of
 // passes built by the frame script in frame.cpp from scene + settings).
+#include "render/lights.h"
 #include "gl/profiler.h"
 #include "gl/program.h"
 #include "gl/resources.h"
@@ -36,8 +37,13 @@ public:
     void render(const View& view);
 
     const std::vector<std::unique_ptr<Pass>>& passes() const { return plan_.passes(); }
-    const std::vector<SkippedPass>& skipped() const { return plan_.skipped(); }
+    // The plan's skipped passes, then the local lights left out ("light:<name>").
+    const std::vector<SkippedPass>& skipped() const { return skipped_; }
     const FramePlan& plan() const { return plan_; }
+    const LocalLights& localLights() const { return localLights_; }
+    // Of the last frame: local lights culled (outside the view / zero) and shadowed.
+    int localLightsCulled() const { return localCulled_; }
+    int localLightsShadowed() const { return localShadowed_; }
     Pass* findPass(const std::string& name) const;
     // From the pass's declaration: its shared writes and private outputs
     // (--check), and its private debug images (made on request, outside the measured frame).
@@ -75,9 +81,12 @@ private:
     gl::Buffer frameUbo_;
     FrameResources res_;
     FramePlan plan_;
+    std::vector<SkippedPass> skipped_;
     // Per shared resource: written in the previous frame / holds that value now.
     bool writtenLastFrame_[R::count] = {};
     bool previousValid_[R::count] = {};
+    LocalLights localLights_;  // point/spot/area lights of the real-time path
+    int localCulled_ = 0, localShadowed_ = 0;
     bool check_ = false;
     std::vector<FiniteCount> finite_;
 };

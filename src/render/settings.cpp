@@ -92,6 +92,7 @@ const char* onOff(bool b) { return b ? "on" : "off"; }
 
 const char* const kToggle[] = {"auto", "on", "off"};
 const char* const kLpvPath[] = {"compute", "raster"};
+const char* const kRasterPath[] = {"hardware", "compute", "auto"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
 const char* const kLpvReemit[] = {"face", "flow"};
 const char* const kLpvSource[] = {"propagated", "probe"};
@@ -149,6 +150,17 @@ std::vector<SettingKey> buildKeys() {
             s.light.emissiveScale = parseFloat("emissive.scale", v, 0, 1e12), fmt(s.light.emissiveScale)),
         KEY("shadow.size", "sun shadow map side in texels", "16..16384",
             s.light.shadowSize = parseInt("shadow.size", v, 16, 16384), fmt(s.light.shadowSize)),
+        KEY("shadow.local_size", "side of each spot-light shadow map and point/area-light cube face", "16..8192",
+            s.light.localShadowSize = parseInt("shadow.local_size", v, 16, 8192), fmt(s.light.localShadowSize)),
+        KEY("emissive.lights", "each connected emissive region becomes a shadowed area light of the real-time path",
+            "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
+        // ---- rasterization ----------------------------------------------------
+        KEY("raster.path", "visibility of every rasterized view: hardware rasterizer or the compute rasterizer (auto: compute where 64-bit atomics exist)", "hardware|compute|auto",
+            s.raster.path = parseEnum<RasterSettings::Path>("raster.path", v, kRasterPath), kRasterPath[int(s.raster.path)]),
+        KEY("raster.atomic64", "compute rasterizer: one 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists) or the two-pass 32-bit path", "auto|on|off",
+            s.raster.atomic64 = parseEnum<Toggle>("raster.atomic64", v, kToggle), kToggle[int(s.raster.atomic64)]),
+        KEY("raster.bin_scale", "compute rasterizer: multiplier on the tile-bin capacities (raise when a bin overflows)", "1..64",
+            s.raster.binScale = parseInt("raster.bin_scale", v, 1, 64), fmt(s.raster.binScale)),
         KEY("post.exposure", "exposure multiplier before tonemapping", "1e-12..1e12",
             s.post.exposure = parseFloat("post.exposure", v, 1e-12, 1e12), fmt(s.post.exposure)),
         KEY("passes.off", "comma-separated pass names forced off", "name,name,...", s.post.passesOff = v,
@@ -274,6 +286,10 @@ std::vector<SettingKey> buildKeys() {
             s.reference.seed = parseInt("reference.seed", v, 0, 2147483647), fmt(s.reference.seed)),
         KEY("reference.specular", "GGX lobe in the path tracer (off: Lambert only)", "on|off",
             s.reference.specular = parseBool("reference.specular", v), s.reference.specular ? "on" : "off"),
+        KEY("reference.light_sampling",
+            "next-event estimation of emissive triangles, MIS with BRDF sampling (off: emitters found by BRDF rays only)",
+            "on|off", s.reference.lightSampling = parseBool("reference.light_sampling", v),
+            s.reference.lightSampling ? "on" : "off"),
     };
 }
 
@@ -292,6 +308,7 @@ std::string defaultReferenceCacheDir() {
 const char* toString(Toggle t) { return kToggle[int(t)]; }
 const char* toString(AoSettings::Variant v) { return kAoVariant[int(v)]; }
 const char* toString(SsrSettings::Tracer t) { return kSsrTracer[int(t)]; }
+const char* toString(RasterSettings::Path p) { return kRasterPath[int(p)]; }
 
 std::string settingDefault(const SettingKey& key) {
     std::string v = key.show(Settings{});

@@ -34,6 +34,10 @@ struct LightSettings {
     std::optional<float> sky;           // constant sky radiance override
     float emissiveScale = 1.0f;
     int shadowSize = 2048;
+    // Side of each spot light's shadow map and of each cube face of a point /
+    // area light (6 per light); 16 point lights at 2048² would need 1.6 GB.
+    int localShadowSize = 512;
+    bool emissiveLights = true;  // emissive regions become area lights of the real-time path
 };
 
 struct PostSettings {
@@ -113,10 +117,20 @@ struct ReferenceSettings {
     std::string cacheDir = defaultReferenceCacheDir();  // "off" = no cache
     int seed = 1;                         // fixed seed of the sample sequence
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
+    bool lightSampling = true;            // next-event estimation of emissive triangles with MIS (off: BRDF sampling only)
+};
+
+// Visibility: hardware rasterization or the compute rasterizer (docs/visibility.md).
+struct RasterSettings {
+    // auto: compute where GL_NV_shader_atomic_int64 exists (NVIDIA), hardware elsewhere (llvmpipe)
+    enum class Path { Hardware, Compute, Auto } path = Path::Hardware;
+    Toggle atomic64 = Toggle::Auto;  // 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists)
+    int binScale = 1;                // multiplier on the compute rasterizer's bin capacities
 };
 
 struct Settings {
     CameraSettings camera;
+    RasterSettings raster;
     LightSettings light;
     PostSettings post;
     LpvSettings lpv;
@@ -165,6 +179,7 @@ Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignment
                            const std::string& sceneName);
 
 const char* toString(Toggle t);
+const char* toString(RasterSettings::Path p);
 const char* toString(AoSettings::Variant v);
 const char* toString(SsrSettings::Tracer t);
 

@@ -4,6 +4,7 @@
 #include "gl/context.h"
 #include "gl/image_io.h"
 #include "render/renderer.h"
+#include "test_scenes.h"
 
 #include <doctest/doctest.h>
 
@@ -27,16 +28,6 @@ struct GpuFixture {
     const gl::ContextInfo& info() const { return ctx->info(); }
 };
 
-// Appends a quad (two triangles) with corners a, b, c, d (counter-clockwise
-// seen from the side the normal points to) and material m.
-inline void addQuad(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int m) {
-    glm::vec3 n = glm::normalize(glm::cross(b - a, d - a));
-    auto base = std::uint32_t(s.vertices.size());
-    for (auto p : {a, b, c, d}) s.vertices.push_back({p, n, {0, 0}});
-    DrawRange r{std::uint32_t(s.indices.size()), 6, m};
-    for (auto i : {0u, 1u, 2u, 0u, 2u, 3u}) s.indices.push_back(base + i);
-    s.draws.push_back(r);
-}
 
 // A horizontal square floor at y = 0 of half-size h, albedo `albedo`, with
 // an optional sun (direction towards the sun, irradiance).
@@ -168,6 +159,54 @@ inline glm::dvec3 worldPosition(const Scene& scene, const Settings& s, glm::ivec
     glm::dvec2 ndc((x + 0.5) / size.x * 2.0 - 1.0, (y + 0.5) / size.y * 2.0 - 1.0);
     glm::dvec4 vp(ndc.x * th * aspect * d, ndc.y * th * d, -d, 1.0);
     return glm::dvec3(glm::inverse(glm::dmat4(v.view)) * vp);
+}
+
+// Closed box [-1,1]^3 of inward-facing quads, albedo a, emission le, with a
+// camera inside it (furnace tests, closed-box flux oracles).
+inline Scene closedBoxScene(float albedo, float le) {
+    Scene s;
+    s.name = "test:closed-box";
+    Material m;
+    m.baseColor = glm::vec4(glm::vec3(albedo), 1);
+    m.emissive = glm::vec3(le);
+    m.roughness = 1.0f;
+    s.materials.push_back(m);
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {-1.0f, 1.0f}) {
+            glm::vec3 q[4];
+            const float uv[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+            for (int k = 0; k < 4; ++k) {
+                q[k][axis] = side;
+                q[k][(axis + 1) % 3] = uv[k][0];
+                q[k][(axis + 2) % 3] = uv[k][1];
+            }
+            glm::vec3 n = glm::cross(q[1] - q[0], q[3] - q[0]), c = 0.25f * (q[0] + q[1] + q[2] + q[3]);
+            if (glm::dot(n, -c) > 0) addQuad(s, q[0], q[1], q[2], q[3], 0);
+            else addQuad(s, q[0], q[3], q[2], q[1], 0);
+        }
+    Camera c;
+    c.position = {0.2f, 0.1f, 0.3f};
+    c.target = {-0.5f, -0.3f, -1.0f};
+    c.fovY = glm::radians(70.0f);
+    c.near = 0.05f;
+    c.far = 10.0f;
+    s.cameras.push_back(c);
+    return s;
+}
+
+// Irradiance at p (unit normal n) from a uniform Lambertian polygon of
+// radiance le with corners q (either winding), two-sided, unoccluded:
+// E = le/2 |Σ_i θ_i n·(v_i × v_{i+1})/|v_i × v_{i+1}||, v_i = q_i − p
+// (Lambert's polygon formula; e.g. Arvo 1995, "The irradiance Jacobian").
+inline double polygonIrradiance(glm::dvec3 p, glm::dvec3 n, const std::vector<glm::dvec3>& q, double le) {
+    double sum = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        glm::dvec3 a = glm::normalize(q[i] - p), b = glm::normalize(q[(i + 1) % q.size()] - p);
+        glm::dvec3 c = glm::cross(a, b);
+        double len = glm::length(c);
+        if (len > 0) sum += std::acos(std::max(-1.0, std::min(1.0, glm::dot(a, b)))) * glm::dot(n, c) / len;
+    }
+    return 0.5 * le * std::abs(sum);
 }
 
 }  // namespace rtgi::test

@@ -34,6 +34,7 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate bounds the l
         {"gtao full res + ssr", {"ao=gtao", "ao.resolution=full", "ao.directional=bent-normals", "ssr=hiz",
                                  "floor.roughness=0.1", "lpv=off"}, {96, 64}},
         {"hbao half + nearfield", {"ao=hbao", "ao.nearfield=1", "lpv=off", "shadow.size=256"}, {320, 240}},
+        {"compute rasterizer", {"raster.path=compute", "lpv=on", "lpv.rsm=64", "shadow.size=256"}, {64, 48}},
     };
     for (auto& c : cases) {
         const std::string name = c.name;

@@ -268,10 +268,15 @@ TEST_CASE("LPV on cornell with the defaults beats black against the one-bounce r
     // measured RMSE by less than a tenth: independent noise of per-pixel standard error
     // se adds in quadrature, rmse_measured^2 = rmse^2 + mean(se^2), so the noise-free RMSE is
     // sqrt(rmse_measured^2 - mean(se^2)) and the difference must stay below 0.1 rmse.
+    // 96x54, not 64x36: at 64x36 one pixel, the foot of the red wall beside the sunlit
+    // floor (contact light within one cell: reference 0.94, LPV 0.08; a perfect probe
+    // volume misses it too, probe skill 0.31), carried 46 % of the squared error (skill 0.28;
+    // 0.39 at 96x54, 0.48 at 128x72, 0.46 at 160x90, docs/lpv.md): a one-pixel line
+    // feature whose weight falls with the pixel count, not a property of the volume.
     GpuFixture gpu;
     gl::Profiler prof(false);
     Scene scene = loadBuiltin("cornell");
-    const glm::ivec2 size{64, 36};
+    const glm::ivec2 size{96, 54};
     Settings s = effectiveSettings(scene.suggestedSettings, {{"lpv", "on"}, {"lpv.bounce", "off"}}, scene.name);
     Settings rs = oneBounceReference(s, 256);
     auto ref = renderFrames(scene, rs, size, prof);

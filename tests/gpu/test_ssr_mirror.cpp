@@ -338,6 +338,9 @@ TEST_CASE("--reference reports the SSR error over the glossy pixels (the mirror 
     st.reference.spp = 4;  // only the pixel sets are checked, not the converged values
     st.reference.bounces = 1;
     st.reference.cacheDir = "off";
+    // The emissive wall is an area light (docs/lights.md), so lpv=auto would
+    // run the LPV and --reference would compare its indirect term instead.
+    st.lpv.mode = Toggle::Off;
     auto r = renderFrames(s, st, size, prof, 2);
     const Camera cam = resolveCamera(s, st);
     nlohmann::json e = compareWithReference(*r, cam, size, "", false);

@@ -140,3 +140,22 @@ TEST_CASE("sweep with a reference: errors in every line, reference passes never 
         for (auto& p : l["passes"]) CHECK(p["name"].get<std::string>().rfind("ref.", 0) != 0);
     }
 }
+
+// The sweep's "reference" names what is compared even when the frame also
+// makes AO (full-frame asks for "full" with AO on; it used to compare AO).
+TEST_CASE("sweep with a full-image reference compares the image, not the AO the frame also makes") {
+    fs::path dir = fs::temp_directory_path() / ("rtgi-sweep-full-" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path sweepFile = dir / "full-tiny.json";
+    std::ofstream(sweepFile) << R"({"name": "full-tiny", "scenes": ["builtin:corner"], "frames": 1, "warmup": 0,
+        "resolutions": ["32x24"], "reference": "full", "base": {"reference.spp": 4, "lpv": "off", "ssr": "off"},
+        "axes": [{"ao": ["gtao"]}]})";
+    REQUIRE(run(std::string(RTGI_BENCH_EXE) + " --sweep " + sweepFile.string() + " --out " + (dir / "out").string()) == 0);
+    auto lines = readJsonl(dir / "out" / "results.jsonl");
+    REQUIRE(lines.size() == 1u);
+    REQUIRE(lines[0].contains("error"));
+    CHECK(lines[0]["error"]["kind"] == "full");
+    CHECK(lines[0]["config"]["reference"] == "full");
+    fs::remove_all(dir);
+}

@@ -20,13 +20,12 @@ struct Rule {
     const char* mustCatch;  // positive control
 };
 
-// GLSL: layout(binding = 3) and uniform locations layout(location = 0) uniform ...
-// (vertex inputs / varyings / fragment outputs, "location = N) in|out", are not slots).
+// GLSL: layout(binding = 3) and every layout(location = 0): uniforms, varyings and
+// colour outputs all take their location from the family header.
 std::vector<Rule> shaderRules() {
     return {
         {"literal binding", std::regex(R"(binding\s*=\s*[0-9])"), "layout(rgba16f, binding = 2) uniform image2D uX;"},
-        {"literal uniform location", std::regex(R"(location\s*=\s*[0-9]+\s*\)\s*uniform\b)"),
-         "layout(location = 0) uniform int uMode;"},
+        {"literal location", std::regex(R"(location\s*=\s*[0-9])"), "layout(location = 0) flat out int vLayer;"},
     };
 }
 
@@ -73,9 +72,10 @@ TEST_CASE("binding-slot patterns catch the literals they are meant for") {
             INFO(r.what << ": " << r.mustCatch);
             CHECK(std::regex_search(std::string(r.mustCatch), r.pattern));
         }
-    // Named slots and non-slot locations pass.
+    // Named slots and named stage locations pass.
     for (const char* ok : {"layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;",
-                           "layout(location = 0) out vec4 outColor;", "layout(location = 1) in vec3 vNormal;"})
+                           "layout(location = RTGI_VIEW_OUT_COLOR) out vec4 outColor;",
+                           "layout(location = RTGI_RASTER_VARY_NORMAL) in vec3 vNormal;"})
         for (const auto& r : shaderRules()) CHECK_FALSE(std::regex_search(std::string(ok), r.pattern));
     for (const char* ok : {"glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());",
                            "glBindImageTexture(RTGI_SSR_IMG_HIT, hit.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);",

@@ -69,7 +69,8 @@ std::string oneMaterial(const std::string& objects) {
 TEST_CASE("the built-in scenes are the documented set") {
     auto names = builtinSceneNames();
     std::set<std::string> got(names.begin(), names.end());
-    std::set<std::string> expected{"atrium", "box-on-plane", "corner", "cornell", "plane", "restaurant", "sphere-on-plane"};
+    std::set<std::string> expected{"atrium", "box-on-plane", "corner", "cornell", "gallery", "plane", "restaurant",
+                                   "sphere-on-plane"};
     CHECK(got == expected);
 }
 
@@ -89,12 +90,16 @@ TEST_CASE("every built-in scene loads and is well formed") {
             CHECK(c.far > c.near);
             CHECK(glm::length(c.target - c.position) > 0.0f);
         }
-        // Every built-in scene is lit by a sun coming from above.
+        // Every built-in scene but the gallery (local lights only) is lit by a sun coming from above.
         const Light* sun = s.sun();
-        REQUIRE(sun != nullptr);
-        CHECK(sun->intensity > 0.0f);
-        CHECK(std::abs(glm::length(sun->direction) - 1.0f) < 1e-5f);
-        CHECK(sun->direction.y < 0.0f);
+        if (name == "gallery") {
+            CHECK(sun == nullptr);
+        } else {
+            REQUIRE(sun != nullptr);
+            CHECK(sun->intensity > 0.0f);
+            CHECK(std::abs(glm::length(sun->direction) - 1.0f) < 1e-5f);
+            CHECK(sun->direction.y < 0.0f);
+        }
 
         std::size_t badPos = 0, badNormal = 0, badWinding = 0;
         for (auto& v : s.vertices) {
@@ -416,4 +421,30 @@ TEST_CASE("scene files may suggest settings; unknown keys there are errors namin
     const char* bad = R"({"materials": {"m": {"baseColor": [1, 1, 1]}}, "settings": {"lpv.gird": 4},
                          "objects": [{"material": "m", "box": {"center": [0, 0, 0], "size": [1, 1, 1]}}]})";
     CHECK_THROWS_WITH_AS(buildSceneFromJson(bad, "scenes/bad.json"), doctest::Contains("scenes/bad.json"), SceneError);
+}
+
+TEST_CASE("gallery: a closed room lit by two spot lights and a point light only") {
+    Scene s = loadBuiltin("gallery");
+    int spots = 0, points = 0;
+    for (auto& l : s.lights) {
+        CHECK(l.type != LightType::Directional);
+        CHECK(l.intensity > 0.0f);
+        spots += l.type == LightType::Spot;
+        points += l.type == LightType::Point;
+        // Every light is inside the room.
+        CHECK(std::abs(l.position.x) < 4.0f);
+        CHECK(l.position.y > 0.0f);
+        CHECK(l.position.y < 4.0f);
+        CHECK(std::abs(l.position.z) < 3.0f);
+    }
+    CHECK(spots == 2);
+    CHECK(points == 1);
+    CHECK(s.sky == glm::vec3(0.0f));
+    Aabb b = s.bounds();
+    CHECK(b.lo.x == doctest::Approx(-4.1f));
+    CHECK(b.hi.y == doctest::Approx(4.1f));
+    // The camera is inside the closed room.
+    glm::vec3 c = s.cameras.front().position;
+    CHECK(std::abs(c.x) < 4.0f);
+    CHECK(std::abs(c.z) < 3.0f);
 }

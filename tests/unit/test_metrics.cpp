@@ -94,7 +94,6 @@ TEST_CASE("Reference settings -> GPU constants") {
     ReferenceConstants c = referenceConstants(s, box);
     CHECK(c.rayLength == 2.5f);  // AO rays as long as the compared configuration's radius
     CHECK(c.samplesPerDispatch == 16);
-    CHECK(c.originOffset == doctest::Approx(5e-4f));
     CHECK(c.defines().empty());
     s.reference.spp = 3;
     CHECK(referenceConstants(s, box).samplesPerDispatch == 3);

@@ -6,22 +6,36 @@
 
 #include "gl/profiler.h"
 #include "render/gpu_scene.h"
+#include "render/lights.h"
 #include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_probe.h"
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 #include "compute/lib/raster_shared.h"
+#include "compute/lib/visibility_shared.h"
 
 #include <algorithm>
 
 namespace rtgi {
 namespace {
 
+// One local-light RSM face of the frame: its targets and, per cascade, a copy
+// of that cascade's uniform block with rsmViewProj / rsmInvViewProj of this
+// RSM, so injection loops over cascades x RSMs (docs/lpv.md "RSMs of local
+// lights", "Cascades").
+struct LocalRsm {
+    lpv::Rsm rsm;
+    gl::FramebufferHandle fbo;
+    std::vector<gl::Buffer> ubo;  // one per cascade
+};
+
 // One volume: the single LPV, or one cascade (docs/lpv.md, "Cascades").
 struct LpvCascade {
     lpv::Volumes volumes;
     gl::Buffer ubo;
+    gpu::LpvUniforms uniforms{};  // this frame's copy of the block in `ubo`
     lpv::Placement placement, previous;
     bool havePrevious = false;
     int historyTarget = 0;
@@ -32,8 +46,12 @@ struct LpvCascade {
 
 struct LpvState {
     std::vector<LpvCascade> cascades;  // finest first; cascades[0] is the single volume when C = 1
-    lpv::Rsm rsm;
+    lpv::Rsm rsm;  // the sun's (orthographic, fitted to the coarsest cascade), when there is a sun
     gl::FramebufferHandle rsmFbo;
+    bool sunRsm = false;
+    std::vector<LocalRsm> local;  // one per face of a kept spot / point / area light
+    int localUsed = 0;            // how many of `local` this frame rendered
+    VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer stats;
     gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
@@ -114,8 +132,9 @@ public:
             lpv::placeCascades(ls, count, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
         st.cascades.resize(std::size_t(count));
         auto sun = resolveSun(ctx.scene, ctx.settings);
-        // One RSM for every cascade, fitted to the coarsest (it holds the others).
-        rsmViewProj_ = orthoLightViewProj(placements.back().box(), sun->towardSun);
+        st.sunRsm = sun.has_value();
+        // One sun RSM for every cascade, fitted to the coarsest (it holds the others).
+        rsmViewProj_ = orthoLightViewProj(placements.back().box(), sun ? sun->towardSun : glm::vec3(0, 1, 0));
         for (int i = 0; i < count; ++i) {
             LpvCascade& c = st.cascades[std::size_t(i)];
             c.placement = placements[std::size_t(i)];
@@ -128,41 +147,88 @@ public:
             bool compatible = c.havePrevious && lpv::historyCompatible(c.placement, c.previous);
             in.historyValid = compatible && !ctx.view.cut;
             in.shift = compatible ? lpv::temporalShift(c.placement, c.previous) : glm::ivec3(0);
-            gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
+            c.uniforms = lpv::makeUniforms(ls, in);
             if (!c.ubo)
                 c.ubo = gl::Buffer(ctx.ledger, i == 0 ? std::string("lpv.uniforms")
                                                       : "lpv.uniforms.cascade" + std::to_string(i),
-                                   sizeof(u));
-            c.ubo.upload(&u, sizeof(u));
+                                   sizeof(c.uniforms));
+            c.ubo.upload(&c.uniforms, sizeof(c.uniforms));
             c.previous = c.placement;
             c.havePrevious = true;
         }
 
         int n = ls.rsm;
-        bool changed = st.rsm.flux.ensure(ctx.ledger, "lpv.rsm.flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
-        changed |= st.rsm.normal.ensure(ctx.ledger, "lpv.rsm.normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
-        changed |= st.rsm.depth.ensure(ctx.ledger, "lpv.rsm.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
-        if (changed || !st.rsmFbo) {
-            GLuint f = 0;
-            glCreateFramebuffers(1, &f);
-            st.rsmFbo = gl::FramebufferHandle(f);
-            st.rsmFbo.label("lpv.rsm.fbo");
-            glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, st.rsm.flux.id(), 0);
-            glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, st.rsm.normal.id(), 0);
-            glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, st.rsm.depth.id(), 0);
-            const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-            glNamedFramebufferDrawBuffers(f, 2, bufs);
-            if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-                throw std::runtime_error("lpv.rsm: framebuffer incomplete");
+        if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
+        if (st.sunRsm && useComputeRaster(ctx.settings)) {
+            // Compute rasterizer (sun RSM only; local lights' RSMs stay on the
+            // hardware rasterizer): visibility buffer of the light's view, then
+            // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
+            VisibilityTarget& t = st.rsmVis;
+            rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, rsmViewProj_, {n, n}, t,
+                                visibilityOptions(ctx.settings));
+            if (!t.checked) {
+                t.checkOverflow(name());
+                t.checked = true;
+            }
+            const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", visibilityDefines(t));
+            bindVisibility(resolve, ctx.gpuScene, rsmViewProj_, t);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+            gl::dispatch(resolve, n, n);
+            copyVisibilityDepth(ctx.programs, t, st.rsm.depth);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        } else if (st.sunRsm) {
+            const gl::Program& prog =
+                ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
+            prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, rsmViewProj_);
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
+            rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
         }
-        const gl::Program& prog =
-            ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, rsmViewProj_);
+        // Local lights: one perspective RSM per spot light, six per point /
+        // area light, each with its own uniform block per cascade (that
+        // cascade's placement, this RSM's view-projection): every RSM is
+        // injected into every cascade (issue 13: "and its cascades").
+        const auto& views = ctx.res.localRsmViews;
+        if (st.local.size() < views.size()) st.local.resize(views.size());
+        st.localUsed = int(views.size());
+        const gl::Program& local = ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag",
+                                                       {{"RTGI_LIGHT_VIEW", ""}, {"RTGI_RSM_LOCAL", ""}});
+        for (std::size_t i = 0; i < views.size(); ++i) {
+            LocalRsm& r = st.local[i];
+            ensureTargets(ctx, r.rsm, r.fbo, "lpv.rsm.local" + std::to_string(i), n);
+            if (r.ubo.size() < st.cascades.size()) r.ubo.resize(st.cascades.size());
+            for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+                gpu::LpvUniforms lu = st.cascades[k].uniforms;
+                lu.rsmViewProj = views[i].viewProj;
+                lu.rsmInvViewProj = glm::inverse(views[i].viewProj);
+                if (!r.ubo[k])
+                    r.ubo[k] = gl::Buffer(ctx.ledger,
+                                          "lpv.uniforms.local" + std::to_string(i) +
+                                              (k == 0 ? std::string() : ".cascade" + std::to_string(k)),
+                                          sizeof(lu));
+                r.ubo[k].upload(&lu, sizeof(lu));
+            }
+            const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(views[i].light)];
+            local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, views[i].viewProj);
+            glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
+            local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo[0].id());
+            rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
+        }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
-        rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
     }
-    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"rsms", double(st_->localUsed + (st_->sunRsm ? 1 : 0))}};
+    }
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         d.output("lpv.rsm.flux", &st_->rsm.flux).output("lpv.rsm.normal", &st_->rsm.normal, Check::signedValues);
+        // One flux map per local-light face; the frame renders the kept ones (culling).
+        const int faces = maxShadowLayers(resolveLocalLights(scene, s));
+        for (int i = 0; i < faces; ++i)
+            d.output("lpv.rsm.local" + std::to_string(i) + ".flux", [st = st_, i]() -> const gl::Texture* {
+                return i < st->localUsed ? &st->local[std::size_t(i)].rsm.flux : nullptr;
+            });
         d.debugImage("lpv.rsm.flux", [this] {
             return DebugImage{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)};
         });
@@ -171,7 +237,26 @@ public:
 
 private:
     glm::mat4 rsmViewProj_{1.0f};
+    static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
+                              int n) {
+        bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
+        changed |= rsm.normal.ensure(ctx.ledger, label + ".normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
+        changed |= rsm.depth.ensure(ctx.ledger, label + ".depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
+        if (!changed && fbo) return;
+        GLuint f = 0;
+        glCreateFramebuffers(1, &f);
+        fbo = gl::FramebufferHandle(f);
+        fbo.label((label + ".fbo").c_str());
+        glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT0, rsm.flux.id(), 0);
+        glNamedFramebufferTexture(f, GL_COLOR_ATTACHMENT1, rsm.normal.id(), 0);
+        glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, rsm.depth.id(), 0);
+        const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(f, 2, bufs);
+        if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("lpv.rsm: framebuffer incomplete");
+    }
     float maxFlux() const {
+        if (!st_->rsm.flux) return 0.0f;
         FloatImage img = readTexture(st_->rsm.flux);
         float m = 0;
         for (std::size_t i = 0; i < img.data.size(); i += 4)
@@ -189,15 +274,28 @@ public:
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
+        // Every RSM of the frame (the sun's and each local-light face) adds
+        // into the same accumulation of every cascade.
+        const GLenum format = ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F;
         if (ls.path == LpvSettings::Path::Compute) st.stats.clearZero();
-        for (LpvCascade& c : st.cascades) {
-            c.volumes.ensureLight(ctx.ledger, c.placement.grid,
-                                  ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F, ls.shOrder);
-            if (ls.path == LpvSettings::Path::Raster)
-                lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes);
-            else
-                lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
+        for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+            LpvCascade& c = st.cascades[k];
+            c.volumes.ensureLight(ctx.ledger, c.placement.grid, format, ls.shOrder);
+            if (ls.path == LpvSettings::Path::Raster) {
+                bool first = true;
+                if (st.sunRsm) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, first), first = false;
+                for (int i = 0; i < st.localUsed; ++i, first = false)
+                    lpv::injectRaster(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
+                                      ls.rsm, c.volumes, first);
+                if (first) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, 0, c.volumes, true);  // clears only
+            } else {
+                if (st.sunRsm) lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
+                for (int i = 0; i < st.localUsed; ++i)
+                    lpv::injectCompute(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
+                                       ls.rsm, c.volumes, st.stats);
+            }
         }
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
     std::vector<std::pair<std::string, double>> stats() override {
         if (!st_->stats) return {};
@@ -272,9 +370,11 @@ public:
         LpvState& st = *st_;
         const GBuffer& g = ctx.res.gbuffer;
         lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
+        // Blocking potential from the sun's orthographic RSM (its texel areas)
+        // and the G-buffer; local lights' perspective RSMs are not used here.
         for (LpvCascade& c : st.cascades) {
             c.volumes.ensureGeometry(ctx.ledger);
-            lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, ctx.settings.lpv.rsm, gb, c.volumes);
+            lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, st.sunRsm ? ctx.settings.lpv.rsm : 0, gb, c.volumes);
         }
     }
     DebugImage geometrySlice() const {
@@ -446,13 +546,14 @@ void validateLpvSettings(const Scene&, const Settings& s) {
 
 Need lpvFamily(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return Need::no("lpv=off");
-    if (!lpvActive(scene, s)) return Need::no("the scene has no directional light (no RSM, no LPV)");
+    if (!lpvActive(scene, s))
+        return Need::no("the scene has no light: no sun, and no point, spot or emissive-region light (no RSM, no LPV)");
     return Need::yes();
 }
 
 bool lpvActive(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return false;
-    return resolveSun(scene, s).has_value();
+    return resolveSun(scene, s).has_value() || hasLocalLights(scene, s);
 }
 
 bool lpvSpecularActive(const Scene& scene, const Settings& s) {

@@ -16,12 +16,11 @@ static_assert(RTGI_LPV_PROBE_IMG_ACCUM_B == RTGI_LPV_PROBE_IMG_ACCUM_R + 2 &&
               RTGI_LPV_PROBE_IMG_ACCUM_G == RTGI_LPV_PROBE_IMG_ACCUM_R + 1 &&
               RTGI_LPV_PROBE_IMG_ACCUM_LAST == RTGI_LPV_PROBE_IMG_ACCUM_HI_R + 3);
 
-ProbeParams probeParams(const Settings& s, const Aabb& bounds) {
+ProbeParams probeParams(const Settings& s, const Aabb&) {
     ProbeParams p;
     p.directions = s.lpv.probeDirections;
     p.bounces = s.lpv.bounce ? 2 : 1;  // as compareWithReference's matching-bounce reference
     p.seed = unsigned(s.reference.seed);
-    p.originOffset = referenceConstants(s, bounds).originOffset;
     return p;
 }
 
@@ -41,6 +40,9 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
     // Lambert only, as the matching-bounce reference (reference.specular=off).
     gl::Defines defines = formatDefines(v.format, v.shOrder);
     defines.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
+    // Emission hit from the cell is the emitter's direct light when emitters
+    // are lights (emissive.lights=on), as in the indirect reference.
+    if (ctx.settings.light.emissiveLights) defines.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
     const gl::Program& prog = ctx.programs.compute("lpv/probe.comp", defines);
     glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, nodes_.id());
@@ -54,7 +56,6 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
         for (GLuint c = 0; c < 4; ++c)
             glBindImageTexture(RTGI_LPV_PROBE_IMG_ACCUM_HI_R + c, v.accumHi[c].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
                                v.format);
-    prog.set(RTGI_LPV_PROBE_LOC_RAY, p.originOffset);
     // Producer: lpv.propagate's image stores into accum (overwritten here).
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     // Slabs of one workgroup depth: short dispatches however many directions.

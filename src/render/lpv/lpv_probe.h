@@ -22,7 +22,6 @@ struct ProbeParams {
     int directions = 256;       // lpv.probe_directions
     int bounces = 1;            // the matching-bounce reference's: 1, 2 with lpv.bounce=on
     unsigned seed = 1;          // reference.seed
-    float originOffset = 1e-4f; // the reference's self-intersection offset
 };
 ProbeParams probeParams(const Settings& settings, const Aabb& sceneBounds);
 

@@ -229,13 +229,15 @@ void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
     }
 }
 
-void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v) {
+void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
+                  bool clear) {
     v.ensureRasterTargets();
     const gl::Program& prog =
         programs.raster("lpv/inject_raster.vert", "lpv/inject_raster.frag", {}, "lpv/inject_raster.geom");
     bindUbo(ubo);
     const float zero[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 6; ++i) glClearNamedFramebufferfv(v.injectFbo.id(), GL_COLOR, i, zero);
+    if (clear)
+        for (int i = 0; i < 6; ++i) glClearNamedFramebufferfv(v.injectFbo.id(), GL_COLOR, i, zero);
     // Producer: lpv.rsm (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     rasterState(v, v.injectFbo.id(), true);
@@ -258,10 +260,12 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glBindImageTexture(RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                        GL_R32F);
     const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
-    glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
-    glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
-    glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
-    gl::dispatch(fromRsm, rsmSize, rsmSize);
+    if (rsmSize > 0) {
+        glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
+        glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
+        glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
+        gl::dispatch(fromRsm, rsmSize, rsmSize);
+    }
     if (gb.linearDepth) {
         const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", {{"RTGI_LPV_GV_GBUFFER", ""}});
         glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth->id());

@@ -65,8 +65,11 @@ void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm&
 // (the first propagation step starts accum from step[0]).
 void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v);
 // Seed method: GL_POINTS + geometry shader + additive blending into step[0] and accum.
-void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v);
-// Geometry volume from the RSM and (if linearDepth is non-null) the G-buffer at quarter resolution.
+// `clear`: start from zero (the first RSM of a frame); later RSMs add on top.
+void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
+                  bool clear = true);
+// Geometry volume from the RSM (skipped when rsmSize is 0: no orthographic sun
+// RSM) and (if linearDepth is non-null) the G-buffer at quarter resolution.
 struct GBufferView {
     const gl::Texture* linearDepth = nullptr;
     const gl::Texture* normal = nullptr;

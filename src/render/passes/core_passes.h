@@ -8,6 +8,7 @@
 namespace rtgi {
 std::unique_ptr<Pass> makeGBufferPass();
 std::unique_ptr<Pass> makeShadowPass();
+std::unique_ptr<Pass> makeLocalShadowPass();  // shadow.local: spot / point / area-light depth maps
 std::unique_ptr<Pass> makeDirectPass();
 std::unique_ptr<Pass> makeComposePass();
 // Split-sum BRDF LUT (RG16F, x = n·v, y = roughness at texel centres), made
@@ -30,6 +31,11 @@ void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Tex
 // depth to 1, draws the whole scene with `prog`, and unbinds.
 void rasterizeScene(FrameContext& ctx, const gl::Program& prog, GLuint fbo, glm::ivec2 size, int colorTargets,
                     bool depthBias = false);
+
+// Depth of the scene seen through viewProj into the depth attachment of
+// `fbo` (size²), with the slope-scaled bias of shadow maps: the one call the
+// sun's and the local lights' shadow maps go through.
+void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size);
 
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).

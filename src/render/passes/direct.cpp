@@ -13,7 +13,7 @@ public:
     std::string name() const override { return "direct"; }
     void declare(PassDecl& d, const Scene&, const Settings&) const override {
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material).read(R::emissive);
-        d.readIfWritten(R::shadowMap).write(R::direct);
+        d.readIfWritten(R::shadowMap).readIfWritten(R::localShadowMaps).write(R::direct);
     }
 
     void execute(FrameContext& ctx) override {
@@ -25,8 +25,11 @@ public:
 
 void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOnly) {
     const GBuffer& g = ctx.res.gbuffer;
-    const gl::Program& prog = ctx.programs.compute(
-        "post/direct.comp", diffuseOnly ? gl::Defines{{"RTGI_DIFFUSE_ONLY", ""}} : gl::Defines{});
+    gl::Defines defs;
+    if (diffuseOnly) defs.push_back({"RTGI_DIFFUSE_ONLY", ""});
+    const bool local = ctx.has(R::localShadowMaps);
+    if (local) defs.push_back({"RTGI_LOCAL_SHADOWS", ""});
+    const gl::Program& prog = ctx.programs.compute("post/direct.comp", defs);
     // Producer: gbuffer and shadow raster passes (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     bool shadow = ctx.has(R::shadowMap);
@@ -39,6 +42,12 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
         .texture(RTGI_POST_TEX_SHADOW_MAP, shadow ? &ctx.res.shadowMap : nullptr);
     prog.set(RTGI_POST_LOC_HAS_SHADOW_MAP, shadow ? 1 : 0);
     ctx.gpuScene.bindTables();
+    // The real-time light list (culled, with shadow layers) replaces the scene's.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LIGHTS, ctx.res.localLights.id());
+    if (local) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LOCAL_SHADOW_MATRICES, ctx.res.localShadowMatrices.id());
+        b.texture(RTGI_POST_DIRECT_TEX_LOCAL_SHADOWS, ctx.res.localShadowMaps);
+    }
     b.image(RTGI_POST_IMG_DIRECT, target, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, target.width(), target.height());
 }

@@ -3,6 +3,7 @@
 #include "gl/program.h"
 #include "render/gpu_scene.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 
 namespace rtgi {
 namespace {
@@ -10,7 +11,8 @@ namespace {
 class GBufferPass final : public Pass {
 public:
     std::string name() const override { return "gbuffer"; }
-    void declare(PassDecl& d, const Scene&, const Settings&) const override {
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (useComputeRaster(s)) return d.skip(rasterPathReason(s) + " (visibility.raster)");
         d.write(R::depth).write(R::linearDepth).write(R::normal).write(R::albedo).write(R::material);
         d.write(R::emissive).write(R::velocity);
     }

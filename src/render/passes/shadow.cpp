@@ -1,9 +1,13 @@
 // shadow: depth map of the sun (orthographic, fitted to the scene bounds).
+// shadow.local: perspective maps of spot lights and cubes of point / area
+// lights (render/lights.h), one layer of a D32F array each.
 #include "gl/profiler.h"
 #include "gl/program.h"
 #include "compute/lib/raster_shared.h"
 #include "render/gpu_scene.h"
+#include "render/lights.h"
 #include "render/passes/core_passes.h"
+#include "render/visibility/visibility.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -35,6 +39,7 @@ public:
     std::string name() const override { return "shadow"; }
     void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
         if (!resolveSun(scene, settings)) return d.skip("the scene has no directional light");
+        if (useComputeRaster(settings)) return d.skip(rasterPathReason(settings) + " (shadow.raster)");
         d.write(R::shadowMap);
     }
 
@@ -51,10 +56,7 @@ public:
             glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, ctx.res.shadowMap.id(), 0);
             glNamedFramebufferDrawBuffer(f, GL_NONE);
         }
-        const gl::Program& prog =
-            ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
-        prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, ctx.res.shadowViewProj);
-        rasterizeScene(ctx, prog, fbo_.id(), {n, n}, 0, /*depthBias=*/true);
+        renderShadowDepth(ctx, ctx.res.shadowViewProj, fbo_.id(), {n, n});
     }
 
 private:
@@ -62,8 +64,66 @@ private:
     unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffer was made for
 };
 
+class LocalShadowPass final : public Pass {
+public:
+    std::string name() const override { return "shadow.local"; }
+    void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
+        LocalLights ll = resolveLocalLights(scene, settings);
+        bool lit = false;
+        for (auto& l : ll.lights)
+            lit |= l.gpu.colorIntensity.x > 0 || l.gpu.colorIntensity.y > 0 || l.gpu.colorIntensity.z > 0;
+        if (!lit)
+            return d.skip(ll.lights.empty() ? "the scene has no point, spot or emissive-region light"
+                                            : "every point, spot or emissive-region light has zero intensity");
+        // Allocated by the renderer (Extent::localShadow: every light's layers
+        // at once, so culling never reallocates); this pass only fills layers.
+        d.write(R::localShadowMaps);
+    }
+
+    void execute(FrameContext& ctx) override {
+        FrameResources& r = ctx.res;
+        const int n = ctx.settings.light.localShadowSize;
+        const int layers = r.localShadowMaps.depth();
+        if (epoch_ != r.allocationEpoch || fbos_.size() != std::size_t(layers)) {
+            epoch_ = r.allocationEpoch;
+            glTextureParameteri(r.localShadowMaps.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+            glTextureParameteri(r.localShadowMaps.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+            fbos_.clear();
+            for (int l = 0; l < layers; ++l) {
+                GLuint f = 0;
+                glCreateFramebuffers(1, &f);
+                fbos_.emplace_back(f);
+                fbos_.back().label(("shadow.local.fbo" + std::to_string(l)).c_str());
+                glNamedFramebufferTextureLayer(f, GL_DEPTH_ATTACHMENT, r.localShadowMaps.id(), 0, l);
+                glNamedFramebufferDrawBuffer(f, GL_NONE);
+            }
+        }
+        for (auto& v : r.localShadowViews) renderShadowDepth(ctx, v.viewProj, fbos_[std::size_t(v.layer)].id(), {n, n});
+        layersDrawn_ = int(r.localShadowViews.size());
+        culled_ = r.localLightsCulled;
+    }
+    // Lights left out this frame (their influence sphere misses the view
+    // frustum, or zero intensity) and the layers drawn for the others.
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"layers", double(layersDrawn_)}, {"lights_culled", double(culled_)}};
+    }
+
+private:
+    std::vector<gl::FramebufferHandle> fbos_;
+    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffers were made for
+    int layersDrawn_ = 0, culled_ = 0;
+};
+
 }  // namespace
 
 std::unique_ptr<Pass> makeShadowPass() { return std::make_unique<ShadowPass>(); }
+std::unique_ptr<Pass> makeLocalShadowPass() { return std::make_unique<LocalShadowPass>(); }
+
+void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size) {
+    const gl::Program& prog =
+        ctx.programs.raster("raster/scene.vert", "raster/depth_only.frag", {{"RTGI_LIGHT_VIEW", ""}});
+    prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, viewProj);
+    rasterizeScene(ctx, prog, fbo, size, 0, /*depthBias=*/true);
+}
 
 }  // namespace rtgi

@@ -36,7 +36,7 @@ struct Hasher {
 std::string referenceCacheKey(const Scene& scene, const Settings& settings, const ReferenceConstants& c,
                               const View& view) {
     Hasher h;
-    h.str("rtgi-reference-v1");  // bump when the tracer's estimator changes
+    h.str("rtgi-reference-v2");  // v2: emitter NEE + MIS, robust ray origins  // bump when the tracer's estimator changes
     h.str(scene.name);
     h.vec(scene.vertices);
     h.vec(scene.indices);
@@ -80,6 +80,8 @@ nlohmann::json referenceSettingsJson(const ReferenceConstants& c) {
     else {
         j["bounces"] = c.bounces;
         j["specular"] = !c.diffuseOnly;
+        j["light_sampling"] = c.lightSampling;
+        if (c.kind == ReferenceSettings::Kind::Indirect) j["emission_is_direct"] = c.emissionIsDirect;
     }
     return j;
 }

@@ -6,6 +6,7 @@
 #include "render/progress.h"
 #include "render/reference/reference_cache.h"
 #include "scene/bvh.h"
+#include "scene/emitters.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,14 +16,17 @@
 
 namespace rtgi {
 
-gl::Defines ReferenceConstants::defines() const {
+gl::Defines ReferenceConstants::defines(bool haveEmitters) const {
     gl::Defines d;
     if (kind == ReferenceSettings::Kind::Full) d.push_back({"RTGI_REF_FULL", ""});
     if (diffuseOnly) d.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
+    if (lightSampling && haveEmitters) d.push_back({"RTGI_REF_EMITTER_NEE", ""});
+    if (kind == ReferenceSettings::Kind::Indirect && emissionIsDirect && haveEmitters)
+        d.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
     return d;
 }
 
-ReferenceConstants referenceConstants(const Settings& s, const Aabb& bounds) {
+ReferenceConstants referenceConstants(const Settings& s, const Aabb&) {
     ReferenceConstants c;
     c.kind = s.reference.kind;
     c.spp = s.reference.spp;
@@ -32,11 +36,10 @@ ReferenceConstants referenceConstants(const Settings& s, const Aabb& bounds) {
     c.bounces = s.reference.bounces;
     c.rayLength = s.ao.radius;
     c.diffuseOnly = !s.reference.specular;
-    // Self-intersection guard relative to the scene size: float positions
-    // carry ~1e-7 relative error, the offset stays far above it and far
-    // below any feature an AO radius resolves.
-    float diag = bounds.empty() ? 1.0f : glm::length(bounds.extent());
-    c.originOffset = std::max(1e-4f * diag, 1e-6f);
+    c.lightSampling = s.reference.lightSampling;
+    c.emissionIsDirect = s.light.emissiveLights;
+    // Secondary-ray origins: offsetRayOrigin (bvh.glsl) from the point's own
+    // floating-point magnitude, no scene-size constant.
     return c;
 }
 
@@ -45,6 +48,10 @@ namespace {
 // Built once per renderer configuration, shared by the tracing passes.
 struct ReferenceState {
     gl::Buffer nodes, triangles;
+    // Emissive triangles: (id, area CDF as float bits) pairs, count, total area.
+    gl::Buffer emitters;
+    int emitterCount = 0;
+    float emitterArea = 0;
     std::size_t nodeCount = 0, triangleCount = 0;
     int depth = 0;
     double buildMs = 0;
@@ -71,9 +78,26 @@ public:
                                 bvh.nodes.data(), 0);
         st_->triangles = gl::Buffer(ctx.ledger, "ref.bvh.triangles",
                                     std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
+        // Light sampling table over the emissive area (the materials after
+        // overrides, as the path tracer's material table holds them).
+        std::vector<std::uint32_t> table;
+        double cdf = 0;
+        for (auto& e : emissiveTriangles(ctx.scene, resolveMaterials(ctx.scene, ctx.settings))) {
+            cdf += e.area;
+            float f = float(cdf);
+            std::uint32_t bits;
+            std::memcpy(&bits, &f, 4);
+            table.push_back(e.triangle);
+            table.push_back(bits);
+        }
+        st_->emitterCount = int(table.size() / 2);
+        st_->emitterArea = float(cdf);
+        if (table.empty()) table.assign(2, 0u);
+        st_->emitters = gl::Buffer(ctx.ledger, "ref.emitters", std::int64_t(table.size() * 4), table.data(), 0);
     }
     std::vector<std::pair<std::string, double>> stats() override {
         return {{"nodes", double(st_->nodeCount)}, {"triangles", double(st_->triangleCount)},
+                {"emissive_triangles", double(st_->emitterCount)}, {"emissive_area", double(st_->emitterArea)},
                 {"depth", double(st_->depth)}, {"build_ms", st_->buildMs}};
     }
 
@@ -204,13 +228,14 @@ private:
         rayCounter_.ensure(ctx.ledger, "ref.ray_counters", std::int64_t(c.spp) * 4);
         rayCounter_.clearZero();
         const gl::Program& prog =
-            ao_ ? ctx.programs.compute("ref/ao.comp") : ctx.programs.compute("ref/path.comp", c.defines());
+            ao_ ? ctx.programs.compute("ref/ao.comp") : ctx.programs.compute("ref/path.comp", c.defines(st_->emitterCount > 0));
         const GBuffer& g = ctx.res.gbuffer;
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, st_->nodes.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, st_->triangles.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_VERTICES, ctx.gpuScene.vertices().id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_INDICES, ctx.gpuScene.indices().id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_COUNTER, rayCounter_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_EMITTERS, st_->emitters.id());
         ctx.gpuScene.bindTables();
         if (ao_) {
             glBindTextureUnit(RTGI_REF_AO_TEX_LINEAR_DEPTH, g.linearDepth.id());
@@ -224,7 +249,9 @@ private:
         }
         glBindImageTexture(RTGI_REF_IMG_ACCUM, accum_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         glBindImageTexture(RTGI_REF_IMG_ACCUM_SQ, accumSq_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        prog.set(RTGI_REF_LOC_RAY, glm::vec2(c.rayLength, c.originOffset));
+        if (ao_) prog.set(RTGI_REF_LOC_RAY, c.rayLength);
+        else if (c.lightSampling && st_->emitterCount > 0)
+            prog.set(RTGI_REF_LOC_EMITTERS, glm::vec2(float(st_->emitterCount), st_->emitterArea));
         // Producer: gbuffer raster pass (framebuffer writes read through samplers).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glFinish();  // the clock below times the tracing alone

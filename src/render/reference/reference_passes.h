@@ -25,9 +25,12 @@ struct ReferenceConstants {
     unsigned seed = 1;
     int bounces = 4;              // bounces after the G-buffer surface
     float rayLength = 0.5f;       // AO: maximum ray length = ao.radius of the compared configuration
-    float originOffset = 1e-4f;   // ray origins leave the surface along the normal by this much (world units)
     bool diffuseOnly = false;     // reference.specular=off
-    gl::Defines defines() const;  // RTGI_REF_FULL / RTGI_REF_DIFFUSE_ONLY for ref/path.comp
+    bool lightSampling = true;    // reference.light_sampling: emitter NEE + MIS (when the scene has emitters)
+    bool emissionIsDirect = true; // emissive.lights: emission seen from x1 belongs to the direct pass
+    // RTGI_REF_FULL / RTGI_REF_DIFFUSE_ONLY / RTGI_REF_EMITTER_NEE for ref/path.comp
+    // (the last only when `haveEmitters`).
+    gl::Defines defines(bool haveEmitters = false) const;
 };
 ReferenceConstants referenceConstants(const Settings& settings, const Aabb& sceneBounds);
 

@@ -290,7 +290,7 @@ public:
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (!s.ssr.diffuseHistory) return d.skip("ssr.diffuse_history=off (full HDR history)");
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material).read(R::emissive);
-        d.readIfWritten(R::shadowMap).readIfWritten(R::indirectDiffuse).readIfWritten(R::ao);
+        d.readIfWritten(R::shadowMap).readIfWritten(R::localShadowMaps).readIfWritten(R::indirectDiffuse).readIfWritten(R::ao);
         d.readIfWritten(R::bentNormal).readIfWritten(R::s3ho);
         d.write(R::diffuseHistory).output("ssr.direct_diffuse", &st_->directDiffuse);
     }

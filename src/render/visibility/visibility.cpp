@@ -1,0 +1,245 @@
+// The compute rasterizer's host side: buffer sizing, the dispatch sequence
+// clear -> setup -> bin -> tile (twice on the 32-bit path) and the depth copy.
+#include "render/visibility/visibility.h"
+
+#include "gl/profiler.h"
+#include "render/gpu_scene.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "compute/lib/visibility_shared.h"
+
+namespace rtgi {
+
+static_assert(sizeof(VisCounters) == sizeof(VisibilityCounters));
+
+namespace {
+
+constexpr std::int64_t kTriangleRecordBytes = 48;  // VisTriangle (3 x 16 bytes)
+constexpr std::int64_t kMaxBufferBytes = std::int64_t(1) << 31;  // per buffer, well under every driver's limit
+
+// glDispatchCompute with at most 65535 groups per dimension.
+void dispatchLinear(std::int64_t groups) {
+    if (groups <= 0) return;
+    std::int64_t x = std::min<std::int64_t>(groups, 65535);
+    std::int64_t y = (groups + x - 1) / x;
+    gl::Profiler::noteDispatch();
+    glDispatchCompute(GLuint(x), GLuint(y), 1);
+}
+
+void ensureBuffer(gl::Buffer& b, gl::MemoryLedger& ledger, const std::string& label, std::int64_t bytes) {
+    if (bytes > kMaxBufferBytes)
+        throw std::runtime_error(label + ": the compute rasterizer would need " + std::to_string(bytes >> 20) +
+                                 " MiB (limit " + std::to_string(kMaxBufferBytes >> 20) +
+                                 " MiB); lower the resolution or raster.bin_scale");
+    if (b.size() < bytes || !b) b.ensure(ledger, label, bytes);
+}
+
+}  // namespace
+
+bool visibilityAtomic64Supported() {
+    // Without a loaded GL context (--print-frame, --validate-only, settings
+    // checks before the context exists) the answer is unknown: say no, and do
+    // not cache it, so a later call with a context asks the driver.
+    if (!glGetIntegerv || !glGetStringi) return false;
+    static const bool supported = [] {
+        GLint n = 0;
+        glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+        bool nv = false, i64 = false;
+        for (GLint i = 0; i < n; ++i) {
+            const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+            if (!e) continue;
+            nv |= std::strcmp(e, "GL_NV_shader_atomic_int64") == 0;
+            i64 |= std::strcmp(e, "GL_ARB_gpu_shader_int64") == 0;
+        }
+        return nv && i64;
+    }();
+    return supported;
+}
+
+bool useComputeRaster(const Settings& s) {
+    return s.raster.path == RasterSettings::Path::Compute ||
+           (s.raster.path == RasterSettings::Path::Auto && visibilityAtomic64Supported());
+}
+
+std::string rasterPathReason(const Settings& s) {
+    return std::string("raster.path=") + toString(s.raster.path) + ": the " +
+           (useComputeRaster(s) ? "compute rasterizer" : "hardware rasterizer") + " runs";
+}
+
+VisibilityOptions visibilityOptions(const Settings& s) {
+    VisibilityOptions o;
+    if (s.raster.atomic64 == Toggle::On && !visibilityAtomic64Supported())
+        throw ConfigError("setting 'raster.atomic64': on, but this OpenGL context lacks GL_NV_shader_atomic_int64");
+    o.atomic64 = s.raster.atomic64 != Toggle::Off;
+    o.binScale = s.raster.binScale;
+    return o;
+}
+
+gl::Defines visibilityDefines(const VisibilityTarget& t) {
+    gl::Defines d;
+    if (t.atomic64) d.push_back({"RTGI_VISIBILITY_ATOMIC64", ""});
+    return d;
+}
+
+VisibilityCounters VisibilityTarget::readCounters() const {
+    VisibilityCounters c;
+    if (counters) counters.download(&c, sizeof(c));
+    return c;
+}
+
+void VisibilityTarget::checkOverflow(const std::string& pass) const {
+    VisibilityCounters c = readCounters();
+    auto fail = [&](const char* what, std::uint32_t need, std::int64_t have) {
+        throw std::runtime_error(pass + ": the compute rasterizer's " + what + " overflowed (" + std::to_string(need) +
+                                 " needed, " + std::to_string(have) + " available at " + std::to_string(size.x) + "x" +
+                                 std::to_string(size.y) + "); raise raster.bin_scale");
+    };
+    if (c.largeCount > largeCapacity) fail("large-triangle list", c.largeCount, largeCapacity);
+    if (c.nodeCount > nodeCapacity) fail("tile bins", c.nodeCount, nodeCapacity);
+}
+
+void bindVisibility(const gl::Program& prog, const GpuScene& scene, const glm::mat4& viewProj,
+                    const VisibilityTarget& t) {
+    prog.set(RTGI_VISIBILITY_LOC_VIEW_PROJ, viewProj);
+    prog.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VERTICES, scene.vertices().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_INDICES, scene.indices().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VISBUF, t.vis.id());
+    scene.bindTables();
+}
+
+VisibilityCapacity visibilityCapacity(glm::ivec2 size, std::int64_t triangles, int binScale) {
+    const std::int64_t pixels = std::int64_t(size.x) * size.y;
+    const glm::ivec2 tiles = (size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
+    const std::int64_t tileCount = std::int64_t(tiles.x) * tiles.y;
+    // Large triangles: at most twice the scene's (clipping adds pieces) and
+    // at most one per 8 pixels; bin entries: 64 per tile or 4 per large
+    // triangle, whichever is more. Overflow is counted, never written.
+    VisibilityCapacity c;
+    c.largeTriangles = binScale * std::min<std::int64_t>(2 * triangles + 1024, std::max<std::int64_t>(65536, pixels / 8));
+    c.binEntries = binScale * std::max<std::int64_t>(tileCount * 64, 4 * c.largeTriangles);
+    c.largeTriangles = std::min<std::int64_t>(c.largeTriangles, kMaxBufferBytes / kTriangleRecordBytes);
+    c.binEntries = std::min<std::int64_t>(c.binEntries, kMaxBufferBytes / 8);
+    c.bytes = 8 * pixels + kTriangleRecordBytes * c.largeTriangles + 8 * c.binEntries + 4 * tileCount +
+              std::int64_t(sizeof(VisCounters));
+    return c;
+}
+
+void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const GpuScene& scene,
+                         const glm::mat4& viewProj, glm::ivec2 size, VisibilityTarget& t,
+                         const VisibilityOptions& o) {
+    if (size.x <= 0 || size.y <= 0 || size.x > 32768 || size.y > 32768)
+        throw std::runtime_error(t.label + ": compute rasterizer target " + std::to_string(size.x) + "x" +
+                                 std::to_string(size.y) + " outside 1..32768");
+    t.size = size;
+    t.atomic64 = o.atomic64 && visibilityAtomic64Supported();
+    t.triangles = scene.indexCount() / 3;
+    const std::int64_t pixels = std::int64_t(size.x) * size.y;
+    const glm::ivec2 tiles = (size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
+    const std::int64_t tileCount = std::int64_t(tiles.x) * tiles.y;
+    VisibilityCapacity cap = visibilityCapacity(size, t.triangles, o.binScale);
+    t.largeCapacity = o.largeCapacity > 0 ? o.largeCapacity : cap.largeTriangles;
+    t.nodeCapacity = o.nodeCapacity > 0 ? o.nodeCapacity : cap.binEntries;
+    ensureBuffer(t.vis, ledger, t.label + ".vis", pixels * 8);
+    ensureBuffer(t.large, ledger, t.label + ".large", t.largeCapacity * kTriangleRecordBytes);
+    ensureBuffer(t.tileHeads, ledger, t.label + ".tiles", tileCount * 4);
+    ensureBuffer(t.nodes, ledger, t.label + ".bins", t.nodeCapacity * 8);
+    ensureBuffer(t.counters, ledger, t.label + ".counters", sizeof(VisCounters));
+    if (o.countHits) ensureBuffer(t.hits, ledger, t.label + ".hits", pixels * 4);
+
+    gl::Defines defs = visibilityDefines(t);
+    if (o.countHits) defs.push_back({"RTGI_VISIBILITY_COUNT_HITS", ""});
+    const gl::Program& clear = programs.compute("visibility/clear.comp", defs);
+    const gl::Program& setup = programs.compute("visibility/setup.comp", defs);
+    const gl::Program& bin = programs.compute("visibility/bin.comp", defs);
+    const gl::Program& tile = programs.compute("visibility/tile.comp", defs);
+    const int flags = (o.depthBias ? RTGI_VISIBILITY_FLAG_DEPTH_BIAS : 0) | (o.cullBack ? RTGI_VISIBILITY_FLAG_CULL_BACK : 0);
+    const glm::ivec2 capacity(int(t.largeCapacity), int(t.nodeCapacity));
+    // Only the uniforms each kernel reads (setting an inactive location may be an error).
+    bindVisibility(setup, scene, viewProj, t);
+    setup.set(RTGI_VISIBILITY_LOC_TRIANGLES, t.triangles);
+    setup.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+    setup.set(RTGI_VISIBILITY_LOC_CAPACITY, capacity);
+    clear.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    bin.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    bin.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+    bin.set(RTGI_VISIBILITY_LOC_CAPACITY, capacity);
+    tile.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    tile.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
+    const bool tileReadsPhase = !t.atomic64 || o.countHits;  // the 64-bit write needs no phase
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+    if (o.countHits) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_HITS, t.hits.id());
+
+    glUseProgram(clear.id());
+    dispatchLinear((std::max(pixels, tileCount) + 255) / 256);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP;
+    const int phases = t.atomic64 ? 1 : 2;
+    for (int phase = 0; phase < phases; ++phase) {
+        setup.set(RTGI_VISIBILITY_LOC_PHASE, phase);
+        if (tileReadsPhase) tile.set(RTGI_VISIBILITY_LOC_PHASE, phase);
+        glUseProgram(setup.id());
+        dispatchLinear(setupGroups);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        if (phase == 0) {
+            glUseProgram(bin.id());
+            gl::Profiler::noteDispatch();
+            glDispatchCompute(RTGI_VISIBILITY_BIN_GROUPS, 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        glUseProgram(tile.id());
+        gl::Profiler::noteDispatch();
+        glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+}
+
+void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& t, const gl::Texture& depth, int layer) {
+    if (!t.depthFbo || t.depthFboTexture != depth.id() || t.depthFboLayer != layer) {
+        GLuint f = 0;
+        glCreateFramebuffers(1, &f);
+        t.depthFbo = gl::FramebufferHandle(f);
+        t.depthFbo.label(t.label + ".depth_fbo");
+        if (layer >= 0)
+            glNamedFramebufferTextureLayer(f, GL_DEPTH_ATTACHMENT, depth.id(), 0, layer);
+        else
+            glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+        glNamedFramebufferDrawBuffer(f, GL_NONE);
+        if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error(t.label + ": depth copy framebuffer incomplete");
+        t.depthFboTexture = depth.id();
+        t.depthFboLayer = layer;
+    }
+    const gl::Program& prog = programs.raster("view/fullscreen.vert", "visibility/depth_copy.frag", visibilityDefines(t));
+    prog.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VISBUF, t.vis.id());
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glBindFramebuffer(GL_FRAMEBUFFER, t.depthFbo.id());
+    glViewport(0, 0, t.size.x, t.size.y);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glUseProgram(prog.id());
+    if (!t.emptyVao) {
+        GLuint vao = 0;
+        glCreateVertexArrays(1, &vao);
+        t.emptyVao = gl::VertexArrayHandle(vao);
+        t.emptyVao.label(t.label + ".empty_vao");
+    }
+    glBindVertexArray(t.emptyVao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    gl::Profiler::noteDispatch();
+    glBindVertexArray(0);
+    glDepthFunc(GL_LESS);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace rtgi

@@ -1,0 +1,352 @@
+// Point, spot and area lights of the real-time path (render/lights.h,
+// post/direct.comp, shadow.local) against CPU double oracles: the
+// inverse-square cosine law with the BRDF of brdf.glsl written out in double,
+// the KHR_lights_punctual spot cone, shadows of a cube against a CPU ray cast,
+// culling and pass gating.
+#include "gpu_fixture.h"
+
+#include "render/lights.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+using namespace rtgi;
+using namespace rtgi::test;
+
+namespace {
+
+const glm::ivec2 kSize{64, 48};
+
+// Lambert + GGX (height-correlated Smith, Schlick F0 = 0.04), dielectric,
+// as specified in brdf.glsl's comments, evaluated in double.
+double brdfCos(glm::dvec3 n, glm::dvec3 v, glm::dvec3 l, double albedo, double roughness) {
+    double nl = glm::dot(n, l);
+    if (nl <= 0) return 0;
+    double nv = std::max(glm::dot(n, v), 1e-4);
+    glm::dvec3 h = glm::normalize(l + v);
+    double a = std::max(roughness * roughness, 1e-3), a2 = a * a;
+    double nh = std::max(glm::dot(n, h), 0.0);
+    double t = nh * nh * (a2 - 1) + 1;
+    double D = a2 / (M_PI * t * t);
+    double V = 0.5 / (nl * std::sqrt(nv * nv * (1 - a2) + a2) + nv * std::sqrt(nl * nl * (1 - a2) + a2));
+    double F = 0.04 + 0.96 * std::pow(1.0 - std::clamp(glm::dot(v, h), 0.0, 1.0), 5.0);
+    return (albedo / M_PI + F * D * V) * nl;
+}
+
+// KHR_lights_punctual, "Inner and Outer Cone Angles": scale = 1 / max(0.001,
+// cos inner − cos outer), offset = −cos outer · scale, t = saturate(cd·scale +
+// offset), attenuation t².
+double khrSpot(double cd, double inner, double outer) {
+    double scale = 1.0 / std::max(0.001, std::cos(inner) - std::cos(outer));
+    double t = std::clamp(cd * scale - std::cos(outer) * scale, 0.0, 1.0);
+    return t * t;
+}
+
+Light pointLight(glm::vec3 p, float intensity) {
+    Light l;
+    l.type = LightType::Point;
+    l.name = "point";
+    l.position = p;
+    l.intensity = intensity;
+    return l;
+}
+
+Light spotLight(glm::vec3 p, glm::vec3 dir, float intensity, float inner, float outer) {
+    Light l = pointLight(p, intensity);
+    l.type = LightType::Spot;
+    l.name = "spot";
+    l.direction = dir;
+    l.innerCone = inner;
+    l.outerCone = outer;
+    return l;
+}
+
+// Box [lo, hi] of outward-facing quads, material m.
+void addBox(Scene& s, glm::vec3 lo, glm::vec3 hi, int m) {
+    glm::vec3 c[8];
+    for (int i = 0; i < 8; ++i) c[i] = {(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
+    glm::vec3 centre = 0.5f * (lo + hi);
+    auto face = [&](int a, int b, int cc, int d) {
+        glm::vec3 n = glm::cross(c[b] - c[a], c[d] - c[a]);
+        if (glm::dot(n, 0.25f * (c[a] + c[b] + c[cc] + c[d]) - centre) > 0) addQuad(s, c[a], c[b], c[cc], c[d], m);
+        else addQuad(s, c[a], c[d], c[cc], c[b], m);
+    };
+    face(0, 1, 3, 2);
+    face(4, 5, 7, 6);
+    face(0, 1, 5, 4);
+    face(2, 3, 7, 6);
+    face(0, 2, 6, 4);
+    face(1, 3, 7, 5);
+}
+
+// Segment p -> q against the box grown by g (negative: shrunk), slab test in double.
+bool segmentHitsBox(glm::dvec3 p, glm::dvec3 q, glm::dvec3 lo, glm::dvec3 hi, double g) {
+    glm::dvec3 d = q - p;
+    double t0 = 0, t1 = 1;
+    for (int a = 0; a < 3; ++a) {
+        double l = lo[a] - g, h = hi[a] + g;
+        if (std::abs(d[a]) < 1e-15) {
+            if (p[a] < l || p[a] > h) return false;
+            continue;
+        }
+        double ta = (l - p[a]) / d[a], tb = (h - p[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+Settings lightSettings() {
+    Settings st;
+    st.lpv.mode = Toggle::Off;
+    st.light.localShadowSize = 512;
+    return st;
+}
+
+struct Frame {
+    FloatImage direct, depth;
+    std::unique_ptr<Renderer> r;
+};
+
+Frame render(const Scene& s, const Settings& st, gl::Profiler& prof) {
+    Frame f;
+    f.r = renderFrames(s, st, kSize, prof);
+    f.direct = readTexture(f.r->resources().direct);
+    f.depth = readTexture(f.r->resources().gbuffer.linearDepth);
+    return f;
+}
+
+}  // namespace
+
+TEST_CASE("Local lights: a point light on a plane follows the inverse-square cosine law (double oracle)") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    const double albedo = 0.6, I = 3.0;
+    Scene s = floorScene(4.0f, glm::vec3(float(albedo)), false);
+    const glm::dvec3 lp(0.4, 1.5, -0.3);
+    s.lights.push_back(pointLight(glm::vec3(lp), float(I)));
+    Settings st = lightSettings();
+    Frame f = render(s, st, prof);
+    REQUIRE(f.r->findPass("shadow.local") != nullptr);
+    CHECK(f.r->localLightsShadowed() == 1);
+    Camera cam = resolveCamera(s, st);
+    int n = 0, bad = 0;
+    double worst = 0;
+    for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x) {
+            if (!(f.depth.at(x, y, 0) > 0)) continue;
+            glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
+            if (std::abs(p.x) > 3.9 || std::abs(p.z) > 3.9) continue;  // the floor's silhouette
+            glm::dvec3 toL = lp - p, v = glm::normalize(glm::dvec3(cam.position) - p);
+            double d2 = glm::dot(toL, toL);
+            double expect = brdfCos({0, 1, 0}, v, toL / std::sqrt(d2), albedo, 1.0) * I / d2;
+            double got = f.direct.at(x, y, 0);
+            double rel = std::abs(got - expect) / expect;
+            worst = std::max(worst, rel);
+            // fp16 output (5e-4) and the G-buffer position (depth in fp32).
+            if (rel > 5e-3) ++bad;
+            ++n;
+        }
+    INFO("floor pixels " << n << ", worst relative error " << worst);
+    REQUIRE(n > 1000);
+    CHECK(bad == 0);  // also: no shadow acne anywhere on the receiver
+}
+
+TEST_CASE("Local lights: spot cone falloff follows the KHR_lights_punctual formula") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    const double albedo = 0.5, I = 4.0, inner = glm::radians(15.0), outer = glm::radians(35.0);
+    Scene s = floorScene(4.0f, glm::vec3(float(albedo)), false);
+    const glm::dvec3 lp(0.0, 1.2, 0.0), dir = glm::normalize(glm::dvec3(0.2, -1.0, 0.1));
+    s.lights.push_back(spotLight(glm::vec3(lp), glm::vec3(dir), float(I), float(inner), float(outer)));
+    s.cameras[0].position = {0.0f, 2.5f, 1.5f};
+    s.cameras[0].target = {0.1f, 0.0f, 0.0f};
+    Settings st = lightSettings();
+    Frame f = render(s, st, prof);
+    Camera cam = resolveCamera(s, st);
+    int n = 0, penumbra = 0, bad = 0;
+    for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x) {
+            if (!(f.depth.at(x, y, 0) > 0)) continue;
+            glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
+            glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
+            double cd = glm::dot(-l, dir);
+            double expect = brdfCos({0, 1, 0}, v, l, albedo, 1.0) * I / glm::dot(toL, toL) * khrSpot(cd, inner, outer);
+            double got = f.direct.at(x, y, 0);
+            if (std::abs(got - expect) > 5e-3 * expect + 2e-4) ++bad;
+            if (cd > std::cos(outer) && cd < std::cos(inner)) ++penumbra;
+            ++n;
+        }
+    INFO("pixels " << n << ", in the penumbra " << penumbra << ", off " << bad);
+    REQUIRE(penumbra > 50);
+    CHECK(bad <= n / 200);  // PCF at the cone's rim may differ on a handful
+}
+
+TEST_CASE("Local lights: spot and point shadows of a cube agree with a CPU ray cast (>= 99 % away from edges)") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    const glm::dvec3 lo(-0.3, 0.4, -0.3), hi(0.3, 0.9, 0.3);
+    for (int kind = 0; kind < 2; ++kind) {
+        Scene s = floorScene(4.0f, glm::vec3(0.5f), false);
+        addBox(s, glm::vec3(lo), glm::vec3(hi), 0);
+        glm::dvec3 lp = kind == 0 ? glm::dvec3(0.25, 2.2, 0.1) : glm::dvec3(-0.2, 1.6, 0.3);
+        if (kind == 0)
+            s.lights.push_back(spotLight(glm::vec3(lp), {0, -1, 0}, 8.0f, glm::radians(50.0f), glm::radians(60.0f)));
+        else
+            s.lights.push_back(pointLight(glm::vec3(lp), 4.0f));
+        s.cameras[0].position = {0.0f, 3.5f, 2.5f};
+        s.cameras[0].target = {0.0f, 0.0f, 0.0f};
+        Settings st = lightSettings();
+        Frame f = render(s, st, prof);
+        Camera cam = resolveCamera(s, st);
+        int n = 0, agree = 0, shadowed = 0;
+        for (int y = 0; y < kSize.y; ++y)
+            for (int x = 0; x < kSize.x; ++x) {
+                if (!(f.depth.at(x, y, 0) > 0)) continue;
+                glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
+                if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 3.5 || std::abs(p.z) > 3.5) continue;  // floor only
+                // Away from edges: the answer does not change when the cube
+                // grows or shrinks by 3 cm (a few shadow texels there).
+                bool grown = segmentHitsBox(p, lp, lo, hi, 0.03), shrunk = segmentHitsBox(p, lp, lo, hi, -0.03);
+                if (grown != shrunk) continue;
+                glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
+                double unshadowed = brdfCos({0, 1, 0}, v, l, 0.5, 1.0) * (kind == 0 ? 8.0 : 4.0) / glm::dot(toL, toL);
+                if (kind == 0) unshadowed *= khrSpot(glm::dot(-l, glm::dvec3(0, -1, 0)), glm::radians(50.0), glm::radians(60.0));
+                if (unshadowed < 1e-3) continue;  // outside the cone: nothing to decide
+                bool gpuShadowed = f.direct.at(x, y, 0) < 0.5 * unshadowed;
+                agree += gpuShadowed == grown;
+                shadowed += grown;
+                ++n;
+            }
+        INFO((kind == 0 ? "spot" : "point") << ": pixels " << n << ", CPU-shadowed " << shadowed << ", agree " << agree);
+        REQUIRE(n > 500);
+        REQUIRE(shadowed > 30);
+        CHECK(agree >= 0.99 * n);
+    }
+}
+
+TEST_CASE("Local lights: zero intensity and out-of-view lights are left out with a reason") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    Scene s = floorScene(4.0f, glm::vec3(0.5f), false);
+    Settings st = lightSettings();
+    {
+        Frame f = render(s, st, prof);  // no local light at all
+        CHECK(f.r->findPass("shadow.local") == nullptr);
+        CHECK(f.r->ledger().entries().count("shadow.local.maps") == 0);
+    }
+    Light dark = pointLight({0, 1, 0}, 0.0f);
+    dark.name = "dark";
+    s.lights.push_back(dark);
+    {
+        Frame f = render(s, st, prof);
+        CHECK(f.r->findPass("shadow.local") == nullptr);  // only a zero-intensity light
+        bool listed = false;
+        for (auto& k : f.r->skipped()) listed |= k.name == "light:dark" && k.reason == "zero intensity";
+        CHECK(listed);
+    }
+    // A ranged light far behind the camera: its sphere misses the frustum.
+    Light far = pointLight({0, 1, 40}, 5.0f);
+    far.range = 2.0f;
+    s.lights.push_back(far);
+    s.lights.push_back(pointLight({0, 1, 0}, 1.0f));
+    Frame f = render(s, st, prof);
+    CHECK(f.r->localLightsCulled() == 2);  // the dark one and the far one
+    CHECK(f.r->localLightsShadowed() == 1);
+    // Influence radius of an unranged light: I/r² equals the cutoff.
+    LocalLights ll = resolveLocalLights(s, st);
+    REQUIRE(ll.lights.size() == 3);
+    CHECK(ll.lights[2].influence == doctest::Approx(std::sqrt(1.0 / lightCutoffIrradiance(1.0f))));
+    CHECK(ll.lights[1].influence == doctest::Approx(2.0f));
+}
+
+TEST_CASE("Emissive regions: a square emitter becomes a cosine-lobe light of its power; its error against the "
+          "closed-form irradiance is the documented far-field bound") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    const double albedo = 0.6, le = 8.0, h = 0.1, y0 = 1.0;  // 0.2 m square 1 m above the floor
+    Scene s = floorScene(4.0f, glm::vec3(float(albedo)), false);
+    Material e;
+    e.baseColor = glm::vec4(0, 0, 0, 1);
+    e.emissive = glm::vec3(float(le));
+    s.materials.push_back(e);
+    const float hf = float(h), yf = float(y0);
+    addQuad(s, {-hf, yf, -hf}, {hf, yf, -hf}, {hf, yf, hf}, {-hf, yf, hf}, 1);  // normal -y (faces the floor)
+    s.cameras[0].position = {0.0f, 2.2f, 2.6f};
+    s.cameras[0].target = {0.0f, 0.0f, 0.0f};
+    Settings st = lightSettings();
+    LocalLights ll = resolveLocalLights(s, st);
+    REQUIRE(ll.lights.size() == 1);
+    const double area = 4 * h * h;
+    // Centroid, normal, I0 = Le·A: an independent reading of the quad.
+    glm::dvec3 lp(ll.lights[0].gpu.positionRange);
+    CHECK(lp.x == doctest::Approx(0.0).epsilon(1e-6));
+    CHECK(lp.y < y0);  // in front of the emitting side
+    CHECK(lp.y > y0 - 0.01);
+    CHECK(ll.lights[0].gpu.directionType.y == doctest::Approx(-1.0f));
+    CHECK(ll.lights[0].gpu.colorIntensity.x == doctest::Approx(le * area).epsilon(1e-5));
+    CHECK(int(ll.lights[0].gpu.directionType.w) == RTGI_LIGHT_AREA);
+
+    Frame f = render(s, st, prof);
+    Camera cam = resolveCamera(s, st);
+    int n = 0, bad = 0, far = 0;
+    double worstFar = 0;
+    for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x) {
+            if (!(f.depth.at(x, y, 0) > 0)) continue;
+            glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
+            if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 3.5 || std::abs(p.z) > 3.5) continue;
+            glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
+            double cosE = std::max(glm::dot(-l, glm::dvec3(0, -1, 0)), 0.0);
+            double approx = brdfCos({0, 1, 0}, v, l, albedo, 1.0) * le * area * cosE / glm::dot(toL, toL);
+            if (std::abs(f.direct.at(x, y, 0) - approx) > 5e-3 * approx + 1e-5) ++bad;
+            ++n;
+            // The approximation's Lambert irradiance against the exact polygon
+            // irradiance: within 2 % once the receiver is 5 sides away (d ≥ 5a).
+            if (glm::length(toL) >= 5 * 2 * h) {
+                double exact = polygonIrradiance(p, {0, 1, 0}, {{-h, y0, -h}, {h, y0, -h}, {h, y0, h}, {-h, y0, h}}, le);
+                double approxE = le * area * cosE * std::max(l.y, 0.0) / glm::dot(toL, toL);
+                worstFar = std::max(worstFar, std::abs(approxE / exact - 1.0));
+                ++far;
+            }
+        }
+    INFO("floor pixels " << n << ", off the approximation " << bad << ", worst far-field error " << worstFar);
+    REQUIRE(n > 1000);
+    REQUIRE(far > 500);
+    CHECK(bad == 0);
+    CHECK(worstFar < 0.02);
+}
+
+TEST_CASE("The original Cornell box (emissive panel, no sun) runs with shadows and LPV on by default") {
+    const char* path = RTGI_SHARED_SCENES "/cornell-box/cornell-box.gltf";
+    if (!std::ifstream(path)) {
+        MESSAGE("skipped: " << path << " is not present");
+        return;
+    }
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    Scene s = loadGltf(path);
+    Settings st = smallLpvSettings();
+    st.lpv.mode = Toggle::Auto;
+    st.light.localShadowSize = 128;
+    auto r = renderFrames(s, st, {48, 36}, prof);
+    for (const char* p : {"shadow.local", "direct", "lpv.rsm", "lpv.inject", "lpv.propagate", "lpv.apply"})
+        CHECK_MESSAGE(r->findPass(p) != nullptr, p);
+    CHECK(r->localLightsShadowed() == 1);  // the panel, as one area light
+    FloatImage direct = readTexture(r->resources().direct), indirect = readTexture(r->resources().indirectDiffuse);
+    double d = 0, ir = 0, ig = 0;
+    for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 48; ++x) {
+            d += direct.at(x, y, 0);
+            ir += indirect.at(x, y, 0);
+            ig += indirect.at(x, y, 1);
+        }
+    CHECK(d > 0.0);
+    CHECK(ir > 0.0);
+    CHECK(ig > 0.0);
+}

@@ -1,0 +1,159 @@
+// Light list of the real-time path without GL (render/lights.h,
+// scene/emitters.h): emissive regions (union-find over shared corners with
+// agreeing normals), area-light power, frustum culling of influence spheres,
+// shadow layer layout.
+#include "render/lights.h"
+#include "render/view.h"
+#include "scene/emitters.h"
+#include "test_scenes.h"
+
+#include <doctest/doctest.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace rtgi;
+using rtgi::test::addQuad;
+
+namespace {
+
+Scene emitterScene() {
+    Scene s;
+    Material white, lamp;
+    lamp.emissive = glm::vec3(2.0f, 1.0f, 0.5f);
+    s.materials = {white, lamp};
+    addQuad(s, {-5, 0, 5}, {5, 0, 5}, {5, 0, -5}, {-5, 0, -5}, 0);  // floor, not emissive
+    // Panel A: two quads sharing an edge, facing down (1 m x 0.8 m at y = 3).
+    addQuad(s, {-0.5f, 3, -0.8f}, {0, 3, -0.8f}, {0, 3, 0}, {-0.5f, 3, 0}, 1);
+    addQuad(s, {0, 3, -0.8f}, {0.5f, 3, -0.8f}, {0.5f, 3, 0}, {0, 3, 0}, 1);
+    for (std::size_t i = 4; i < s.vertices.size(); ++i) s.vertices[i].normal = {0, -1, 0};
+    // Panel B: a separate 0.2 m square far away, facing +x.
+    addQuad(s, {4, 1, -0.1f}, {4, 1, 0.1f}, {4, 1.2f, 0.1f}, {4, 1.2f, -0.1f}, 1);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("emissive regions: connected coplanar triangles form one region with its area, centroid, normal, power") {
+    Scene s = emitterScene();
+    auto tris = emissiveTriangles(s, s.materials);
+    CHECK(tris.size() == 6);  // 2 + 2 + 2, the floor does not emit
+    double area = 0;
+    for (auto& t : tris) area += t.area;
+    CHECK(area == doctest::Approx(0.8 + 0.04));
+    auto regions = emissiveRegions(s, s.materials);
+    REQUIRE(regions.size() == 2);
+    std::sort(regions.begin(), regions.end(), [](auto& a, auto& b) { return a.area > b.area; });
+    const EmissiveRegion& a = regions[0];
+    CHECK(a.area == doctest::Approx(0.8));
+    CHECK(a.triangles == 4);
+    CHECK(a.centroid.x == doctest::Approx(0.0).scale(1.0));
+    CHECK(a.centroid.y == doctest::Approx(3.0));
+    CHECK(a.centroid.z == doctest::Approx(-0.4));
+    CHECK(a.normal.y == doctest::Approx(-1.0));  // the side the vertex normals point to
+    CHECK(a.power().x == doctest::Approx(M_PI * 2.0 * 0.8));
+    const EmissiveRegion& b = regions[1];
+    CHECK(b.area == doctest::Approx(0.04));
+    CHECK(std::abs(b.normal.x) == doctest::Approx(1.0));
+
+    // A folded pair (90° between the halves) is two regions even though it shares an edge.
+    Scene f;
+    Material lamp;
+    lamp.emissive = glm::vec3(1.0f);
+    f.materials = {lamp};
+    addQuad(f, {0, 0, 0}, {1, 0, 0}, {1, 0, -1}, {0, 0, -1}, 0);
+    addQuad(f, {0, 0, 0}, {0, 0, -1}, {0, 1, -1}, {0, 1, 0}, 0);
+    CHECK(emissiveRegions(f, f.materials).size() == 2);
+}
+
+TEST_CASE("emissive regions: a strip light (one quad, 2 m x 0.25 m) is cut into 8 square slabs carrying its power") {
+    Scene s;
+    Material lamp;
+    lamp.emissive = glm::vec3(3.0f);
+    s.materials = {lamp};
+    addQuad(s, {-1, 2, 0}, {1, 2, 0}, {1, 2, -0.25f}, {-1, 2, -0.25f}, 0);  // two long triangles
+    auto regions = emissiveRegions(s, s.materials);
+    REQUIRE(regions.size() == 8);  // round(2 / 0.25) = 8 = kMaxRegionPieces
+    std::sort(regions.begin(), regions.end(), [](auto& a, auto& b) { return a.centroid.x < b.centroid.x; });
+    double power = 0;
+    for (int i = 0; i < 8; ++i) {
+        const EmissiveRegion& r = regions[std::size_t(i)];
+        CHECK(r.area == doctest::Approx(0.0625));
+        CHECK(r.centroid.x == doctest::Approx(-1.0 + 0.25 * (i + 0.5)));
+        CHECK(r.centroid.y == doctest::Approx(2.0));
+        CHECK(r.centroid.z == doctest::Approx(-0.125));
+        CHECK(r.radiance.x == doctest::Approx(3.0));
+        power += r.power().x;
+    }
+    CHECK(power == doctest::Approx(M_PI * 3.0 * 0.5));  // π·Le·A of the whole strip
+    // A 0.47 x 0.38 panel (the Cornell box's) stays one light.
+    Scene p;
+    p.materials = {lamp};
+    addQuad(p, {-0.24f, 1.98f, 0.16f}, {0.23f, 1.98f, 0.16f}, {0.23f, 1.98f, -0.22f}, {-0.24f, 1.98f, -0.22f}, 0);
+    CHECK(emissiveRegions(p, p.materials).size() == 1);
+}
+
+TEST_CASE("local lights: area lights from regions, culling by influence sphere, shadow layer layout") {
+    Scene s = emitterScene();
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.name = "spot";
+    spot.position = {0, 2, 2};
+    spot.direction = {0, -1, 0};
+    spot.intensity = 5.0f;
+    spot.outerCone = 0.5f;
+    s.lights.push_back(spot);
+    Light behind;
+    behind.type = LightType::Point;
+    behind.name = "behind";
+    behind.position = {0, 1, 30};
+    behind.range = 1.0f;
+    behind.intensity = 5.0f;
+    s.lights.push_back(behind);
+    Settings st;
+    LocalLights ll = resolveLocalLights(s, st);
+    REQUIRE(ll.lights.size() == 4);  // spot, point, 2 area lights
+    CHECK(ll.sceneLights == 2);
+    CHECK(maxShadowLayers(ll) == 1 + 6 + 6 + 6);
+    int areas = 0;
+    for (auto& l : ll.lights) areas += int(l.gpu.directionType.w) == RTGI_LIGHT_AREA;
+    CHECK(areas == 2);
+    st.light.emissiveLights = false;
+    CHECK(resolveLocalLights(s, st).lights.size() == 2);
+    CHECK(hasLocalLights(s, st));
+    st.light.emissiveLights = true;
+
+    // Camera at (0, 1.5, 8) looking at -z: the ranged light at z = 30 is behind it.
+    glm::mat4 view = glm::lookAt(glm::vec3(0, 1.5f, 8), glm::vec3(0, 1.5f, 0), glm::vec3(0, 1, 0));
+    glm::mat4 proj = glm::perspective(glm::radians(60.0f), 1.5f, 0.1f, 100.0f);
+    Aabb box = s.bounds();
+    FrameLights fl = frameLights(ll, proj * view, box, true, 256);
+    REQUIRE(fl.gpu.size() == 4);
+    CHECK(fl.culled == 1);
+    CHECK(fl.gpu[1].directionType.w == 0.0f);  // culled: the direct pass skips it
+    CHECK(fl.shadowed == 3);
+    CHECK(fl.views.size() == 1 + 6 + 6);
+    CHECK(fl.gpu[0].cone.z == 0.0f);   // the spot's map is layer 0
+    CHECK(fl.gpu[2].cone.z == 1.0f);   // then the cubes
+    CHECK(fl.gpu[3].cone.z == 7.0f);
+    for (std::size_t i = 0; i < fl.views.size(); ++i) CHECK(fl.views[i].layer == int(i));
+    // Every cube face's frustum holds the points along its axis, and the
+    // spot's holds its axis.
+    glm::vec3 p(fl.gpu[2].positionRange);
+    const glm::vec3 axis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int k = 0; k < 6; ++k) {
+        glm::vec4 c = fl.views[std::size_t(1 + k)].viewProj * glm::vec4(p + 0.5f * axis[k], 1.0f);
+        CHECK(std::abs(c.x / c.w) < 1e-4f);
+        CHECK(std::abs(c.y / c.w) < 1e-4f);
+        CHECK(c.z / c.w > -1.0f);
+        CHECK(c.z / c.w < 1.0f);
+    }
+    // No shadows requested: nothing gets a layer.
+    FrameLights plain = frameLights(ll, proj * view, box, false, 256);
+    CHECK(plain.views.empty());
+    for (auto& g : plain.gpu) CHECK(g.cone.z == -1.0f);
+    // A sphere straddling a frustum plane is kept, one fully outside is not.
+    CHECK(sphereInFrustum(proj * view, {0, 1.5f, 8.5f}, 1.0f));
+    CHECK_FALSE(sphereInFrustum(proj * view, {0, 1.5f, 12.0f}, 1.0f));
+}
