@@ -184,6 +184,18 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_TEX_APPLY_NEAR_HI_G     19
 #define RTGI_LPV_TEX_APPLY_NEAR_HI_B     20
 #define RTGI_LPV_TEX_APPLY_NEAR_LAST     21
+#define RTGI_LPV_TEX_CUR_HI_R             6  // lpv/temporal.comp (after prev 3-5)
+#define RTGI_LPV_TEX_CUR_HI_G             7
+#define RTGI_LPV_TEX_CUR_HI_B             8
+#define RTGI_LPV_TEX_CUR_LAST             9
+#define RTGI_LPV_TEX_PREV_HI_R           10
+#define RTGI_LPV_TEX_PREV_HI_G           11
+#define RTGI_LPV_TEX_PREV_HI_B           12
+#define RTGI_LPV_TEX_PREV_LAST           13
+#define RTGI_LPV_IMG_OUT_HI_R             3
+#define RTGI_LPV_IMG_OUT_HI_G             4
+#define RTGI_LPV_IMG_OUT_HI_B             5
+#define RTGI_LPV_IMG_OUT_LAST             6
 #define RTGI_LPV_PROBE_IMG_ACCUM_HI_R     3  // lpv/probe.comp
 #define RTGI_LPV_PROBE_IMG_ACCUM_HI_G     4
 #define RTGI_LPV_PROBE_IMG_ACCUM_HI_B     5

@@ -849,6 +849,25 @@ TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole
         CHECK(relL2(h, expected) <= 1e-5);
         CHECK(relL2(h, a) <= 1.01 * w * relL2(b, a));  // converges to the unblended volume
     }
+    // lpv.sh_order=2: the same blend over all 9 coefficients (the 4 band-2 textures too).
+    {
+        GpuLpv g(grid, GL_RGBA32F, CpuOptions{}, 1.0f, 2);
+        lpv::Placement p;
+        p.grid = grid;
+        uniformsFor(g, p, glm::ivec3(0));
+        upload9(randomLight9(grid, rng), g.v.accum, g.v.accumHi);
+        upload9(randomLight9(grid, rng), g.v.history[1], g.v.historyHi[1]);
+        Cpu9 a = read9(g.v.accum, g.v.accumHi), b = read9(g.v.history[1], g.v.historyHi[1]);
+        int target = 0;
+        const int frames = 12;
+        for (int k = 0; k < frames; ++k, target = 1 - target) lpv::temporalBlend(g.programs, g.ubo, g.v, target);
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        Cpu9 h = read9(g.v.history[std::size_t(1 - target)], g.v.historyHi[std::size_t(1 - target)]), expected = a;
+        double w = std::pow(t, frames);
+        expected.add(b, w);
+        expected.add(a, -w);
+        CHECK(relL2(h, expected) <= 1e-5);
+    }
     // Camera-following volume moved by whole cells: the previous result re-indexed by the
     // integer shift equals the volume injected in the new grid. A world field f (random SH
     // per world cell) sampled by both placements stands for the re-injected static scene.

@@ -460,14 +460,18 @@ public:
         if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
         if (cascadeCount(s.lpv) > 1)
             return d.skip("lpv.temporal blends a single volume (lpv.cascades > 1: not implemented, docs/lpv.md)");
-        if (s.lpv.shOrder == 2)
-            return d.skip("lpv.temporal blends band-1 volumes (lpv.sh_order=2: not implemented, docs/lpv.md)");
         const LpvState* st = st_.get();
         outputRgb(d, "lpv.history", [st]() -> const lpv::Rgb* {
             if (st->cascades.empty()) return nullptr;
             const LpvCascade& c = st->cascades.front();
             return &c.volumes.history[std::size_t(c.historyTarget)];
         });
+        if (s.lpv.shOrder == 2)
+            outputHi(d, "lpv.history.hi", [st]() -> const lpv::Hi* {
+                if (st->cascades.empty()) return nullptr;
+                const LpvCascade& c = st->cascades.front();
+                return &c.volumes.historyHi[std::size_t(c.historyTarget)];
+            });
     }
     void execute(FrameContext& ctx) override {
         LpvCascade& c = st_->first();
@@ -475,6 +479,7 @@ public:
         c.historyTarget = 1 - c.historyTarget;
         lpv::temporalBlend(ctx.programs, c.ubo, c.volumes, c.historyTarget);
         c.result = &c.volumes.history[std::size_t(c.historyTarget)];
+        if (c.resultHi) c.resultHi = &c.volumes.historyHi[std::size_t(c.historyTarget)];
     }
 };
 

@@ -42,7 +42,9 @@ static_assert(RTGI_LPV_INJECT_IMG_INJECT_HI_B == RTGI_LPV_INJECT_IMG_INJECT_HI_R
               RTGI_LPV_IMG_NEAR_LAST == RTGI_LPV_IMG_NEAR_HI_R + 3 &&
               RTGI_LPV_TEX_LIGHT_LAST == RTGI_LPV_TEX_LIGHT_HI_R + 3 &&
               RTGI_LPV_TEX_APPLY_NEAR_LAST == RTGI_LPV_TEX_APPLY_NEAR_HI_R + 3 &&
-              RTGI_LPV_PROBE_IMG_ACCUM_LAST == RTGI_LPV_PROBE_IMG_ACCUM_HI_R + 3);
+              RTGI_LPV_PROBE_IMG_ACCUM_LAST == RTGI_LPV_PROBE_IMG_ACCUM_HI_R + 3 &&
+              RTGI_LPV_TEX_CUR_LAST == RTGI_LPV_TEX_CUR_HI_R + 3 && RTGI_LPV_TEX_PREV_LAST == RTGI_LPV_TEX_PREV_HI_R + 3 &&
+              RTGI_LPV_IMG_OUT_LAST == RTGI_LPV_IMG_OUT_HI_R + 3);
 
 bool ensureHi(gl::MemoryLedger& ledger, Hi& t, const std::string& label, glm::ivec3 g, GLenum fmt, bool linear) {
     bool changed = false;
@@ -130,7 +132,7 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt, in
     } else {  // band 1: no band-2 memory
         for (auto& t : injectHi) t.reset();
         injectLast.reset();
-        for (Hi* h : {&stepHi[0], &stepHi[1], &accumHi, &nearHi})
+        for (Hi* h : {&stepHi[0], &stepHi[1], &accumHi, &nearHi, &historyHi[0], &historyHi[1]})
             for (auto& t : *h) t.reset();
     }
     // The fp32 accumulation is zero between frames (lpv.pack zeroes what it consumes): cleared
@@ -166,6 +168,9 @@ void Volumes::ensureHistory(gl::MemoryLedger& ledger) {
     for (int k = 0; k < 2; ++k)
         ensureRgb(ledger, history[std::size_t(k)], "lpv.history" + std::to_string(k),
                   {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+    if (shOrder == 2)
+        for (int k = 0; k < 2; ++k)
+            ensureHi(ledger, historyHi[std::size_t(k)], "lpv.history" + std::to_string(k) + ".hi", grid, format, true);
 }
 
 void Volumes::ensureRasterTargets() {
@@ -395,13 +400,18 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
 }
 
 void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target) {
-    const gl::Program& prog = programs.compute("lpv/temporal.comp", formatDefines(v.format));
+    const gl::Program& prog = programs.compute("lpv/temporal.comp", formatDefines(v.format, v.shOrder));
     bindUbo(ubo);
     // Producer: lpv.propagate (image stores / blended framebuffer writes into accum).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
     bindRgbTextures(v.accum, RTGI_LPV_TEX_CUR_R);
     bindRgbTextures(v.history[std::size_t(1 - target)], RTGI_LPV_TEX_PREV_R);
     bindRgbImages(v.history[std::size_t(target)], RTGI_LPV_IMG_OUT_R, GL_WRITE_ONLY, v.format);
+    if (v.shOrder == 2) {
+        bindHiTextures(v.accumHi, RTGI_LPV_TEX_CUR_HI_R);
+        bindHiTextures(v.historyHi[std::size_t(1 - target)], RTGI_LPV_TEX_PREV_HI_R);
+        bindHiImages(v.historyHi[std::size_t(target)], RTGI_LPV_IMG_OUT_HI_R, GL_WRITE_ONLY, v.format);
+    }
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
 }
 

@@ -41,6 +41,7 @@ struct Volumes {
     std::array<Hi, 2> stepHi;
     Hi accumHi;
     Hi nearHi;
+    std::array<Hi, 2> historyHi;
     gl::FramebufferHandle injectFbo;                   // raster baseline: step[0] + accum, additive
     std::array<gl::FramebufferHandle, 2> propagateFbo; // raster baseline: step[k] + accum (blended)
     gl::VertexArrayHandle emptyVao;                    // attribute-less draws need a bound VAO (core profile)
@@ -107,7 +108,7 @@ struct ApplyInputs {
     gl::Texture* specular = nullptr;
 };
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in);
-// history[target] = mix(accum, history[1 - target] re-indexed, lpv.temporal).
+// history[target] = mix(accum, history[1 - target] re-indexed, lpv.temporal) (and historyHi with band 2).
 void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target);
 
 }  // namespace rtgi::lpv
