@@ -3,11 +3,14 @@
 // cascade's volume to its own cells when the camera moves.
 #include "gpu_fixture.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_volumes.h"
 
 #include <glm/gtx/component_wise.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <string>
 
 using namespace rtgi;
 using namespace rtgi::test;
@@ -244,5 +247,198 @@ TEST_CASE("LPV cascades: a camera move by a fraction of a cell changes no volume
         CHECK(f <= 1e-5);
         CHECK(m <= 1e-5);
         CHECK(wrong > 1e-2);
+    }
+}
+
+namespace {
+
+struct CpuField {  // one cascade's R, G, B SH volumes in double, x fastest
+    glm::ivec3 n{0};
+    std::vector<glm::dvec4> c[3];
+    glm::dvec4 at(int ch, glm::ivec3 p) const {
+        p = glm::clamp(p, glm::ivec3(0), n - 1);  // GL_CLAMP_TO_EDGE
+        return c[ch][std::size_t((p.z * n.y + p.y) * n.x + p.x)];
+    }
+    // GL_LINEAR at continuous cell coordinate q (texel centres at i + 1/2).
+    glm::dvec4 trilinear(int ch, glm::dvec3 q) const {
+        glm::dvec3 t = q - 0.5, f = glm::floor(t), w = t - f;
+        glm::ivec3 b(f);
+        glm::dvec4 r(0.0);
+        for (int k = 0; k < 8; ++k) {
+            glm::ivec3 o((k & 1) != 0, (k & 2) != 0, (k & 4) != 0);
+            double wt = (o.x ? w.x : 1 - w.x) * (o.y ? w.y : 1 - w.y) * (o.z ? w.z : 1 - w.z);
+            r += wt * at(ch, b + o);
+        }
+        return r;
+    }
+    // The largest difference between neighbouring texels around q (bounds the error of
+    // the sampler's fixed-point weights).
+    double localRange(int ch, glm::dvec3 q) const {
+        glm::ivec3 b(glm::floor(q - 0.5));
+        double lo = 1e300, hi = -1e300;
+        for (int k = 0; k < 8; ++k)
+            for (int j = 0; j < 4; ++j) {
+                double v = at(ch, b + glm::ivec3((k & 1) != 0, (k & 2) != 0, (k & 4) != 0))[j];
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+            }
+        return hi - lo;
+    }
+};
+
+CpuField randomField(glm::ivec3 n, std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.2, 1.0);
+    CpuField f;
+    f.n = n;
+    for (auto& ch : f.c)
+        for (int i = 0; i < n.x * n.y * n.z; ++i)
+            ch.push_back(glm::dvec4(pos(rng), 0.5 * u(rng), 0.5 * u(rng), 0.5 * u(rng)));
+    return f;
+}
+
+void uploadField(lpv::Rgb& t, gl::MemoryLedger& ledger, const CpuField& f, const char* label) {
+    for (int c = 0; c < 3; ++c) {
+        t[std::size_t(c)] = gl::Texture(ledger, label, {GL_TEXTURE_3D, GL_RGBA32F, f.n.x, f.n.y, f.n.z});
+        t[std::size_t(c)].setSampling(GL_LINEAR, GL_LINEAR);
+        std::vector<float> d;
+        for (auto& v : f.c[c])
+            for (int k = 0; k < 4; ++k) d.push_back(float(v[k]));
+        glTextureSubImage3D(t[std::size_t(c)].id(), 0, 0, 0, 0, f.n.x, f.n.y, f.n.z, GL_RGBA, GL_FLOAT, d.data());
+    }
+}
+
+// w_j of docs/lpv.md at world point q: 0 half a cell inside cascade j's border, 1 from
+// kCascadeBlendCells further in; the coarsest cascade 1 wherever inside.
+double insideWeight(const std::vector<lpv::Placement>& pl, int j, glm::dvec3 q) {
+    double d = insideCells(pl[std::size_t(j)], q);
+    if (j + 1 == int(pl.size())) return d >= 0.0 ? 1.0 : 0.0;
+    return std::clamp((d - 0.5) / 2.0, 0.0, 1.0);
+}
+
+}  // namespace
+
+TEST_CASE("LPV cascades: the apply's blend of near and far parts equals the documented scheme in double") {
+    // docs/lpv.md "Apply: finest cascade first, blended": E(p) = Σ_i [u_i N_i + U_i F_i](q_i)/s_i²
+    // band-1 irradiance of the mirrored lookup, q_i = p + ½ s_i n, u_i = w_i Π_{j<i}(1 − w_j),
+    // U_i = 1 − Π_{j≤i}(1 − w_j), F_i = T_i − N_i, cascade 0: w_0 T_0; output albedo/π·max(E, 0).
+    // Random T_i, N_i (c00 > 0, band 1 up to half of it) in 2 cascades of 4³ and 3 cascades of
+    // 3×5×7 placed by lpv::placeCascades around a camera over a floor; every floor pixel of a
+    // 48×32 G-buffer against the CPU double evaluation. Bound: fp16 output (2^-11 relative) plus
+    // the sampler's fixed-point interpolation weights (llvmpipe: 8 bits), at most 2^-8 of the
+    // local texel range per cascade: |GPU − CPU| ≤ 2e-3·|CPU| + albedo/π Σ_i 2^-8·range_i/s_i².
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    std::mt19937 rng(31);
+    const glm::ivec2 size{48, 32};
+    struct Case {
+        glm::ivec3 grid;
+        int cascades;
+        float cell;
+    };
+    for (const Case& k : {Case{{4, 4, 4}, 2, 0.6f}, Case{{3, 5, 7}, 3, 0.35f}}) {
+        INFO(k.cascades << " cascades of " << k.grid.x << "x" << k.grid.y << "x" << k.grid.z);
+        Scene scene = floorScene(2.0f, glm::vec3(0.6f, 0.5f, 0.4f), true);
+        scene.cameras[0].position = {0.3f, 0.9f, 1.2f};
+        scene.cameras[0].target = {-0.2f, 0.0f, -0.6f};
+        Settings s;
+        s.ao.variant = AoSettings::Variant::Off;
+        s.lpv.mode = Toggle::On;
+        s.lpv.grid = k.grid;
+        s.lpv.cascades = k.cascades;
+        s.lpv.cell = k.cell;
+        s.lpv.selfCorrection = false;
+        s.lpv.format = LpvSettings::Format::Rgba32f;
+        auto r = renderFrames(scene, s, size, prof);  // G-buffer + frame uniforms (binding 0 stays bound)
+        FrameResources& res = r->resources();
+        Camera cam = resolveCamera(scene, s);
+        std::vector<lpv::Placement> pl =
+            lpv::placeCascades(s.lpv, k.cascades, scene.bounds(), cam.position, glm::normalize(cam.target - cam.position));
+        gl::MemoryLedger ledger;
+        gl::ProgramCache programs;
+        std::vector<CpuField> total, near;
+        std::vector<lpv::Rgb> tTex(std::size_t(k.cascades)), nTex(std::size_t(k.cascades));
+        std::vector<gl::Buffer> ubos;
+        for (int i = 0; i < k.cascades; ++i) {
+            total.push_back(randomField(k.grid, rng));
+            near.push_back(randomField(k.grid, rng));
+            uploadField(tTex[std::size_t(i)], ledger, total.back(), "t.total");
+            uploadField(nTex[std::size_t(i)], ledger, near.back(), "t.near");
+            lpv::UniformInputs in;
+            in.placement = pl[std::size_t(i)];
+            in.cascade = i;
+            in.cascades = pl;
+            gpu::LpvUniforms u = lpv::makeUniforms(s.lpv, in);
+            ubos.emplace_back(ledger, "t.lpv.uniforms", sizeof(u), &u);
+        }
+        gl::Texture indirect(ledger, "t.indirect", {GL_TEXTURE_2D, GL_RGBA16F, size.x, size.y});
+        gl::Texture sumE(ledger, "t.sumE", {GL_TEXTURE_2D, GL_RGBA32F, size.x, size.y});
+        gl::Texture sumS(ledger, "t.sumS", {GL_TEXTURE_2D, GL_RGBA32F, size.x, size.y});
+        for (int i = 0; i < k.cascades; ++i) {
+            lpv::ApplyInputs ai;
+            ai.gbuffer = {&res.gbuffer.linearDepth, &res.gbuffer.normal, &res.gbuffer.albedo, &res.gbuffer.material, size};
+            ai.volume = &tTex[std::size_t(i)];
+            ai.near = i > 0 ? &nTex[std::size_t(i)] : nullptr;
+            ai.cascade = i;
+            ai.cascades = k.cascades;
+            ai.sumE = &sumE;
+            ai.sumS = &sumS;
+            ai.indirect = &indirect;
+            lpv::applyCompute(programs, ubos[std::size_t(i)], ai);
+        }
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        FloatImage out = readTexture(indirect), depth = readTexture(res.gbuffer.linearDepth),
+                   albedo = readTexture(res.gbuffer.albedo);
+        const glm::dvec3 n(0, 1, 0);
+        const glm::dvec4 cosLobe(std::sqrt(kPi) / 2.0, -std::sqrt(kPi / 3.0) * n.y, std::sqrt(kPi / 3.0) * n.z,
+                                 -std::sqrt(kPi / 3.0) * n.x);
+        int checked = 0, blended = 0, perCascade[3] = {0, 0, 0};
+        double worst = 0;
+        for (int y = 0; y < size.y; ++y)
+            for (int x = 0; x < size.x; ++x) {
+                if (!(depth.at(x, y, 0) > 0)) continue;
+                glm::dvec3 p = worldPosition(scene, s, size, depth, x, y);
+                double e[3] = {0, 0, 0}, slack[3] = {0, 0, 0};
+                bool onEdge = false;
+                for (int i = 0; i < k.cascades; ++i) {
+                    const lpv::Placement& c = pl[std::size_t(i)];
+                    glm::dvec3 q = p + 0.5 * double(c.cell) * n;
+                    double d = insideCells(c, q);
+                    onEdge = onEdge || std::abs(d) < 1e-3 || std::abs(d - 0.5) < 1e-3 || std::abs(d - 2.5) < 1e-3;
+                    if (d < 0.0) continue;  // outside the grid: no light from this cascade
+                    double outside = 1.0;
+                    for (int j = 0; j < i; ++j) outside *= 1.0 - insideWeight(pl, j, q);
+                    double w = insideWeight(pl, i, q);
+                    double ui = w * outside, Ui = 1.0 - outside * (1.0 - w);
+                    if (ui > 0.0 && ui < 1.0) ++blended;
+                    if (ui == 1.0) ++perCascade[i];
+                    glm::dvec3 cq = (q - glm::dvec3(c.origin)) / double(c.cell);
+                    for (int ch = 0; ch < 3; ++ch) {
+                        glm::dvec4 T = total[std::size_t(i)].trilinear(ch, cq);
+                        glm::dvec4 v = i == 0 ? ui * T : ui * near[std::size_t(i)].trilinear(ch, cq) +
+                                                             Ui * (T - near[std::size_t(i)].trilinear(ch, cq));
+                        glm::dvec4 mirrored(v.x, -v.y, -v.z, -v.w);
+                        double inv = 1.0 / (double(c.cell) * double(c.cell));
+                        e[ch] += glm::dot(mirrored, cosLobe) * inv;
+                        double range = std::max(total[std::size_t(i)].localRange(ch, cq),
+                                                near[std::size_t(i)].localRange(ch, cq));
+                        slack[ch] += std::pow(2.0, -8) * range * 4.0 * inv;  // 4 coefficients of the lobe, each ≤ 1
+                    }
+                }
+                if (onEdge) continue;  // float positions may put a weight's kink on either side
+                for (int ch = 0; ch < 3; ++ch) {
+                    double a = albedo.at(x, y, ch) / kPi;
+                    double expected = a * std::max(e[ch], 0.0);
+                    double tol = 2e-3 * std::abs(expected) + a * slack[ch];
+                    double err = std::abs(out.at(x, y, ch) - expected);
+                    worst = std::max(worst, err / std::max(tol, 1e-12));
+                    CHECK(err <= tol);
+                }
+                ++checked;
+            }
+        MESSAGE(k.cascades << " cascades of " << k.grid.x << "x" << k.grid.y << "x" << k.grid.z << ": " << checked
+                           << " pixels, finest used alone by cascade: " << perCascade[0] << " / " << perCascade[1] << " / "
+                           << perCascade[2] << ", blended lookups " << blended << ", worst error / bound " << worst);
+        CHECK(checked > size.x * size.y / 3);
+        CHECK(blended > 10);
     }
 }
