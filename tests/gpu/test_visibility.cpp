@@ -524,6 +524,7 @@ TieBounds tieBounds() {
 
 void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     Settings hw = smallLpvSettings();
+    hw.raster.path = RasterSettings::Path::Hardware;  // not auto: the device's default is compute
     hw.lpv.mode = Toggle::Auto;
     // The default 32^3 grid: on a tiny grid the LPV's cell assignment turns
     // fp32-level RSM depth differences into whole-cell changes (Cornell box
