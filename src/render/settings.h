@@ -123,7 +123,7 @@ struct ReferenceSettings {
 // Visibility: hardware rasterization or the compute rasterizer (docs/visibility.md).
 struct RasterSettings {
     // auto: compute where GL_NV_shader_atomic_int64 exists (NVIDIA), hardware elsewhere (llvmpipe)
-    enum class Path { Hardware, Compute, Auto } path = Path::Hardware;
+    enum class Path { Hardware, Compute, Auto } path = Path::Auto;
     Toggle atomic64 = Toggle::Auto;  // 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists)
     int binScale = 1;                // multiplier on the compute rasterizer's bin capacities
 };

@@ -4,6 +4,7 @@
 #include "gl/context.h"
 #include "gl/image_io.h"
 #include "render/renderer.h"
+#include "render/visibility/visibility.h"
 #include "test_scenes.h"
 
 #include <doctest/doctest.h>
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace rtgi::test {
@@ -119,6 +121,14 @@ inline Settings oneBounceReference(Settings s, int spp) {
 }
 
 // LPV alone (AO, and with it the bent-normal lookup, off: the LPV tests test the volume).
+// Passes that rasterize the camera's G-buffer and the sun's shadow map under
+// the settings' raster.path (auto: compute on the device, hardware on llvmpipe).
+inline std::vector<std::string> gbufferPassNames(const Settings& s) {
+    if (useComputeRaster(s)) return {"visibility.raster", "visibility.resolve"};
+    return {"gbuffer"};
+}
+inline std::string shadowPassName(const Settings& s) { return useComputeRaster(s) ? "shadow.raster" : "shadow"; }
+
 inline Settings smallLpvSettings() {
     Settings s;
     s.ao.variant = AoSettings::Variant::Off;

@@ -453,8 +453,78 @@ double rmse(const FloatImage& a, const FloatImage& b) {
     return std::sqrt(s / double(std::max<std::size_t>(n, 1)));
 }
 
+// Window-space triangle `id` of `scene` under viewProj at `size` (pixels,
+// depth in [0, 1] as glDepthRange(0, 1) maps NDC z), in double. `valid` is
+// false when a vertex lies behind the eye (near-plane clipped: the window
+// triangle is not the projected one).
+struct WindowTriangle {
+    bool valid = false;
+    glm::dvec3 v[3];
+};
+
+WindowTriangle windowTriangle(const Scene& scene, const glm::mat4& viewProj, glm::ivec2 size, std::uint32_t id) {
+    WindowTriangle t;
+    if (id == RTGI_VISIBILITY_EMPTY || std::size_t(id) * 3 + 2 >= scene.indices.size()) return t;
+    glm::dmat4 vp(viewProj);
+    for (int k = 0; k < 3; ++k) {
+        glm::dvec4 c = vp * glm::dvec4(glm::dvec3(scene.vertices[scene.indices[std::size_t(id) * 3 + std::size_t(k)]].position), 1.0);
+        if (c.w <= 0.0) return t;
+        glm::dvec3 n = glm::dvec3(c) / c.w;
+        t.v[k] = {(n.x * 0.5 + 0.5) * size.x, (n.y * 0.5 + 0.5) * size.y, n.z * 0.5 + 0.5};
+    }
+    t.valid = true;
+    return t;
+}
+
+// |dz/dx| + |dz/dy| of the triangle's depth plane in window space
+// (infinite for a triangle seen edge-on).
+double depthSlope(const WindowTriangle& t) {
+    glm::dvec3 n = glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);
+    if (std::abs(n.z) <= 1e-300) return std::numeric_limits<double>::infinity();
+    return (std::abs(n.x) + std::abs(n.y)) / std::abs(n.z);
+}
+
+// Distance (pixels) from point p to the nearest edge of the window triangle.
+double edgeDistance(const WindowTriangle& t, glm::dvec2 p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        glm::dvec2 a(t.v[k]), b(t.v[(k + 1) % 3]);
+        glm::dvec2 ab = b - a;
+        double len2 = glm::dot(ab, ab);
+        double u = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+        d = std::min(d, glm::length(p - (a + u * ab)));
+    }
+    return d;
+}
+
+// Where two conforming rasterizers may legitimately differ (GL 4.5 §14.6:
+// vertex snapping and depth evaluation are implementation-defined within the
+// sub-pixel grid of GL_SUBPIXEL_BITS). Each implementation snaps a vertex to
+// within half a grid step per axis, so the two snapped vertices lie within
+// one step s per axis of each other: an edge moves by at most sqrt(2) s, and
+// the depth plane at a fixed pixel centre (a convex combination of the
+// vertex depths at the moved positions) by at most (|dz/dx| + |dz/dy|) s.
+// On top of that both evaluate the plane in fp32: 32 ulp at depth 1.
+struct TieBounds {
+    double step = 1.0 / 256.0;
+    double depthTol(const WindowTriangle& t) const {
+        return t.valid ? 0x1p-19 + depthSlope(t) * step : std::numeric_limits<double>::infinity();
+    }
+    bool nearEdge(const WindowTriangle& t, glm::dvec2 p) const {
+        return t.valid && edgeDistance(t, p) <= std::sqrt(2.0) * step * (1 + 1e-9);
+    }
+};
+
+TieBounds tieBounds() {
+    GLint bits = 8;
+    glGetIntegerv(GL_SUBPIXEL_BITS, &bits);
+    // The compute path snaps to 1/256 px; the coarser of the two grids rules.
+    return TieBounds{std::ldexp(1.0, -std::min(8, std::max(1, int(bits))))};
+}
+
 void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     Settings hw = smallLpvSettings();
+    hw.raster.path = RasterSettings::Path::Hardware;  // not auto: the device's default is compute
     hw.lpv.mode = Toggle::Auto;
     // The default 32^3 grid: on a tiny grid the LPV's cell assignment turns
     // fp32-level RSM depth differences into whole-cell changes (Cornell box
@@ -462,6 +532,8 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
     hw.lpv.grid = glm::ivec3(32);
     Settings cs = hw;
     cs.raster.path = RasterSettings::Path::Compute;
+    const TieBounds tb = tieBounds();
+    double sunExcused = 0;  // fraction of the sun view's pixels that differ by a tie
     // Triangle ids and depths of the camera view and of the sun's view (the
     // shadow map without its bias: the hardware's slope estimate for
     // glPolygonOffset is implementation-defined, GL 4.5 §14.6.5).
@@ -479,30 +551,44 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
             VisibilityTarget t{"test.vis"};
             rasterizeVisibility(programs, ledger, gpu, vp, sz, t, VisibilityOptions{});
             std::vector<VisPixel> got = readVisibility(t);
-            // A different id at (nearly) the same depth is a tie between
-            // coincident surfaces (z-fighting), decided by ulp-level rounding.
-            const double tieDepth = 0x1p-19;  // 32 ulp at depth 1: the hardware's fp32 plane evaluation
-            std::size_t same = 0, ties = 0, depthOff = 0;
-            double maxDiff = 0;
+            // A different id is a tie when the pixel centre lies within the
+            // snapping bound of an edge of either triangle (coverage), or both
+            // surfaces are at the same depth within the depth bound of either
+            // (coincident surfaces, z-fighting).
+            std::size_t same = 0, depthTies = 0, edgeTies = 0, unexplained = 0, depthOff = 0;
+            double maxDiff = 0, maxExcess = 0;
             for (std::size_t i = 0; i < ref.size(); ++i) {
+                glm::dvec2 centre(double(i % std::size_t(sz.x)) + 0.5, double(i / std::size_t(sz.x)) + 0.5);
                 double diff = std::abs(double(refDepth[i]) - double(got[i].depth));
+                WindowTriangle tr = windowTriangle(scene, vp, sz, ref[i]);
                 if (ref[i] != got[i].id) {
-                    ties += ref[i] != RTGI_VISIBILITY_EMPTY && got[i].id != RTGI_VISIBILITY_EMPTY && diff <= tieDepth;
+                    WindowTriangle tg = windowTriangle(scene, vp, sz, got[i].id);
+                    bool bothHit = ref[i] != RTGI_VISIBILITY_EMPTY && got[i].id != RTGI_VISIBILITY_EMPTY;
+                    if (bothHit && diff <= std::max(tb.depthTol(tr), tb.depthTol(tg))) ++depthTies;
+                    else if (tb.nearEdge(tr, centre) || tb.nearEdge(tg, centre)) ++edgeTies;
+                    else ++unexplained;
                     continue;
                 }
                 ++same;
                 if (ref[i] == RTGI_VISIBILITY_EMPTY) continue;
                 maxDiff = std::max(maxDiff, diff);
-                depthOff += diff > tieDepth;
+                double tol = tb.depthTol(tr);
+                if (diff > tol) {
+                    ++depthOff;
+                    maxExcess = std::max(maxExcess, diff - tol);
+                }
             }
-            double frac = double(same) / double(ref.size()), fracTies = double(same + ties) / double(ref.size());
-            INFO(scene.name << " " << what << ": same triangle id on " << 100.0 * frac << " % of " << ref.size()
-                            << " pixels, " << 100.0 * fracTies << " % with depth ties; max depth difference " << maxDiff
-                            << ", beyond " << tieDepth << " on " << depthOff);
+            const double n = double(ref.size());
+            INFO(scene.name << " " << what << ": same triangle id on " << 100.0 * double(same) / n << " % of " << ref.size()
+                            << " pixels; differing by a depth tie " << depthTies << ", by an edge tie " << edgeTies
+                            << ", unexplained " << unexplained << "; max depth difference " << maxDiff
+                            << ", beyond the per-triangle bound on " << depthOff << " (by up to " << maxExcess
+                            << "); sub-pixel step " << tb.step);
             // The camera: the 99.9 % of ids. Light views see coincident
-            // surfaces edge-on (z-fighting): there ids may differ at equal depth.
-            if (what == "camera") CHECK(frac >= 0.999);
-            CHECK(fracTies >= 0.999);
+            // surfaces edge-on: there ids may differ by ties, never otherwise.
+            if (what == "camera") CHECK(double(same) >= 0.999 * n);
+            else sunExcused = double(depthTies + edgeTies) / n;
+            CHECK(double(unexplained) <= 0.001 * n);
             CHECK(depthOff == 0);
         }
     }
@@ -534,8 +620,13 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size) {
                         ++diff;
                         break;
                     }
-            INFO(scene.name << " " << dbg[k].name << ": " << diff << " texels differ");
-            CHECK(double(diff) <= 0.001 * double(r.width * r.height) + 1);
+            // A texel differs only where the two paths see different
+            // triangles: 0.1 % plus the sun view's tie fraction, scaled from
+            // 128^2 to the RSM side (edge pixels grow with the side, pixels
+            // with its square).
+            double allowed = (0.001 + sunExcused * 128.0 / double(r.width)) * double(r.width * r.height) + 1;
+            INFO(scene.name << " " << dbg[k].name << ": " << diff << " texels differ, allowed " << allowed);
+            CHECK(double(diff) <= allowed);
         }
     }
     double e = rmse(ia, ib);

@@ -521,7 +521,9 @@ public:
             in.near = i > 0 ? &c.volumes.near : nullptr;
             // The self-illumination correction undoes an artefact of the propagation;
             // a probe volume (lpv.source=probe) has none to undo.
-            in.rsm = ctx.settings.lpv.selfCorrection && ctx.settings.lpv.source == LpvSettings::Source::Propagated
+            // Without a sun there is no orthographic RSM to read the exitance from.
+            in.rsm = ctx.settings.lpv.selfCorrection && st.sunRsm &&
+                             ctx.settings.lpv.source == LpvSettings::Source::Propagated
                          ? &st.rsm
                          : nullptr;
             in.sumE = &st.sumE;

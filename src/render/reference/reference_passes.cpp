@@ -13,6 +13,8 @@
 #include <cmath>
 #include <vector>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 namespace rtgi {
 
@@ -25,6 +27,9 @@ gl::Defines ReferenceConstants::defines(bool haveEmitters) const {
         d.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
     return d;
 }
+
+// Paths (AO: rays) per pixel per dispatch times pixels: at most this many per dispatch.
+constexpr double kMaxSamplesPerDispatch = 1920.0 * 1080.0 * 4.0;
 
 ReferenceConstants referenceConstants(const Settings& s, const Aabb&) {
     ReferenceConstants c;
@@ -258,9 +263,16 @@ private:
         auto t0 = std::chrono::steady_clock::now();
         rays_ = 0;
         const int end = begin + count;
+        // Paths per dispatch bounded by pixels, not only by samples: 4 paths
+        // per pixel at 3840x2160 (33 M paths, ~1 s on the atrium on an H100)
+        // lost the trace (zero standard error, garbage ray counters), while
+        // 14.7 M (2560x1440) ran. 8.3 M = 4 paths per pixel at 1080p.
+        const double pixels = double(s.x) * double(s.y);
+        const int perDispatch =
+            std::clamp(int(kMaxSamplesPerDispatch * (ao_ ? 4.0 : 1.0) / pixels), 1, c.samplesPerDispatch);
         progress::report(ao_ ? "reference AO rays" : "reference paths", begin, c.spp);
-        for (int first = begin; first < end; first += c.samplesPerDispatch) {
-            int n = std::min(c.samplesPerDispatch, end - first);
+        for (int first = begin; first < end; first += perDispatch) {
+            int n = std::min(perDispatch, end - first);
             // uvec4 uSamples (Program has no uvec4 setter).
             glProgramUniform4ui(prog.id(), RTGI_REF_LOC_SAMPLES, GLuint(first), GLuint(n), c.seed, GLuint(c.bounces));
             // Producer: the previous dispatch of this loop (accumulation images).
@@ -275,7 +287,18 @@ private:
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         std::vector<std::uint32_t> counts(std::size_t(c.spp));
         rayCounter_.download(counts.data(), std::int64_t(counts.size() * 4));
-        for (auto n : counts) rays_ += double(n);
+        // A trace the driver dropped (a reset, a watchdog) leaves the counters
+        // undefined: more rays than any path can trace is an error, not a result.
+        const double maxPerDispatch = pixels * double(perDispatch) * double(ao_ ? 1 : c.bounces + 1) * 16.0;
+        for (int first = begin; first < end; first += perDispatch) {
+            const double n = double(counts[std::size_t(first)]);
+            if (n > maxPerDispatch)
+                throw std::runtime_error(name() + ": the GPU reported " + std::to_string(std::uint64_t(n)) +
+                                         " rays for one dispatch of at most " +
+                                         std::to_string(std::uint64_t(maxPerDispatch)) +
+                                         ": the trace was lost (driver reset?); lower the resolution or reference.spp");
+            rays_ += n;
+        }
         spp_ = end;
         resolve(ctx, false);
     }
