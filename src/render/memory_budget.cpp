@@ -90,10 +90,10 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         // compute path, one visibility target reused for every face.
         const int n = s.light.localShadowSize;
         double bytes = 4.0 * double(n) * double(n) * double(r.resources().localShadowLayers);
-        if (useComputeRaster(s)) bytes += visibility(glm::ivec2(n));
+        if (useComputeRasterLightViews(s)) bytes += visibility(glm::ivec2(n));
         by["shadow.local_size=" + std::to_string(n)] += bytes;
     }
-    if (hasFamily(r, "lpv.") && useComputeRaster(s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += visibility(glm::ivec2(s.lpv.rsm));
+    if (hasFamily(r, "lpv.") && useComputeRasterLightViews(s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += visibility(glm::ivec2(s.lpv.rsm));
     if (hasFamily(r, "lpv.")) {
         const glm::dvec3 g(s.lpv.grid);
         const double cells = g.x * g.y * g.z, geometryCells = (g.x + 1) * (g.y + 1) * (g.z + 1);

@@ -806,10 +806,13 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: raster.path and its keys are settings
     CHECK((s.raster.path == RasterSettings::Path::Compute));
     CHECK(describe(s).at("raster.path") == "compute");
     CHECK(useComputeRaster(s));
-    applySetting(s, "raster.path", "auto");  // compute exactly where the 64-bit atomics exist
+    CHECK(useComputeRasterLightViews(s));
+    applySetting(s, "raster.path", "auto");  // the camera on compute exactly where the 64-bit atomics exist
     CHECK(useComputeRaster(s) == visibilityAtomic64Supported());
+    CHECK_FALSE(useComputeRasterLightViews(s));  // light views stay on the hardware (faster there)
     applySetting(s, "raster.path", "hardware");
     CHECK_FALSE(useComputeRaster(s));
+    CHECK_FALSE(useComputeRasterLightViews(s));
     CHECK_THROWS_AS(applySetting(s, "raster.bin_scale", "0"), ConfigError);
 }
 

@@ -39,7 +39,7 @@ public:
     std::string name() const override { return "shadow"; }
     void declare(PassDecl& d, const Scene& scene, const Settings& settings) const override {
         if (!resolveSun(scene, settings)) return d.skip("the scene has no directional light");
-        if (useComputeRaster(settings)) return d.skip(rasterPathReason(settings) + " (shadow.raster)");
+        if (useComputeRasterLightViews(settings)) return d.skip(rasterPathReason(settings, true) + " (shadow.raster)");
         d.write(R::shadowMap);
     }
 
@@ -98,7 +98,7 @@ public:
                 glNamedFramebufferDrawBuffer(f, GL_NONE);
             }
         }
-        if (useComputeRaster(ctx.settings)) {
+        if (useComputeRasterLightViews(ctx.settings)) {
             // The compute rasterizer (issue 14: every rasterized view): each
             // face into one visibility target, its depth copied into the layer
             // with the same slope-scaled bias as the hardware pass.

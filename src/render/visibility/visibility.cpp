@@ -64,9 +64,13 @@ bool useComputeRaster(const Settings& s) {
            (s.raster.path == RasterSettings::Path::Auto && visibilityAtomic64Supported());
 }
 
-std::string rasterPathReason(const Settings& s) {
+bool useComputeRasterLightViews(const Settings& s) { return s.raster.path == RasterSettings::Path::Compute; }
+
+std::string rasterPathReason(const Settings& s, bool lightViews) {
+    const bool compute = lightViews ? useComputeRasterLightViews(s) : useComputeRaster(s);
     return std::string("raster.path=") + toString(s.raster.path) + ": the " +
-           (useComputeRaster(s) ? "compute rasterizer" : "hardware rasterizer") + " runs";
+           (compute ? "compute rasterizer" : "hardware rasterizer") + " runs" +
+           (lightViews && s.raster.path == RasterSettings::Path::Auto ? " the light views" : "");
 }
 
 VisibilityOptions visibilityOptions(const Settings& s) {

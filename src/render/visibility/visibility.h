@@ -87,11 +87,16 @@ gl::Defines visibilityDefines(const VisibilityTarget& target);
 void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& target, const gl::Texture& depth,
                          int layer = -1);
 
-// raster.path after `auto` (compute where GL_NV_shader_atomic_int64 exists):
-// true when the compute rasterizer produces the rasterized views.
+// raster.path after `auto` for the camera view (the G-buffer): compute where
+// GL_NV_shader_atomic_int64 exists.
 bool useComputeRaster(const Settings& settings);
+// The same for the light views (sun / spot / point / area shadow maps, the
+// sun's RSM): `auto` keeps them on the hardware rasterizer, which is faster
+// there on the H100 (docs/BENCHMARKS.md: 2048² sun map 1.08 vs 1.21 ms, cube
+// faces 0.10 vs 2.0 ms at 256²); only raster.path=compute moves them.
+bool useComputeRasterLightViews(const Settings& settings);
 // Why the other path's passes are skipped (results.json "skipped").
-std::string rasterPathReason(const Settings& settings);
+std::string rasterPathReason(const Settings& settings, bool lightViews = false);
 
 // Options from the settings (raster.atomic64, raster.bin_scale).
 

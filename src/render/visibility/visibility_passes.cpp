@@ -100,7 +100,7 @@ public:
     std::string name() const override { return "shadow.raster"; }
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         if (!resolveSun(scene, s)) return d.skip("the scene has no directional light");
-        if (!computePath(s)) return d.skip(rasterPathReason(s) + " (shadow)");
+        if (!useComputeRasterLightViews(s)) return d.skip(rasterPathReason(s, true) + " (shadow)");
         d.write(R::shadowMap);
     }
     void execute(FrameContext& ctx) override {
