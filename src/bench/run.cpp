@@ -92,9 +92,11 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["config"] = cfg;
     // Which rasterizer produced the G-buffer, shadow map and RSM (docs/visibility.md);
     // "compute-32" / "compute-64": the two-pass 32-bit or the 64-bit atomic path.
-    r["raster_path"] = !useComputeRaster(settings) ? std::string("hardware")
-                       : visibilityOptions(settings).atomic64 && visibilityAtomic64Supported() ? std::string("compute-64")
-                                                                                                : std::string("compute-32");
+    const std::string computeKind =
+        visibilityOptions(settings).atomic64 && visibilityAtomic64Supported() ? "compute-64" : "compute-32";
+    r["raster_path"] = useComputeRaster(settings) ? computeKind : std::string("hardware");
+    // raster.path=auto keeps the light views (shadow maps, sun RSM) on the hardware rasterizer.
+    r["raster_path_lights"] = useComputeRasterLightViews(settings) ? computeKind : std::string("hardware");
     r["camera"] = {{"position", {cam.position.x, cam.position.y, cam.position.z}},
                    {"target", {cam.target.x, cam.target.y, cam.target.z}},
                    {"fov", glm::degrees(cam.fovY)}, {"near", cam.near}, {"far", cam.far}};

@@ -155,7 +155,7 @@ std::vector<SettingKey> buildKeys() {
         KEY("emissive.lights", "each connected emissive region becomes a shadowed area light of the real-time path",
             "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
         // ---- rasterization ----------------------------------------------------
-        KEY("raster.path", "visibility of every rasterized view: hardware rasterizer or the compute rasterizer (auto: compute where 64-bit atomics exist)", "hardware|compute|auto",
+        KEY("raster.path", "which rasterizer draws the views: hardware, compute (every view), or auto: the camera G-buffer on compute where 64-bit atomics exist, light views (shadow maps, sun RSM) on the hardware, faster there", "hardware|compute|auto",
             s.raster.path = parseEnum<RasterSettings::Path>("raster.path", v, kRasterPath), kRasterPath[int(s.raster.path)]),
         KEY("raster.atomic64", "compute rasterizer: one 64-bit depth|id atomicMin (auto: where GL_NV_shader_atomic_int64 exists) or the two-pass 32-bit path", "auto|on|off",
             s.raster.atomic64 = parseEnum<Toggle>("raster.atomic64", v, kToggle), kToggle[int(s.raster.atomic64)]),

@@ -127,7 +127,7 @@ inline std::vector<std::string> gbufferPassNames(const Settings& s) {
     if (useComputeRaster(s)) return {"visibility.raster", "visibility.resolve"};
     return {"gbuffer"};
 }
-inline std::string shadowPassName(const Settings& s) { return useComputeRaster(s) ? "shadow.raster" : "shadow"; }
+inline std::string shadowPassName(const Settings& s) { return useComputeRasterLightViews(s) ? "shadow.raster" : "shadow"; }
 
 inline Settings smallLpvSettings() {
     Settings s;

@@ -159,7 +159,7 @@ public:
 
         int n = ls.rsm;
         if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
-        if (st.sunRsm && useComputeRaster(ctx.settings)) {
+        if (st.sunRsm && useComputeRasterLightViews(ctx.settings)) {
             // Compute rasterizer (sun RSM only; local lights' RSMs stay on the
             // hardware rasterizer): visibility buffer of the light's view, then
             // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.

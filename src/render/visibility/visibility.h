@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <map>
 #include <string>
 
 namespace rtgi {
@@ -44,10 +45,10 @@ struct VisibilityTarget {
     std::int64_t largeCapacity = 0, nodeCapacity = 0;
     gl::Buffer vis;              // 8 bytes per pixel: uint64 depth|id, or uint depth[N] then uint id[N]
     gl::Buffer large, tileHeads, nodes, counters, hits;
-    gl::FramebufferHandle depthFbo;  // copyVisibilityDepth target
+    // copyVisibilityDepth targets by (texture, layer): one per layer of a
+    // local-light shadow array, made once, dropped with resetDepthTargets().
+    std::map<std::pair<GLuint, int>, gl::FramebufferHandle> depthFbos;
     gl::VertexArrayHandle emptyVao;
-    GLuint depthFboTexture = 0;
-    int depthFboLayer = -1;
     bool checked = false;        // overflow checked once after the first frame
 
     // Reads the counters back (stalls); for stats and the overflow check.
@@ -55,6 +56,8 @@ struct VisibilityTarget {
     // Throws a one-sentence error naming `pass` and raster.bin_scale when a
     // bin buffer overflowed in the last rasterization.
     void checkOverflow(const std::string& pass) const;
+    // After a reallocation (texture names may be reused).
+    void resetDepthTargets() { depthFbos.clear(); }
 };
 
 // Buffer capacities of one view (docs/visibility.md "Scale and memory"):
@@ -84,11 +87,16 @@ gl::Defines visibilityDefines(const VisibilityTarget& target);
 void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& target, const gl::Texture& depth,
                          int layer = -1);
 
-// raster.path after `auto` (compute where GL_NV_shader_atomic_int64 exists):
-// true when the compute rasterizer produces the rasterized views.
+// raster.path after `auto` for the camera view (the G-buffer): compute where
+// GL_NV_shader_atomic_int64 exists.
 bool useComputeRaster(const Settings& settings);
+// The same for the light views (sun / spot / point / area shadow maps, the
+// sun's RSM): `auto` keeps them on the hardware rasterizer, which is faster
+// there on the H100 (docs/BENCHMARKS.md: 2048² sun map 1.08 vs 1.21 ms, cube
+// faces 0.10 vs 2.0 ms at 256²); only raster.path=compute moves them.
+bool useComputeRasterLightViews(const Settings& settings);
 // Why the other path's passes are skipped (results.json "skipped").
-std::string rasterPathReason(const Settings& settings);
+std::string rasterPathReason(const Settings& settings, bool lightViews = false);
 
 // Options from the settings (raster.atomic64, raster.bin_scale).
 

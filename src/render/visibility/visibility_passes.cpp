@@ -71,8 +71,7 @@ public:
         VisibilityTarget& t = st_->target;
         if (epoch_ != ctx.res.allocationEpoch) {  // reallocated: a texture name may be reused, rebuild the copy FBO
             epoch_ = ctx.res.allocationEpoch;
-            t.depthFbo = gl::FramebufferHandle();
-            t.depthFboTexture = 0;
+            t.resetDepthTargets();
         }
         const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
         bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
@@ -101,7 +100,7 @@ public:
     std::string name() const override { return "shadow.raster"; }
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         if (!resolveSun(scene, s)) return d.skip("the scene has no directional light");
-        if (!computePath(s)) return d.skip(rasterPathReason(s) + " (shadow)");
+        if (!useComputeRasterLightViews(s)) return d.skip(rasterPathReason(s, true) + " (shadow)");
         d.write(R::shadowMap);
     }
     void execute(FrameContext& ctx) override {
@@ -110,8 +109,7 @@ public:
             epoch_ = ctx.res.allocationEpoch;
             glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
             glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-            target_.depthFbo = gl::FramebufferHandle();
-            target_.depthFboTexture = 0;
+            target_.resetDepthTargets();
         }
         int n = ctx.settings.light.shadowSize;
         VisibilityOptions o = visibilityOptions(ctx.settings);
