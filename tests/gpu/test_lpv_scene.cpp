@@ -155,6 +155,35 @@ TEST_CASE("LPV pass pruning: no sun -> no LPV passes; occlusion/bounce off -> no
     CHECK(r2.findPass("lpv.temporal") == nullptr);
 }
 
+namespace {
+
+// A volume holding the lobe k_c cosLobe9(dir) (lpv::shCosineLobe9, tested against integrals in the
+// unit tier) in every cell: trilinear lookups return it exactly. `lo` alone is the band-1 volume
+// k_c cosLobe(dir), `lo` + `hi` the band-2 one (docs/lpv.md, "Second-order SH").
+struct UniformVolume {
+    lpv::Rgb lo;
+    lpv::Hi hi;
+};
+UniformVolume uniformVolume(gl::MemoryLedger& ledger, const lpv::Placement& pl, glm::dvec3 dir, const double k[3]) {
+    auto texture = [&](glm::vec4 v) {
+        gl::Texture t(ledger, "t.volume", {GL_TEXTURE_3D, GL_RGBA32F, pl.grid.x, pl.grid.y, pl.grid.z});
+        t.setSampling(GL_LINEAR, GL_LINEAR);
+        std::vector<glm::vec4> data(std::size_t(pl.grid.x * pl.grid.y * pl.grid.z), v);
+        glTextureSubImage3D(t.id(), 0, 0, 0, 0, pl.grid.x, pl.grid.y, pl.grid.z, GL_RGBA, GL_FLOAT, data.data());
+        return t;
+    };
+    lpv::Sh9 l = lpv::shCosineLobe9(dir);
+    UniformVolume u;
+    for (int c = 0; c < 3; ++c) {
+        u.lo[std::size_t(c)] = texture(glm::vec4(glm::dvec4(l[0], l[1], l[2], l[3]) * k[c]));
+        u.hi[std::size_t(c)] = texture(glm::vec4(glm::dvec4(l[4], l[5], l[6], l[7]) * k[c]));
+    }
+    u.hi[3] = texture(glm::vec4(float(k[0] * l[8]), float(k[1] * l[8]), float(k[2] * l[8]), 0.0f));
+    return u;
+}
+
+}  // namespace
+
 TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 8 evaluated on the CPU") {
     GpuFixture gpu;
     gl::Profiler prof(false);
@@ -178,31 +207,9 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
     gl::MemoryLedger ledger;
     gl::ProgramCache programs;
     // lpv.sh_order = 1, then 2 (the band-2 lobe k cosLobe9 in the 7 textures of docs/lpv.md).
+    UniformVolume uv = uniformVolume(ledger, pl, lobeDir, k);
     for (int order = 1; order <= 2; ++order) {
     CAPTURE(order);
-    lpv::Rgb volume;
-    lpv::Hi volumeHi;
-    for (int c = 0; c < 3; ++c) {
-        auto& t = volume[std::size_t(c)];
-        t = gl::Texture(ledger, "t.volume", {GL_TEXTURE_3D, GL_RGBA32F, pl.grid.x, pl.grid.y, pl.grid.z});
-        t.setSampling(GL_LINEAR, GL_LINEAR);
-        glm::vec4 lobe(float(k[c] * std::sqrt(kPi) / 2.0), float(-k[c] * std::sqrt(kPi / 3.0) * lobeDir.y),
-                       float(k[c] * std::sqrt(kPi / 3.0) * lobeDir.z), float(-k[c] * std::sqrt(kPi / 3.0) * lobeDir.x));
-        std::vector<glm::vec4> data(std::size_t(pl.grid.x * pl.grid.y * pl.grid.z), lobe);
-        glTextureSubImage3D(t.id(), 0, 0, 0, 0, pl.grid.x, pl.grid.y, pl.grid.z, GL_RGBA, GL_FLOAT, data.data());
-    }
-    if (order == 2) {
-        lpv::Sh9 l9 = lpv::shCosineLobe9(lobeDir);
-        for (int c = 0; c < 4; ++c) {
-            auto& t = volumeHi[std::size_t(c)];
-            t = gl::Texture(ledger, "t.volume.hi", {GL_TEXTURE_3D, GL_RGBA32F, pl.grid.x, pl.grid.y, pl.grid.z});
-            t.setSampling(GL_LINEAR, GL_LINEAR);
-            glm::vec4 v = c < 3 ? glm::vec4(glm::dvec4(l9[4], l9[5], l9[6], l9[7]) * k[c])
-                                : glm::vec4(float(k[0] * l9[8]), float(k[1] * l9[8]), float(k[2] * l9[8]), 0.0f);
-            std::vector<glm::vec4> data(std::size_t(pl.grid.x * pl.grid.y * pl.grid.z), v);
-            glTextureSubImage3D(t.id(), 0, 0, 0, 0, pl.grid.x, pl.grid.y, pl.grid.z, GL_RGBA, GL_FLOAT, data.data());
-        }
-    }
     lpv::UniformInputs in;
     in.placement = pl;
     in.specular = true;
@@ -212,8 +219,8 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
     gl::Texture specular(ledger, "t.specular", {GL_TEXTURE_2D, GL_RGBA16F, size.x, size.y});
     lpv::ApplyInputs ai;
     ai.gbuffer = {&res.gbuffer.linearDepth, &res.gbuffer.normal, &res.gbuffer.albedo, &res.gbuffer.material, size};
-    ai.volume = &volume;
-    ai.volumeHi = order == 2 ? &volumeHi : nullptr;
+    ai.volume = &uv.lo;
+    ai.volumeHi = order == 2 ? &uv.hi : nullptr;
     ai.indirect = &indirect;
     ai.specular = &specular;
     lpv::applyCompute(programs, ubo, ai);
@@ -282,23 +289,9 @@ TEST_CASE("LPV diffuse apply: a uniform SH volume gives <mirror(I), cosLobe(n)> 
     gl::MemoryLedger ledger;
     gl::ProgramCache programs;
     FloatImage depth = readTexture(res.gbuffer.linearDepth), albedo = readTexture(res.gbuffer.albedo);
+    UniformVolume uv = uniformVolume(ledger, pl, a, k);
     for (int order = 1; order <= 2; ++order) {
         CAPTURE(order);
-        lpv::Sh9 l9 = lpv::shCosineLobe9(a);
-        auto texture = [&](glm::vec4 v) {
-            gl::Texture t(ledger, "t.volume", {GL_TEXTURE_3D, GL_RGBA32F, pl.grid.x, pl.grid.y, pl.grid.z});
-            t.setSampling(GL_LINEAR, GL_LINEAR);
-            std::vector<glm::vec4> data(std::size_t(pl.grid.x * pl.grid.y * pl.grid.z), v);
-            glTextureSubImage3D(t.id(), 0, 0, 0, 0, pl.grid.x, pl.grid.y, pl.grid.z, GL_RGBA, GL_FLOAT, data.data());
-            return t;
-        };
-        lpv::Rgb volume;
-        lpv::Hi volumeHi;
-        for (int c = 0; c < 3; ++c) {
-            volume[std::size_t(c)] = texture(glm::vec4(glm::dvec4(l9[0], l9[1], l9[2], l9[3]) * k[c]));
-            volumeHi[std::size_t(c)] = texture(glm::vec4(glm::dvec4(l9[4], l9[5], l9[6], l9[7]) * k[c]));
-        }
-        volumeHi[3] = texture(glm::vec4(float(k[0] * l9[8]), float(k[1] * l9[8]), float(k[2] * l9[8]), 0.0f));
         lpv::UniformInputs in;
         in.placement = pl;
         gpu::LpvUniforms u = lpv::makeUniforms(s.lpv, in);
@@ -306,8 +299,8 @@ TEST_CASE("LPV diffuse apply: a uniform SH volume gives <mirror(I), cosLobe(n)> 
         gl::Texture indirect(ledger, "t.indirect", {GL_TEXTURE_2D, GL_RGBA16F, size.x, size.y});
         lpv::ApplyInputs ai;
         ai.gbuffer = {&res.gbuffer.linearDepth, &res.gbuffer.normal, &res.gbuffer.albedo, &res.gbuffer.material, size};
-        ai.volume = &volume;
-        ai.volumeHi = order == 2 ? &volumeHi : nullptr;
+        ai.volume = &uv.lo;
+        ai.volumeHi = order == 2 ? &uv.hi : nullptr;
         ai.indirect = &indirect;
         lpv::applyCompute(programs, ubo, ai);
         glMemoryBarrier(GL_ALL_BARRIER_BITS);
