@@ -74,7 +74,9 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     if (hasFamily(r, "ref.")) screen += kReferenceBytesPerPixel * pixels;
     by[resKey] += screen;
 
-    if (hasFamily(r, "shadow"))
+    // The sun's map (pass shadow or shadow.raster; shadow.local is below).
+    if (std::any_of(r.passes().begin(), r.passes().end(),
+                    [](auto& p) { return p->name() == "shadow" || p->name() == "shadow.raster"; }))
         by["shadow.size=" + std::to_string(s.light.shadowSize)] += 4.0 * double(s.light.shadowSize) * s.light.shadowSize;
     // The compute rasterizer's visibility buffer and bins, per rasterized view
     // (src/render/visibility/visibility.cpp, visibilityCapacity).
@@ -83,6 +85,14 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     if (hasFamily(r, "visibility.")) by[resKey] += visibility(res);
     if (hasFamily(r, "shadow.raster"))
         by["shadow.size=" + std::to_string(s.light.shadowSize)] += visibility(glm::ivec2(s.light.shadowSize));
+    if (hasFamily(r, "shadow.local")) {
+        // The D32F array (every light's layers, render/lights.h) and, on the
+        // compute path, one visibility target reused for every face.
+        const int n = s.light.localShadowSize;
+        double bytes = 4.0 * double(n) * double(n) * double(r.resources().localShadowLayers);
+        if (useComputeRaster(s)) bytes += visibility(glm::ivec2(n));
+        by["shadow.local_size=" + std::to_string(n)] += bytes;
+    }
     if (hasFamily(r, "lpv.") && useComputeRaster(s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += visibility(glm::ivec2(s.lpv.rsm));
     if (hasFamily(r, "lpv.")) {
         const glm::dvec3 g(s.lpv.grid);

@@ -55,6 +55,7 @@ public:
     std::vector<Output> checkedOutputs(const Pass& pass) const;
     std::vector<DebugImage> debugImages(const Pass& pass) const;
     FrameResources& resources() { return res_; }
+    const FrameResources& resources() const { return res_; }
     const Scene& scene() const { return scene_; }
     const Settings& settings() const { return settings_; }
     gl::MemoryLedger& ledger() { return ledger_; }

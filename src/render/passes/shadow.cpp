@@ -98,20 +98,46 @@ public:
                 glNamedFramebufferDrawBuffer(f, GL_NONE);
             }
         }
-        for (auto& v : r.localShadowViews) renderShadowDepth(ctx, v.viewProj, fbos_[std::size_t(v.layer)].id(), {n, n});
+        if (useComputeRaster(ctx.settings)) {
+            // The compute rasterizer (issue 14: every rasterized view): each
+            // face into one visibility target, its depth copied into the layer
+            // with the same slope-scaled bias as the hardware pass.
+            if (targetEpoch_ != r.allocationEpoch) {
+                targetEpoch_ = r.allocationEpoch;
+                target_.resetDepthTargets();
+            }
+            VisibilityOptions o = visibilityOptions(ctx.settings);
+            o.depthBias = true;
+            for (auto& v : r.localShadowViews) {
+                rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, v.viewProj, {n, n}, target_, o);
+                copyVisibilityDepth(ctx.programs, target_, r.localShadowMaps, v.layer);
+                if (!target_.checked) {
+                    target_.checkOverflow(name());
+                    target_.checked = true;
+                }
+            }
+            compute_ = true;
+        } else {
+            for (auto& v : r.localShadowViews)
+                renderShadowDepth(ctx, v.viewProj, fbos_[std::size_t(v.layer)].id(), {n, n});
+            compute_ = false;
+        }
         layersDrawn_ = int(r.localShadowViews.size());
         culled_ = r.localLightsCulled;
     }
     // Lights left out this frame (their influence sphere misses the view
     // frustum, or zero intensity) and the layers drawn for the others.
     std::vector<std::pair<std::string, double>> stats() override {
-        return {{"layers", double(layersDrawn_)}, {"lights_culled", double(culled_)}};
+        return {{"layers", double(layersDrawn_)}, {"lights_culled", double(culled_)}, {"compute", compute_ ? 1.0 : 0.0}};
     }
 
 private:
     std::vector<gl::FramebufferHandle> fbos_;
     unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffers were made for
+    VisibilityTarget target_{"shadow.local"};
+    unsigned targetEpoch_ = 0;
     int layersDrawn_ = 0, culled_ = 0;
+    bool compute_ = false;
 };
 
 }  // namespace

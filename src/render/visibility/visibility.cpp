@@ -150,6 +150,12 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     ensureBuffer(t.counters, ledger, t.label + ".counters", sizeof(VisCounters));
     if (o.countHits) ensureBuffer(t.hits, ledger, t.label + ".hits", pixels * 4);
 
+    // Write after read: the previous view rasterized into this target (one
+    // target serves every face of the local-light shadow array) may still be
+    // read by its depth copy or resolve. Mesa llvmpipe queues draws and runs
+    // compute at once: without the barrier the clear below overtook the copy
+    // and left every other layer empty.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     gl::Defines defs = visibilityDefines(t);
     if (o.countHits) defs.push_back({"RTGI_VISIBILITY_COUNT_HITS", ""});
     const gl::Program& clear = programs.compute("visibility/clear.comp", defs);
@@ -201,11 +207,12 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
 }
 
 void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& t, const gl::Texture& depth, int layer) {
-    if (!t.depthFbo || t.depthFboTexture != depth.id() || t.depthFboLayer != layer) {
+    gl::FramebufferHandle& fbo = t.depthFbos[{depth.id(), layer}];
+    if (!fbo) {
         GLuint f = 0;
         glCreateFramebuffers(1, &f);
-        t.depthFbo = gl::FramebufferHandle(f);
-        t.depthFbo.label(t.label + ".depth_fbo");
+        fbo = gl::FramebufferHandle(f);
+        fbo.label(t.label + ".depth_fbo" + (layer >= 0 ? std::to_string(layer) : std::string()));
         if (layer >= 0)
             glNamedFramebufferTextureLayer(f, GL_DEPTH_ATTACHMENT, depth.id(), 0, layer);
         else
@@ -213,14 +220,12 @@ void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& t, const 
         glNamedFramebufferDrawBuffer(f, GL_NONE);
         if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw std::runtime_error(t.label + ": depth copy framebuffer incomplete");
-        t.depthFboTexture = depth.id();
-        t.depthFboLayer = layer;
     }
     const gl::Program& prog = programs.raster("view/fullscreen.vert", "visibility/depth_copy.frag", visibilityDefines(t));
     prog.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_VISBUF, t.vis.id());
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glBindFramebuffer(GL_FRAMEBUFFER, t.depthFbo.id());
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
     glViewport(0, 0, t.size.x, t.size.y);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <map>
 #include <string>
 
 namespace rtgi {
@@ -44,10 +45,10 @@ struct VisibilityTarget {
     std::int64_t largeCapacity = 0, nodeCapacity = 0;
     gl::Buffer vis;              // 8 bytes per pixel: uint64 depth|id, or uint depth[N] then uint id[N]
     gl::Buffer large, tileHeads, nodes, counters, hits;
-    gl::FramebufferHandle depthFbo;  // copyVisibilityDepth target
+    // copyVisibilityDepth targets by (texture, layer): one per layer of a
+    // local-light shadow array, made once, dropped with resetDepthTargets().
+    std::map<std::pair<GLuint, int>, gl::FramebufferHandle> depthFbos;
     gl::VertexArrayHandle emptyVao;
-    GLuint depthFboTexture = 0;
-    int depthFboLayer = -1;
     bool checked = false;        // overflow checked once after the first frame
 
     // Reads the counters back (stalls); for stats and the overflow check.
@@ -55,6 +56,8 @@ struct VisibilityTarget {
     // Throws a one-sentence error naming `pass` and raster.bin_scale when a
     // bin buffer overflowed in the last rasterization.
     void checkOverflow(const std::string& pass) const;
+    // After a reallocation (texture names may be reused).
+    void resetDepthTargets() { depthFbos.clear(); }
 };
 
 // Buffer capacities of one view (docs/visibility.md "Scale and memory"):

@@ -71,8 +71,7 @@ public:
         VisibilityTarget& t = st_->target;
         if (epoch_ != ctx.res.allocationEpoch) {  // reallocated: a texture name may be reused, rebuild the copy FBO
             epoch_ = ctx.res.allocationEpoch;
-            t.depthFbo = gl::FramebufferHandle();
-            t.depthFboTexture = 0;
+            t.resetDepthTargets();
         }
         const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
         bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
@@ -110,8 +109,7 @@ public:
             epoch_ = ctx.res.allocationEpoch;
             glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
             glTextureParameteri(ctx.res.shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-            target_.depthFbo = gl::FramebufferHandle();
-            target_.depthFboTexture = 0;
+            target_.resetDepthTargets();
         }
         int n = ctx.settings.light.shadowSize;
         VisibilityOptions o = visibilityOptions(ctx.settings);
