@@ -20,7 +20,24 @@
 // ---- bindings ----
 #define RTGI_UBO_LPV 1              // LpvUniforms
 #define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
+#define RTGI_LPV_MAX_CASCADES 6      // lpv.cascades range 1..6
 #define RTGI_LPV_GV_CHANNELS 8      // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A)
+// Cascades (near.comp, apply.comp with RTGI_LPV_CASCADED): texture units, image units, uniform locations.
+#define RTGI_LPV_TEX_SOURCE_R 0
+#define RTGI_LPV_TEX_SOURCE_G 1
+#define RTGI_LPV_TEX_SOURCE_B 2
+#define RTGI_LPV_IMG_NEAR_R 0
+#define RTGI_LPV_IMG_NEAR_G 1
+#define RTGI_LPV_IMG_NEAR_B 2
+#define RTGI_LPV_LOC_NEAR_FRACTION 0
+#define RTGI_LPV_TEX_APPLY_NEAR_R 9     // apply: the cascade's near part (after the units 0-8 of the single volume)
+#define RTGI_LPV_TEX_APPLY_NEAR_G 10
+#define RTGI_LPV_TEX_APPLY_NEAR_B 11
+#define RTGI_LPV_TEX_APPLY_RSM_FLUX 12   // apply: the RSM (self-illumination correction)
+#define RTGI_LPV_TEX_APPLY_RSM_DEPTH 13
+#define RTGI_LPV_IMG_APPLY_SUM_E 2      // apply: running sum over cascades of irradiance (rgb)
+#define RTGI_LPV_IMG_APPLY_SUM_S 3      // apply: and of specular radiance (rgb)
+#define RTGI_LPV_LOC_APPLY_LAST 0       // apply: 1 in the last (coarsest) cascade's dispatch
 // Workgroup sizes (read back after linking; listed here so C++ and GLSL agree on tiling).
 #define RTGI_LPV_LOCAL_2D 8
 #define RTGI_LPV_LOCAL_3D 4
@@ -43,6 +60,11 @@ RTGI_LPV_STRUCT(LpvUniforms) {
     ivec4 flags;          // x: occlusion, y: bounce, z: energy conserving, w: specular
     ivec4 temporalShift;  // xyz: cell index shift to the previous frame's grid; w: history valid
     vec4 temporal;        // x: blend weight of the previous volume
+    ivec4 cascade;        // x: this volume's cascade index i, y: cascade count C, z: count dropped RSM texels,
+                          // w: lpv.reemit=flow (side faces re-emit along their flow direction)
+    vec4 cascadeParams;   // x: blend width of a cascade border in cells (apply); y, z: self-irradiance of a
+                          // lit plane per unit exitance, all steps / near steps; w: lpv.self_correction
+    vec4 cascadeOrigin[RTGI_LPV_MAX_CASCADES];  // every cascade: xyz min corner, w cell size (apply weights)
 };
 
 #ifndef RTGI_GLSL
@@ -108,6 +130,12 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 // uniform locations
 #define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
+// lpv/probe.comp (lpv.source=probe, docs/lpv.md "Stage attribution"); BVH and scene
+// buffers at their bvh_shared.h / shared.h bindings.
+#define RTGI_LPV_PROBE_IMG_ACCUM_R 0
+#define RTGI_LPV_PROBE_IMG_ACCUM_G 1
+#define RTGI_LPV_PROBE_IMG_ACCUM_B 2
+#define RTGI_LPV_PROBE_LOC_PARAMS  0  // uvec4: directions per cell, bounces, seed, first z slice
 #define RTGI_LPV_RSM_LOC_LIGHT 1  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 1-4
 #define RTGI_LPV_RSM_LOC_FACE  5  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
 // stage interfaces of the seed's raster baseline (varyings and colour outputs)

@@ -226,3 +226,52 @@ vec3 sampleEmitters(Surface s, vec3 v, vec3 origin, inout Rng rng) {
     return vec3(0.0);
 #endif
 }
+
+// Radiance arriving along (ro, rd), times `throughput`: at most maxBounces
+// surfaces (each adds its emission and next-event direct light), Russian
+// roulette from the third on; the ray was sampled at its origin with
+// solid-angle pdf `pdf` (the MIS weight of emission it hits). Without
+// RTGI_REF_FULL (indirect kind), the first segment is the one leaving the
+// G-buffer surface x1: a ray escaping there sees no sky (the compose pass's
+// ambient term) and emission hit there is weighted 1 (x1 samples no
+// emitters), or 0 with RTGI_REF_EMISSION_IS_DIRECT. Shared by ref/path.comp
+// and the LPV probe reference lpv/probe.comp (a cell centre in place of x1,
+// the same matching-bounce transport).
+vec3 refTraceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, uint maxBounces, inout Rng rng) {
+    vec3 L = vec3(0.0);
+    for (uint bounce = 1u; bounce <= maxBounces; ++bounce) {
+        Hit h;
+        if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
+#ifndef RTGI_REF_FULL
+            if (bounce == 1u) break;  // direct skylight at x1: the compose pass's ambient term
+#endif
+            L += throughput * frame.sky.rgb;
+            break;
+        }
+        Surface x = surfaceAt(h, ro, rd);
+        vec3 v = -rd;
+        vec3 origin = offsetRayOrigin(x.position, x.geometric, maxAbs(ro));
+        float misWeight = emissionMisWeight(pdf, h.t, rd, x.geometric);
+#ifndef RTGI_REF_FULL
+        if (bounce == 1u) misWeight = 1.0;  // x1 samples no emitters in the indirect kind
+#ifdef RTGI_REF_EMISSION_IS_DIRECT
+        if (bounce == 1u) misWeight = 0.0;  // emission seen from x1 is x1's direct light (emissive.lights=on)
+#endif
+#endif
+        L += throughput * x.emission * misWeight;
+        L += throughput * (directLight(x, v, origin) + sampleEmitters(x, v, origin, rng));
+        if (bounce == maxBounces) break;
+        vec3 l, w;
+        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w, pdf)) break;
+        if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
+        throughput *= w;
+        if (bounce >= 3u) {
+            float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
+            if (rngNext(rng) >= q) break;
+            throughput /= q;
+        }
+        ro = origin;
+        rd = l;
+    }
+    return L;
+}

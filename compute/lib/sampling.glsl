@@ -22,3 +22,9 @@ vec3 cosineHemisphere(vec2 u) {
 
 // The same around unit n.
 vec3 cosineHemisphere(vec2 u, vec3 n) { return basisAround(n) * cosineHemisphere(u); }
+
+// Uniform direction on the unit sphere for u in [0,1)^2 (z = 1 - 2 u.x); pdf = 1 / (4 pi).
+vec3 uniformSphere(vec2 u) {
+    float z = 1.0 - 2.0 * u.x, r = sqrt(max(0.0, 1.0 - z * z)), phi = TWO_PI * u.y;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}

@@ -27,7 +27,91 @@ layout(binding = RTGI_LPV_TEX_DIRECTIONAL) uniform sampler2D uDirectional;  // b
 layout(rgba16f, binding = RTGI_LPV_IMG_INDIRECT) uniform writeonly image2D uIndirect;
 layout(rgba16f, binding = RTGI_LPV_IMG_SPECULAR) uniform writeonly image2D uSpecular;
 
-// Trilinear lookup; outside the grid there is no LPV light.
+#ifdef RTGI_LPV_SELF
+// Self-illumination correction (docs/lpv.md, "Self-illumination"): the RSM gives the
+// exitance of a sunlit receiver; the scheme lights a uniformly lit plane with
+// kappa * exitance of its own light (lpv::planeSelfIrradiance), which is subtracted.
+layout(binding = RTGI_LPV_TEX_APPLY_RSM_FLUX) uniform sampler2D uRsmFlux;
+layout(binding = RTGI_LPV_TEX_APPLY_RSM_DEPTH) uniform sampler2D uRsmDepth;
+
+// Exitance (rgb) from the sun of the plane through `plane` (normal n) at its point x: the
+// RSM texel over x when the surface the RSM sees there lies in that plane (within a
+// quarter cell), flux / (A_texel / cos); 0 where the plane is not lit or not there.
+vec3 lpvPlaneExitanceAt(vec3 x, vec3 plane, vec3 n, float cosl) {
+    vec4 c = lpv.rsmViewProj * vec4(x, 1.0);
+    vec2 ndc = c.xy / c.w;
+    if (any(greaterThan(abs(ndc), vec2(1.0)))) return vec3(0.0);
+    int side = lpv.grid.w;
+    ivec2 t = clamp(ivec2((ndc * 0.5 + 0.5) * float(side)), ivec2(0), ivec2(side - 1));
+    vec3 q = rsmWorldPosition(t, texelFetch(uRsmDepth, t, 0).r);
+    if (abs(dot(q - plane, n)) > 0.25 * lpvCellSize()) return vec3(0.0);
+    return texelFetch(uRsmFlux, t, 0).rgb * cosl / lpv.rsm.x;
+}
+
+// The plane's exitance weighted by the scheme's lateral self-illumination kernel: ring
+// weights (cells 0..4 away) of the 3D double model of a point on a plane, 8 steps, flow,
+// energy conserving (docs/lpv.md): 93 % of the self-light comes from within 4 cells, the
+// own cell's is negative. A uniformly lit plane gives its exitance back (weights sum to 1).
+vec3 lpvOwnExitance(vec3 wp, vec3 n) {
+    vec3 l = frame.sunDirection.xyz;  // towards the sun
+    float cosl = dot(n, l);
+    if (cosl <= 0.0) return vec3(0.0);
+    const float ring[5] = float[5](-0.179, 0.406, 0.326, 0.213, 0.234);
+    vec3 t1 = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+    vec3 t2 = cross(n, t1);
+    vec3 m = ring[0] * lpvPlaneExitanceAt(wp, wp, n, cosl);
+    for (int r = 1; r <= 4; ++r) {
+        float a = (r & 1) != 0 ? 0.0 : 0.7853982;  // alternate rings turned by 45 degrees
+        vec3 ringSum = vec3(0.0);
+        for (int k = 0; k < 4; ++k) {
+            float phi = a + float(k) * 1.5707963;
+            vec3 x = wp + float(r) * lpvCellSize() * (cos(phi) * t1 + sin(phi) * t2);
+            ringSum += lpvPlaneExitanceAt(x, wp, n, cosl);
+        }
+        m += ring[r] * 0.25 * ringSum;
+    }
+    return max(m, vec3(0.0));
+}
+#endif
+
+#ifdef RTGI_LPV_CASCADED
+// Cascades (docs/lpv.md, "Cascades"): one dispatch per cascade, finest first;
+// each adds its weighted irradiance and specular radiance to running sums,
+// the last one writes the outputs.
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_R) uniform sampler3D uNearR;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_G) uniform sampler3D uNearG;
+layout(binding = RTGI_LPV_TEX_APPLY_NEAR_B) uniform sampler3D uNearB;
+layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_SUM_E) uniform image2D uSumE;
+layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_SUM_S) uniform image2D uSumS;
+layout(location = RTGI_LPV_LOC_APPLY_LAST) uniform int uLast;
+
+// How far inside cascade j the point lies: 1 from kCascadeBlendCells + 1/2
+// cells inside its border on, falling linearly to 0 half a cell inside it
+// (where the trilinear lookup still reads only the cascade's own cells). The
+// coarsest cascade: 1 wherever inside.
+float lpvCascadeInside(int j, vec3 world) {
+    vec4 o = lpv.cascadeOrigin[j];
+    vec3 q = (world - o.xyz) / o.w;
+    vec3 g = vec3(lpv.grid.xyz);
+    float d = min(min(min(q.x, q.y), q.z), min(min(g.x - q.x, g.y - q.y), g.z - q.z));
+    if (j == lpv.cascade.y - 1) return d >= 0.0 ? 1.0 : 0.0;
+    return clamp((d - 0.5) / lpv.cascadeParams.x, 0.0, 1.0);
+}
+
+// Weights of this cascade i at a point (docs/lpv.md): u_i = w_i prod_{j<i}(1 - w_j)
+// (cascade i is the finest one used there) for the near part, U_i = 1 -
+// prod_{j<=i}(1 - w_j) (cascade i or a finer one is) for the far part.
+vec2 lpvCascadeWeights(vec3 world) {
+    float outside = 1.0;  // prod_{j<i} (1 - w_j)
+    int i = lpv.cascade.x;
+    for (int j = 0; j < i; ++j) outside *= 1.0 - lpvCascadeInside(j, world);
+    float w = lpvCascadeInside(i, world);
+    return vec2(w * outside, 1.0 - outside * (1.0 - w));
+}
+#endif
+
+// Trilinear lookup; outside the grid there is no LPV light. Cascade i > 0:
+// u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md).
 bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
     vec3 uvw = lpvCellCoord(world) / vec3(lpv.grid.xyz);
     r = g = b = vec4(0.0);
@@ -35,6 +119,19 @@ bool lpvSample(vec3 world, out vec4 r, out vec4 g, out vec4 b) {
     r = texture(uLightR, uvw);
     g = texture(uLightG, uvw);
     b = texture(uLightB, uvw);
+#ifdef RTGI_LPV_CASCADED
+    vec2 w = lpvCascadeWeights(world);
+    if (lpv.cascade.x == 0) {
+        r *= w.x;
+        g *= w.x;
+        b *= w.x;
+    } else {
+        vec4 nr = texture(uNearR, uvw), ng = texture(uNearG, uvw), nb = texture(uNearB, uvw);
+        r = w.x * nr + w.y * (r - nr);
+        g = w.x * ng + w.y * (g - ng);
+        b = w.x * nb + w.y * (b - nb);
+    }
+#endif
     return true;
 }
 
@@ -50,7 +147,7 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
     float d = texelFetch(uLinearDepth, p, 0).r;
-    vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+    vec3 diffuse = vec3(0.0), specular = vec3(0.0), irradiance = vec3(0.0);
     if (!isSky(d)) {
         vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
         vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
@@ -75,8 +172,28 @@ void main() {
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));
 #endif
-            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e, vec3(0.0)) * invArea;
+            vec3 eSelf = vec3(0.0);
+#ifdef RTGI_LPV_SELF
+            // Weighted like the volume it stands for: all steps, or near + far of a cascade.
+            float kappa = lpv.cascadeParams.y;
+#ifdef RTGI_LPV_CASCADED
+            vec2 cw = lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n);
+            kappa = lpv.cascade.x == 0 ? cw.x * lpv.cascadeParams.y
+                                       : cw.x * lpv.cascadeParams.z + cw.y * (lpv.cascadeParams.y - lpv.cascadeParams.z);
+#endif
+            eSelf = kappa * lpvOwnExitance(wp, n);
+#endif
+#ifdef RTGI_LPV_CASCADED
+            irradiance = e * invArea - eSelf;
+#else
+            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e * invArea - eSelf, vec3(0.0));
+#endif
         }
+#ifdef RTGI_LPV_CASCADED
+        if (lpv.cascade.x > 0) irradiance += imageLoad(uSumE, p).rgb;
+        if (uLast == 0) imageStore(uSumE, p, vec4(irradiance, 0.0));
+        diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(irradiance, vec3(0.0));
+#endif
 #ifdef RTGI_LPV_SPECULAR
         vec3 v = normalize(frame.cameraPos.xyz - wp);
         vec3 R = reflect(-v, n);
@@ -92,9 +209,17 @@ void main() {
 #else
         vec3 brdf = f0;
 #endif
-        specular = brdf * (sum / 3.0) * invArea * lpv.rsm.z;
+        vec3 radiance = sum * invArea;  // each cascade with its own 1/s^2
+#ifdef RTGI_LPV_CASCADED
+        if (lpv.cascade.x > 0) radiance += imageLoad(uSumS, p).rgb;
+        if (uLast == 0) imageStore(uSumS, p, vec4(radiance, 0.0));
+#endif
+        specular = brdf * (radiance / 3.0) * lpv.rsm.z;
 #endif
     }
+#ifdef RTGI_LPV_CASCADED
+    if (uLast == 0) return;
+#endif
     imageStore(uIndirect, p, vec4(diffuse * lpv.rsm.z, 1.0));
 #ifdef RTGI_LPV_SPECULAR
     imageStore(uSpecular, p, vec4(specular, 1.0));

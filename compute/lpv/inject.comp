@@ -47,7 +47,7 @@ void main() {
             }
             lpvReduceAdd(lpvKeyOfCell(c, lpv.grid.xyz), v);
         } else {
-            atomicAdd(droppedTexels, 1u);
+            if (lpv.cascade.z != 0) atomicAdd(droppedTexels, 1u);  // the coarsest cascade counts (finer ones hold less by design)
         }
     }
     lpvReduceEnd();

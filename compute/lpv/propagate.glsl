@@ -68,7 +68,9 @@ float lpvPropagateFaces(vec4 I, vec3 d, float transmit, inout vec4 dst) {
         vec3 w = RTGI_LPV_SIDE_DIR_T * nf + RTGI_LPV_SIDE_DIR_D * d;
         float side = RTGI_LPV_SIDE_SOLID_ANGLE * max(0.0, shEvaluate(I, w));
         total += side;
-        dst += (side * transmit * INV_PI) * shCosineLobe(nf);
+        // lpv.reemit=flow: around the mean direction w of the flux crossing the face (its flux
+        // is unchanged); KD10 (face): around the face normal, 57 degrees off (docs/lpv.md).
+        dst += (side * transmit * INV_PI) * shCosineLobe(lpv.cascade.w != 0 ? w : nf);
     }
     return total;
 }

@@ -41,48 +41,6 @@ layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample
 // camera position and the depth, so the origin offset scales with them.
 float gbufferMagnitude(float d) { return max(maxAbs(frame.cameraPos.xyz), d); }
 
-// Radiance arriving along (ro, rd) at a surface; the ray was sampled by the
-// BRDF at its origin with solid-angle pdf `pdf` (for the MIS weight of
-// emission it hits).
-vec3 traceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, inout Rng rng) {
-    vec3 L = vec3(0.0);
-    for (uint bounce = 1u; bounce <= uSamples.w; ++bounce) {
-        Hit h;
-        if (!traceClosest(ro, rd, 0.0, BVH_MISS, h)) {
-#ifndef RTGI_REF_FULL
-            if (bounce == 1u) break;  // direct skylight at x1: the compose pass's ambient term
-#endif
-            L += throughput * frame.sky.rgb;
-            break;
-        }
-        Surface x = surfaceAt(h, ro, rd);
-        vec3 v = -rd;
-        vec3 origin = offsetRayOrigin(x.position, x.geometric, maxAbs(ro));
-        float misWeight = emissionMisWeight(pdf, h.t, rd, x.geometric);
-#ifndef RTGI_REF_FULL
-        if (bounce == 1u) misWeight = 1.0;  // x1 samples no emitters in the indirect kind
-#ifdef RTGI_REF_EMISSION_IS_DIRECT
-        if (bounce == 1u) misWeight = 0.0;  // emission seen from x1 is x1's direct light (emissive.lights=on)
-#endif
-#endif
-        L += throughput * x.emission * misWeight;
-        L += throughput * (directLight(x, v, origin) + sampleEmitters(x, v, origin, rng));
-        if (bounce == uSamples.w) break;
-        vec3 l, w;
-        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w, pdf)) break;
-        if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
-        throughput *= w;
-        if (bounce >= 3u) {
-            float q = min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
-            if (rngNext(rng) >= q) break;
-            throughput /= q;
-        }
-        ro = origin;
-        rd = l;
-    }
-    return L;
-}
-
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
@@ -117,10 +75,10 @@ void main() {
             vec3 l, w;
             float pdf;
             if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w, pdf))
-                L += traceRadiance(origin, l, pdf, w, rng);
+                L += refTraceRadiance(origin, l, pdf, w, uSamples.w, rng);
 #else
             vec3 l = cosineHemisphere(rngNext2(rng), n);
-            vec3 L = traceRadiance(origin, l, dot(n, l) * INV_PI, diffuseAlbedo(s.albedo, s.metallic), rng);
+            vec3 L = refTraceRadiance(origin, l, dot(n, l) * INV_PI, diffuseAlbedo(s.albedo, s.metallic), uSamples.w, rng);
 #endif
             // A non-finite sample (degenerate geometry) is dropped, never accumulated.
             if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);

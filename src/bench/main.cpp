@@ -153,7 +153,21 @@ int main(int argc, char** argv) {
             const auto& e = r["error"];
             std::cout << "  error vs reference (" << e["compared"].get<std::string>() << ", "
                       << (e["reference"]["from_cache"].get<bool>() ? "from cache" : "rendered") << "): rmse "
-                      << e["rmse"] << ", mae " << e["mae"] << ", psnr " << e["psnr"] << ", ssim " << e["ssim"] << "\n";
+                      << e["rmse"] << ", mae " << e["mae"] << ", psnr " << e["psnr"] << ", ssim " << e["ssim"] << ", skill "
+                      << e["skill"] << "\n";
+            if (e.contains("matching_bounce")) {
+                const auto& mb = e["matching_bounce"];
+                std::cout << "  vs matching-bounce reference (" << mb["bounces"] << " bounce(s), Lambert): rmse "
+                          << mb["rmse"] << ", rmse of black " << mb["rmse_zero"] << ", skill " << mb["skill"]
+                          << "; interior rel_rmse " << mb["interior"]["rel_rmse"] << ", skill "
+                          << mb["interior"]["skill"] << "\n";
+            }
+            if (e.contains("stage")) {
+                const auto& st = e["stage"];
+                std::cout << "  stages (probe volume, " << st["probe_directions"] << " directions/cell): lookup rmse "
+                          << st["lookup"]["rmse"] << " (skill " << st["lookup"]["skill"] << "), propagation rmse "
+                          << st["propagation"]["rmse"] << " (adds " << st["propagation"]["rmse_delta"] << ")\n";
+            }
         }
         std::cout << "  wrote " << cl.run.outDir << "/results.json, results.csv"
                   << (cl.run.writeImages ? ", final.png, final.pfm, final.exr and debug images" : "") << "\n";

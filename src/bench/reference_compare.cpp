@@ -7,6 +7,8 @@
 #include "gl/output_files.h"
 #include "render/reference/metrics.h"
 #include "render/reference/reference_cache.h"
+#include "render/lpv/lpv_passes.h"
+#include "render/lpv/lpv_probe.h"
 #include "render/reference/reference_passes.h"
 
 #include <algorithm>
@@ -26,6 +28,17 @@ nlohmann::json metricsJson(const ErrorMetrics& m, bool radiance) {
                         {"inf_pixels", m.infPixels}};
     if (radiance) j["rel_rmse"] = m.relRmse;
     return j;
+}
+
+// RMSE of predicting zero on the same pixels, and skill = 1 - rmse / rmse_zero
+// (issue 12): > 0 means the technique beats predicting black, 1 is exact.
+void addSkill(nlohmann::json& j, const FloatImage& test, const FloatImage& ref, int channels, double peak,
+              const std::vector<std::uint8_t>& mask) {
+    FloatImage zero = test;
+    std::fill(zero.data.begin(), zero.data.end(), 0.0f);
+    double rmseZero = compareImages(zero, ref, channels, peak, mask).rmse;
+    j["rmse_zero"] = rmseZero;
+    j["skill"] = rmseZero > 0 ? 1.0 - j["rmse"].get<double>() / rmseZero : 0.0;
 }
 
 double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mask) {
@@ -71,6 +84,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     double peak = kind == K::Ao ? 1.0 : peakLuminance(mean, mask);
     ErrorMetrics m = compareImages(test, mean, channels, peak, mask);
     nlohmann::json e = metricsJson(m, kind != K::Ao);
+    addSkill(e, test, mean, channels, peak, mask);
     e["compared"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirectDiffuse" : "hdr";
     e["kind"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirect" : "full";  // results.json config.reference
     e["pixels_compared"] = "geometry (linear depth > 0; sky excluded)";
@@ -84,9 +98,61 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     {
         const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
         nlohmann::json in = metricsJson(compareImages(test, mean, channels, peak, interior), kind != K::Ao);
+        addSkill(in, test, mean, channels, peak, interior);
         in.erase("ssim");
         in["relative_depth_jump"] = 0.1;
         e["interior"] = in;
+    }
+    // Issue 12: an LPV run's indirect light against the path tracer with the
+    // light transport the LPV models (one bounce, two with lpv.bounce=on,
+    // Lambert only), beside the error against the reference asked for. The
+    // same reference when the settings already match, else a second one.
+    if (kind == K::Indirect && lpvActive(run.scene(), run.settings())) {
+        Settings ms = rs;
+        ms.reference.bounces = run.settings().lpv.bounce ? 2 : 1;
+        ms.reference.specular = false;
+        bool same = ms.reference.bounces == rs.reference.bounces && ms.reference.specular == rs.reference.specular;
+        FloatImage matching = mean;
+        if (!same) {
+            Renderer mref(run.scene(), ms, profiler);
+            mref.render(v);
+            auto* mout = dynamic_cast<ReferenceOutput*>(mref.findPass(passName));
+            if (!mout) throw ConfigError("--reference: the matching-bounce reference pass did not run");
+            matching = readTexture(mout->mean());
+        }
+        double mpeak = peakLuminance(matching, mask);
+        nlohmann::json mb = metricsJson(compareImages(test, matching, channels, mpeak, mask), true);
+        addSkill(mb, test, matching, channels, mpeak, mask);
+        mb.erase("ssim");
+        const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
+        nlohmann::json in = metricsJson(compareImages(test, matching, channels, mpeak, interior), true);
+        addSkill(in, test, matching, channels, mpeak, interior);
+        in.erase("ssim");
+        mb["interior"] = in;
+        mb["bounces"] = ms.reference.bounces;
+        mb["specular"] = false;
+        mb["same_as_reference"] = same;
+        e["matching_bounce"] = mb;
+        // Stage attribution (docs/lpv.md): the same frame with the path-traced
+        // probe volumes; probe vs matching = lookup error, propagated vs probe
+        // = what the propagation adds.
+        if (run.settings().lpv.source == LpvSettings::Source::Propagated) {
+            FloatImage probe = lpv::renderProbeIndirect(run, v);
+            nlohmann::json lookup = metricsJson(compareImages(probe, matching, channels, mpeak, mask), true);
+            addSkill(lookup, probe, matching, channels, mpeak, mask);
+            lookup.erase("ssim");
+            nlohmann::json lin = metricsJson(compareImages(probe, matching, channels, mpeak, interior), true);
+            addSkill(lin, probe, matching, channels, mpeak, interior);
+            lin.erase("ssim");
+            lookup["interior"] = lin;
+            nlohmann::json prop = metricsJson(compareImages(test, probe, channels, mpeak, mask), true);
+            prop.erase("ssim");
+            prop["rmse_delta"] = mb["rmse"].get<double>() - lookup["rmse"].get<double>();
+            prop["interior"] = {{"rmse", compareImages(test, probe, channels, mpeak, interior).rmse},
+                                {"rmse_delta", in["rmse"].get<double>() - lin["rmse"].get<double>()}};
+            e["stage"] = {{"lookup", lookup}, {"propagation", prop},
+                          {"probe_directions", run.settings().lpv.probeDirections}};
+        }
     }
     // Issue 6: the reflection error on the glossy pixels (roughness <=
     // ssr.roughness_cutoff, the ones SSR shades; also with ssr=off, as the

@@ -161,6 +161,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
         }
         writeTexture(opts.outDir, "direct", res.direct, settings.post.exposure, true);
         writeTexture(opts.outDir, "indirect", res.indirectDiffuse, settings.post.exposure, true);
+        if (res.indirectDiffuse) writePfm(opts.outDir + "/indirect.pfm", readTexture(res.indirectDiffuse));
         writeTexture(opts.outDir, "specular", res.specular, settings.post.exposure, true);
         writeTexture(opts.outDir, "ao", res.ao, 1.0f, false);
         for (auto& p : renderer.passes())

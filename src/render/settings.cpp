@@ -94,6 +94,8 @@ const char* const kToggle[] = {"auto", "on", "off"};
 const char* const kLpvPath[] = {"compute", "raster"};
 const char* const kRasterPath[] = {"hardware", "compute", "auto"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
+const char* const kLpvReemit[] = {"face", "flow"};
+const char* const kLpvSource[] = {"propagated", "probe"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
@@ -192,6 +194,18 @@ std::vector<SettingKey> buildKeys() {
             s.lpv.temporal = parseFloat("lpv.temporal", v, 0, 0.99), fmt(s.lpv.temporal)),
         KEY("lpv.energy_conserving", "renormalize the propagation so free-space flux is conserved", "on|off",
             s.lpv.energyConserving = parseBool("lpv.energy_conserving", v), onOff(s.lpv.energyConserving)),
+        KEY("lpv.reemit", "side faces re-emit around their normal (face, KD10) or their flux direction (flow)",
+            "face|flow", s.lpv.reemit = parseEnum<LpvSettings::Reemit>("lpv.reemit", v, kLpvReemit),
+            kLpvReemit[int(s.lpv.reemit)]),
+        KEY("lpv.self_correction", "subtract the volume's self-illumination of sunlit surfaces (derived, docs/lpv.md)",
+            "on|off", s.lpv.selfCorrection = parseBool("lpv.self_correction", v), onOff(s.lpv.selfCorrection)),
+        KEY("lpv.cascades", "nested volumes, each cascade's cells twice the previous (compute path)", "1..6",
+            s.lpv.cascades = parseInt("lpv.cascades", v, 1, 6), fmt(s.lpv.cascades)),
+        KEY("lpv.source", "accumulated volumes from the propagation or from path-traced probes (stage attribution)",
+            "propagated|probe", s.lpv.source = parseEnum<LpvSettings::Source>("lpv.source", v, kLpvSource),
+            kLpvSource[int(s.lpv.source)]),
+        KEY("lpv.probe_directions", "lpv.source=probe: traced directions per cell", "1..65536",
+            s.lpv.probeDirections = parseInt("lpv.probe_directions", v, 1, 65536), fmt(s.lpv.probeDirections)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

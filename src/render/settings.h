@@ -48,7 +48,7 @@ struct PostSettings {
 struct LpvSettings {
     Toggle mode = Toggle::Auto;          // auto: on when the scene has a sun
     enum class Path { Compute, Raster } path = Path::Compute;
-    glm::ivec3 grid{32};
+    glm::ivec3 grid{24};                 // per cascade (defaults measured in docs/lpv.md, "Cascades")
     float cell = 0.0f;                   // 0 = fit the grid to the scene bounds (auto, docs/lpv.md)
     int iterations = 8;
     int rsm = 256;
@@ -57,8 +57,17 @@ struct LpvSettings {
     bool bounce = true;
     Toggle specular = Toggle::Auto;
     float temporal = 0.0f;               // blend factor with the previous volume, 0 = off
-    bool energyConserving = false;
+    bool energyConserving = true;        // measured lower error on cornell and the atrium (docs/lpv.md)
     float strength = 1.0f;               // global multiplier on LPV indirect light (1 = physical)
+    // Side faces of a propagation step re-emit around their normal (KD10) or
+    // around the mean direction of the flux crossing them (docs/lpv.md).
+    enum class Reemit { Face, Flow } reemit = Reemit::Flow;
+    bool selfCorrection = true;          // subtract the scheme's self-illumination of lit surfaces (docs/lpv.md)
+    int cascades = 2;                    // nested camera-following volumes, cell doubling per cascade (docs/lpv.md)
+    // Stage attribution (docs/lpv.md): the accumulated volumes come from the
+    // propagation or from path-traced probes at the cell centres.
+    enum class Source { Propagated, Probe } source = Source::Propagated;
+    int probeDirections = 256;           // lpv.source=probe: traced directions per cell
 };
 
 struct AoSettings {

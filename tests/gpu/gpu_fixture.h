@@ -108,6 +108,18 @@ inline std::uint64_t nonFinite(const Scene& s, const Settings& st, glm::ivec2 si
 
 // LPV on at a size llvmpipe runs in well under a second (8^3, 4 iterations,
 // RSM 64^2, shadow map 256^2).
+// The path tracer's one-bounce Lambert indirect light (reference=indirect,
+// reference.bounces=1, reference.specular=off, uncached) with `s`'s scene settings.
+inline Settings oneBounceReference(Settings s, int spp) {
+    s.lpv.mode = Toggle::Off;
+    s.reference.kind = ReferenceSettings::Kind::Indirect;
+    s.reference.spp = spp;
+    s.reference.bounces = 1;
+    s.reference.specular = false;
+    s.reference.cacheDir = "off";
+    return s;
+}
+
 // LPV alone (AO, and with it the bent-normal lookup, off: the LPV tests test the volume).
 // Passes that rasterize the camera's G-buffer and the sun's shadow map under
 // the settings' raster.path (auto: compute on the device, hardware on llvmpipe).
@@ -124,6 +136,11 @@ inline Settings smallLpvSettings() {
     s.lpv.grid = glm::ivec3(8);
     s.lpv.iterations = 4;
     s.lpv.rsm = 64;
+    // The single-volume KD10 scheme the oracles of these tests derive (cascades, flow
+    // re-emission and energy conservation have tests of their own).
+    s.lpv.cascades = 1;
+    s.lpv.reemit = LpvSettings::Reemit::Face;
+    s.lpv.energyConserving = false;
     s.light.shadowSize = 256;
     return s;
 }

@@ -13,16 +13,17 @@ using namespace rtgi::test;
 
 namespace {
 
-// Total flux in the injection accumulation (lpv.pack off keeps it): every
-// texel added Φ/π·cosLobe(n), whose Y00 coefficient is Φ/(2√π).
-glm::dvec3 injectedFlux(Renderer& r) {
+// Total flux in the injection accumulation of cascade `cascade` (lpv.pack
+// off keeps it): every texel added Φ/π·cosLobe(n), whose Y00 coefficient is
+// Φ/(2√π).
+glm::dvec3 injectedFlux(Renderer& r, int cascades, int cascade) {
     Pass* inject = r.findPass("lpv.inject");
     REQUIRE(inject != nullptr);
     auto outs = r.checkedOutputs(*inject);
-    REQUIRE(outs.size() == 3);
+    REQUIRE(outs.size() == std::size_t(3 * cascades));  // R, G, B per cascade, finest first
     glm::dvec3 sum(0.0);
     for (int c = 0; c < 3; ++c) {
-        const gl::Texture& t = *outs[std::size_t(c)].tex;
+        const gl::Texture& t = *outs[std::size_t(3 * cascade + c)].tex;
         std::vector<float> v(std::size_t(t.width()) * t.height() * t.depth());
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
         glGetTextureImage(t.id(), 0, GL_RED, GL_FLOAT, GLsizei(v.size() * 4), v.data());
@@ -47,10 +48,15 @@ Settings fluxSettings() {
 
 }  // namespace
 
+// With cascades, every RSM is injected into every cascade (issue 13, "and its
+// cascades"); the coarsest cascade covers the scene bounds (lpv.cell = 0), so
+// it holds all of ρ·Φ, and a finer one, half as large and inside the box
+// (it may hold no wall at all), at most that.
 TEST_CASE("LPV local lights: injected flux of a point and a spot light in a closed box equals rho * Phi (double)") {
     GpuFixture fx;
     gl::Profiler prof(false);
     const double rho = 0.5, I = 2.0;
+    for (int cascades = 1; cascades <= 2; ++cascades)
     for (int kind = 0; kind < 2; ++kind) {
         Scene s = closedBoxScene(float(rho), 0.0f);
         Light l;
@@ -71,18 +77,22 @@ TEST_CASE("LPV local lights: injected flux of a point and a spot light in a clos
         }
         s.lights.push_back(l);
         Settings st = fluxSettings();
+        st.lpv.cascades = cascades;
         auto r = renderFrames(s, st, {32, 32}, prof);
-        glm::dvec3 got = injectedFlux(*r);
+        glm::dvec3 got = injectedFlux(*r, cascades, cascades - 1);
+        glm::dvec3 finest = injectedFlux(*r, cascades, 0);
         auto stats = r->findPass("lpv.inject")->stats();
         REQUIRE(!stats.empty());
         CHECK(stats[0].second == 0.0);  // no texel fell outside the grid
         for (int c = 0; c < 3; ++c) {
             double expect = rho * phi * double(l.color[c]);
-            INFO((kind == 0 ? "point" : "spot") << " channel " << c << ": injected " << got[c] << ", rho*Phi " << expect);
+            INFO((kind == 0 ? "point" : "spot") << " cascades " << cascades << " channel " << c << ": injected "
+                                                << got[c] << " (finest " << finest[c] << "), rho*Phi " << expect);
             // Point: the texels' exact solid angles tile the sphere (float
             // rounding only; measured 1e-5). Spot: the cone's falloff is
             // sampled at texel centres, 128² per RSM (measured 2.4e-5).
             CHECK(got[c] == doctest::Approx(expect).epsilon(kind == 0 ? 5e-4 : 2e-3));
+            CHECK(finest[c] <= expect * (1.0 + 2e-3));
         }
     }
 }

@@ -5,6 +5,7 @@
 
 #include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_volumes.h"
+#include "render/reference/reference_passes.h"
 
 #include <glm/gtx/component_wise.hpp>
 
@@ -236,4 +237,61 @@ TEST_CASE("LPV specular: 3 samples along R of a uniform SH volume equal listing 
         }
     CHECK(checked > size.x * size.y / 4);
     CHECK(lit > 0);
+}
+
+TEST_CASE("LPV on cornell with the defaults beats black against the one-bounce reference and lights the far half") {
+    // Issue 12 acceptance on llvmpipe: builtin:cornell with the defaults and the scene's
+    // suggestions (lpv.bounce off so one bounce is what both model), against the path
+    // tracer's one-bounce Lambert indirect light. skill = 1 - rmse / rmse(black) > 0.3,
+    // and the pixels right of the image centre (away from the sunlit red wall) get a mean
+    // within a factor of 3 of the reference's. The reference's noise must move the
+    // measured RMSE by less than a tenth: independent noise of per-pixel standard error
+    // se adds in quadrature, rmse_measured^2 = rmse^2 + mean(se^2), so the noise-free RMSE is
+    // sqrt(rmse_measured^2 - mean(se^2)) and the difference must stay below 0.1 rmse.
+    // 96x54, not 64x36: at 64x36 one pixel, the foot of the red wall beside the sunlit
+    // floor (contact light within one cell: reference 0.94, LPV 0.08; a perfect probe
+    // volume misses it too, probe skill 0.31), carried 46 % of the squared error (skill 0.28;
+    // 0.39 at 96x54, 0.48 at 128x72, 0.46 at 160x90, docs/lpv.md): a one-pixel line
+    // feature whose weight falls with the pixel count, not a property of the volume.
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene scene = loadBuiltin("cornell");
+    const glm::ivec2 size{96, 54};
+    Settings s = effectiveSettings(scene.suggestedSettings, {{"lpv", "on"}, {"lpv.bounce", "off"}}, scene.name);
+    Settings rs = oneBounceReference(s, 256);
+    auto ref = renderFrames(scene, rs, size, prof);
+    auto* out = dynamic_cast<ReferenceOutput*>(ref->findPass("ref.path"));
+    REQUIRE(out != nullptr);
+    FloatImage refMean = readTexture(out->mean()), refSe = readTexture(out->standardError());
+    auto run = renderFrames(scene, s, size, prof);
+    FloatImage lpvImg = readTexture(run->resources().indirectDiffuse);
+    FloatImage depth = readTexture(run->resources().gbuffer.linearDepth);
+    double se2 = 0, e2 = 0, z2 = 0, rightLpv = 0, rightRef = 0;
+    std::size_t n = 0;
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) {
+            if (!(depth.at(x, y, 0) > 0)) continue;
+            for (int c = 0; c < 3; ++c) {
+                double a = lpvImg.at(x, y, c), r = refMean.at(x, y, c), sd = refSe.at(x, y, c);
+                e2 += (a - r) * (a - r);
+                z2 += r * r;
+                se2 += sd * sd;
+                if (x >= size.x / 2) {
+                    rightLpv += a;
+                    rightRef += r;
+                }
+            }
+            ++n;
+        }
+    REQUIRE(n > 500);
+    double rmse = std::sqrt(e2 / double(3 * n)), rmseZero = std::sqrt(z2 / double(3 * n));
+    double noise = std::sqrt(se2 / double(3 * n));
+    double skill = 1.0 - rmse / rmseZero;
+    MESSAGE("cornell defaults: skill " << skill << " (rmse " << rmse << ", black " << rmseZero << ", reference noise "
+                                       << noise << "), right half LPV/ref " << rightLpv / rightRef);
+    double clean = std::sqrt(std::max(rmse * rmse - noise * noise, 0.0));
+    CHECK(rmse - clean < 0.1 * rmse);
+    CHECK(skill > 0.3);
+    CHECK(rightLpv / rightRef > 1.0 / 3.0);
+    CHECK(rightLpv / rightRef < 3.0);
 }

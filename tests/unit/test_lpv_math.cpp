@@ -148,3 +148,61 @@ TEST_CASE("LPV uniforms: RSM texel area of an orthographic light and the constan
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) CHECK(id[i][j] == doctest::Approx(i == j ? 1.0 : 0.0).epsilon(1e-5).scale(1.0));
 }
+
+TEST_CASE("LPV cascades: cells double, snapping per cascade, the coarsest holds the scene, path-length split") {
+    LpvSettings s;
+    s.grid = {8, 8, 8};
+    s.cell = 0.25f;
+    glm::vec3 fwd(0.3f, -0.2f, -1.0f);
+    const int C = 3;
+    // No scene bounds: nothing clamps, each cascade follows the camera.
+    auto a = lpv::placeCascades(s, C, Aabb{}, {1.3f, 2.1f, -0.7f}, fwd);
+    REQUIRE(a.size() == std::size_t(C));
+    for (int i = 0; i < C; ++i) {
+        CHECK(a[std::size_t(i)].cell == doctest::Approx(0.25 * double(1 << i)));
+        for (int k = 0; k < 3; ++k)
+            CHECK(double(a[std::size_t(i)].origin[k]) ==
+                  doctest::Approx(double(a[std::size_t(i)].originCells[k]) * a[std::size_t(i)].cell).epsilon(1e-6));
+    }
+    // A camera move smaller than a fraction of the finest cell, away from any snapping boundary,
+    // changes no cascade; a move by exactly one cell of cascade i shifts cascade i by one cell.
+    for (int i = 0; i < C; ++i) {
+        float si = a[std::size_t(i)].cell;
+        // Put the camera in the middle of a finest-cell snapping interval first.
+        glm::vec3 cam(1.3f, 2.1f, -0.7f);
+        auto base = lpv::placeCascades(s, C, Aabb{}, cam, fwd);
+        auto small = lpv::placeCascades(s, C, Aabb{}, cam + glm::vec3(1e-4f, 0, 0), fwd);
+        auto moved = lpv::placeCascades(s, C, Aabb{}, cam + glm::vec3(si, 0, 0), fwd);
+        for (int j = 0; j < C; ++j) CHECK(small[std::size_t(j)].originCells == base[std::size_t(j)].originCells);
+        glm::ivec3 d = moved[std::size_t(i)].originCells - base[std::size_t(i)].originCells;
+        CHECK(d == glm::ivec3(1, 0, 0));
+    }
+    // lpv.cell = 0: the coarsest cascade holds the scene bounds wherever the camera is.
+    s.cell = 0.0f;
+    Aabb scene;
+    scene.grow({-3, 0, -2});
+    scene.grow({4, 5, 6});
+    for (glm::vec3 cam : {glm::vec3(0, 2, 20), glm::vec3(-2.9f, 0.1f, -1.9f), glm::vec3(100, -50, 3)}) {
+        auto p = lpv::placeCascades(s, C, scene, cam, fwd);
+        Aabb box = p.back().box();
+        for (int k = 0; k < 3; ++k) {
+            CHECK(box.lo[k] <= scene.lo[k]);
+            CHECK(box.hi[k] >= scene.hi[k]);
+        }
+        CHECK(p[1].cell == doctest::Approx(2.0 * p[0].cell));
+    }
+    // Path-length split (docs/lpv.md): cascade i - 1 covers paths [0, (n + 1) s_{i-1}) =
+    // [0, t s_i) with t = (n + 1) / 2; the near weights of cascade i's steps cover exactly
+    // that length (in units of s_i), and each step is fully near or far except one.
+    for (int n : {1, 2, 3, 8, 9, 16, 64}) {
+        double covered = 0;
+        int partial = 0;
+        for (int k = 0; k <= n; ++k) {
+            double w = lpv::cascadeNearWeight(k, n);
+            covered += w;
+            partial += w > 0 && w < 1;
+        }
+        CHECK(covered == doctest::Approx(0.5 * (n + 1)));
+        CHECK(partial == (n % 2 == 0 ? 1 : 0));
+    }
+}

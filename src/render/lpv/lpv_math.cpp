@@ -30,6 +30,108 @@ Placement placeVolume(const LpvSettings& s, const Aabb& sceneBounds, glm::vec3 c
     return p;
 }
 
+std::vector<Placement> placeCascades(const LpvSettings& s, int cascades, const Aabb& bounds, glm::vec3 cameraPos,
+                                     glm::vec3 cameraForward) {
+    if (cascades <= 1) return {placeVolume(s, bounds, cameraPos, cameraForward)};
+    glm::ivec3 grid = glm::max(s.grid, glm::ivec3(1));
+    glm::vec3 g(grid);
+    float cell0 = s.cell;
+    if (cell0 <= 0.0f) {
+        // Snapping moves the box down by less than a cell: the coarsest extent
+        // g s >= bounds + 2 s holds the bounds wherever the snap lands.
+        glm::vec3 ext = bounds.empty() ? glm::vec3(1.0f) : bounds.extent();
+        glm::vec3 usable = glm::max(g - 2.0f, glm::vec3(1.0f));
+        float coarsest = std::max({ext.x / usable.x, ext.y / usable.y, ext.z / usable.z});
+        if (!(coarsest > 0.0f)) coarsest = 1.0f;
+        cell0 = coarsest * (1.0f + 1e-3f) / float(1 << (cascades - 1));
+    }
+    glm::vec3 f = glm::length(cameraForward) > 0.0f ? glm::normalize(cameraForward) : glm::vec3(0, 0, -1);
+    std::vector<Placement> out;
+    for (int i = 0; i < cascades; ++i) {
+        Placement p;
+        p.grid = grid;
+        p.cell = cell0 * float(1 << i);
+        glm::vec3 extent = g * p.cell;
+        glm::vec3 centre = cameraPos + 0.3f * f * extent;
+        if (!bounds.empty())
+            for (int a = 0; a < 3; ++a) {
+                // No cells outside the scene where the cascade is smaller than it; centred where larger.
+                float lo = bounds.lo[a] + 0.5f * extent[a], hi = bounds.hi[a] - 0.5f * extent[a];
+                centre[a] = lo <= hi ? std::clamp(centre[a], lo, hi) : 0.5f * (bounds.lo[a] + bounds.hi[a]);
+            }
+        glm::vec3 lo = glm::floor((centre - 0.5f * extent) / p.cell);
+        p.originCells = glm::ivec3(lo);
+        p.origin = lo * p.cell;
+        out.push_back(p);
+    }
+    return out;
+}
+
+double cascadeNearWeight(int step, int iterations) {
+    double t = 0.5 * double(iterations + 1);
+    return 1.0 - std::clamp(double(step) + 1.0 - t, 0.0, 1.0);
+}
+
+namespace {
+
+using Sh = glm::dvec4;
+constexpr double kPi = 3.14159265358979323846;
+Sh shBasis(glm::dvec3 d) {
+    const double y0 = RTGI_SH_Y00, y1 = RTGI_SH_Y1;
+    return {y0, -y1 * d.y, y1 * d.z, -y1 * d.x};
+}
+Sh shLobe(glm::dvec3 n) {
+    const double c0 = RTGI_SH_COS_C0, c1 = RTGI_SH_COS_C1;
+    return {c0, -c1 * n.y, c1 * n.z, -c1 * n.x};
+}
+const glm::dvec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+}  // namespace
+
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving) {
+    // Layer j holds the cells j + 1/2 cells above the plane (the injection offset puts
+    // the plane's light into layer 0); the plane is uniform, so the 4 lateral neighbours
+    // of a cell hold what the cell holds. Unit cells, M = 1: layer 0 starts at (1/pi) cosLobe(up).
+    const int layers = iterations + 2;  // light moves one layer per step
+    const double front = RTGI_LPV_FRONT_SOLID_ANGLE, side = RTGI_LPV_SIDE_SOLID_ANGLE;
+    const double st = RTGI_LPV_SIDE_DIR_T, sd = RTGI_LPV_SIDE_DIR_D;
+    const glm::dvec3 up(0, 1, 0);
+    std::vector<Sh> cur(std::size_t(layers), Sh(0.0));
+    cur[0] = shLobe(up) / kPi;
+    auto receive = [&](const Sh& i) { return glm::dot(i, shLobe(-up)); };  // <mirror(I), cosLobe(n)>
+    double total = receive(cur[0]) * 1.0, near = receive(cur[0]) * cascadeNearWeight(0, iterations);
+    for (int k = 1; k <= iterations; ++k) {
+        std::vector<Sh> next(cur.size(), Sh(0.0));
+        for (int j = 0; j < layers; ++j)
+            for (const glm::dvec3& a : kAxes) {
+                int nb = j + int(a.y);
+                if (nb < 0 || nb >= layers) continue;
+                Sh in = cur[std::size_t(nb)];
+                if (conserving) {  // as lpvConservingScale: the quadrature flux of all 30 faces
+                    double q = 0;
+                    for (const glm::dvec3& d : kAxes) {
+                        q += front * std::max(0.0, glm::dot(in, shBasis(d)));
+                        for (const glm::dvec3& t : kAxes)
+                            if (glm::dot(t, d) == 0.0) q += side * std::max(0.0, glm::dot(in, shBasis(st * t + sd * d)));
+                    }
+                    in *= q > 0.0 ? std::max(in.x, 0.0) / RTGI_SH_Y00 / q : 0.0;
+                }
+                glm::dvec3 d = -a;
+                Sh& out = next[std::size_t(j)];
+                out += front * std::max(0.0, glm::dot(in, shBasis(d))) / kPi * shLobe(d);
+                for (const glm::dvec3& t : kAxes) {
+                    if (glm::dot(t, d) != 0.0) continue;
+                    glm::dvec3 w = st * t + sd * d;
+                    out += side * std::max(0.0, glm::dot(in, shBasis(w))) / kPi * shLobe(flow ? w : t);
+                }
+            }
+        cur = std::move(next);
+        total += receive(cur[0]);
+        near += receive(cur[0]) * cascadeNearWeight(k, iterations);
+    }
+    return {total, near};
+}
+
 double rsmTexelArea(const glm::mat4& m, int rsmSize) {
     // Rows 0/1 of an orthographic P*V scale light-space x/y by 2/width, 2/height.
     glm::dvec3 rx(m[0][0], m[1][0], m[2][0]), ry(m[0][1], m[1][1], m[2][1]);
@@ -55,6 +157,16 @@ gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in) {
     u.flags = glm::ivec4(s.occlusion, s.bounce, s.energyConserving, in.specular);
     u.temporalShift = glm::ivec4(in.shift, in.historyValid && s.temporal > 0.0f);
     u.temporal = glm::vec4(s.temporal, 0, 0, 0);
+    int count = in.cascades.empty() ? 1 : int(in.cascades.size());
+    u.cascade = glm::ivec4(in.cascade, count, in.cascade == count - 1, s.reemit == LpvSettings::Reemit::Flow);
+    glm::dvec2 self = s.selfCorrection ? planeSelfIrradiance(s.iterations, s.reemit == LpvSettings::Reemit::Flow,
+                                                             s.energyConserving)
+                                       : glm::dvec2(0.0);
+    u.cascadeParams = glm::vec4(kCascadeBlendCells, float(self.x), float(self.y), s.selfCorrection ? 1.0f : 0.0f);
+    for (int i = 0; i < RTGI_LPV_MAX_CASCADES; ++i) {
+        const Placement& p = in.cascades.empty() ? in.placement : in.cascades[std::size_t(std::min(i, count - 1))];
+        u.cascadeOrigin[i] = glm::vec4(p.origin, p.cell);
+    }
     return u;
 }
 

@@ -8,8 +8,10 @@
 #include "compute/lib/lpv_shared.h"
 #include "compute/lib/sh_shared.h"
 
+#include <vector>
+
 namespace rtgi::gpu {
-static_assert(sizeof(LpvUniforms) == 2 * 64 + 6 * 16, "LpvUniforms must match std140 layout");
+static_assert(sizeof(LpvUniforms) == 2 * 64 + (8 + RTGI_LPV_MAX_CASCADES) * 16, "LpvUniforms must match std140 layout");
 }
 
 namespace rtgi::lpv {
@@ -38,6 +40,33 @@ struct Placement {
 // bounds, centred on them (no camera dependence, so nothing to snap).
 Placement placeVolume(const LpvSettings& s, const Aabb& sceneBounds, glm::vec3 cameraPos, glm::vec3 cameraForward);
 
+// lpv.cascades = C > 1 (docs/lpv.md, "Cascades"): cascade i has cells
+// s_0 * 2^i, each camera-following (centre 30 % of its extent ahead of the
+// camera), moved inside the scene bounds where it is smaller than them, and
+// its origin snapped to its own cells. s_0 = lpv.cell, or for lpv.cell = 0 the
+// coarsest cell is chosen so that the coarsest cascade holds the scene bounds
+// after snapping (extent >= bounds + 2 cells). C = 1: placeVolume().
+std::vector<Placement> placeCascades(const LpvSettings& s, int cascades, const Aabb& sceneBounds, glm::vec3 cameraPos,
+                                     glm::vec3 cameraForward);
+
+// Path-length split between cascades (docs/lpv.md): step k of cascade i
+// carries the light whose path length lies in [k s_i, (k + 1) s_i). Cascade
+// i > 0 counts as "far" only what cascade i - 1 (n + 1 steps of s_{i-1} =
+// s_i / 2) did not cover: paths >= t s_i with t = (n + 1) / 2. Returns the
+// weight of step k in the near part (1 - clamp(k + 1 - t, 0, 1)).
+double cascadeNearWeight(int step, int iterations);
+
+// Self-illumination of the scheme (docs/lpv.md, "Self-illumination"): the
+// irradiance that a uniformly lit infinite plane of exitance M receives from
+// its own injection through the volume, per unit M, for `iterations` steps
+// with the given re-emission and energy conservation (a 1D column of cells
+// in double, laterally uniform; nothing below the plane). The truth is 0.
+// .x: all steps; .y: the steps weighted by cascadeNearWeight.
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving);
+
+// Blend width of a cascade's border in cells (apply).
+constexpr float kCascadeBlendCells = 2.0f;
+
 // World area of one texel of an orthographic light view-projection with R x R texels.
 double rsmTexelArea(const glm::mat4& lightViewProj, int rsmSize);
 
@@ -52,6 +81,8 @@ struct UniformInputs {
     glm::ivec3 shift{0};
     bool historyValid = false;
     bool specular = false;
+    int cascade = 0;                        // this volume's cascade
+    std::vector<Placement> cascades;        // all of them (empty: just `placement`)
 };
 gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in);
 

@@ -8,6 +8,7 @@
 #include "render/gpu_scene.h"
 #include "render/lights.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_probe.h"
 #include "render/lpv/lpv_volumes.h"
 #include "gl/image_io.h"
 #include "render/passes/core_passes.h"
@@ -20,42 +21,71 @@
 namespace rtgi {
 namespace {
 
-// One RSM of the frame: its targets, its view-projection and its copy of the
-// uniform block (rsmViewProj / rsmInvViewProj of this RSM), so injection loops
-// over the list (docs/lpv.md "RSMs of local lights").
+// One local-light RSM face of the frame: its targets and, per cascade, a copy
+// of that cascade's uniform block with rsmViewProj / rsmInvViewProj of this
+// RSM, so injection loops over cascades x RSMs (docs/lpv.md "RSMs of local
+// lights", "Cascades").
 struct LocalRsm {
     lpv::Rsm rsm;
     gl::FramebufferHandle fbo;
-    gl::Buffer ubo;
+    std::vector<gl::Buffer> ubo;  // one per cascade
 };
 
-struct LpvState {
+// One volume: the single LPV, or one cascade (docs/lpv.md, "Cascades").
+struct LpvCascade {
     lpv::Volumes volumes;
-    lpv::Rsm rsm;  // the sun's (orthographic), when there is a sun
-    gl::FramebufferHandle rsmFbo;
-    bool sunRsm = false;
-    std::vector<LocalRsm> local;  // one per face of a kept spot / point / area light
-    int localUsed = 0;            // how many of `local` this frame rendered
-    VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
-    gl::Buffer ubo, stats;
+    gl::Buffer ubo;
+    gpu::LpvUniforms uniforms{};  // this frame's copy of the block in `ubo`
     lpv::Placement placement, previous;
     bool havePrevious = false;
     int historyTarget = 0;
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
+};
+
+struct LpvState {
+    std::vector<LpvCascade> cascades;  // finest first; cascades[0] is the single volume when C = 1
+    lpv::Rsm rsm;  // the sun's (orthographic, fitted to the coarsest cascade), when there is a sun
+    gl::FramebufferHandle rsmFbo;
+    bool sunRsm = false;
+    std::vector<LocalRsm> local;  // one per face of a kept spot / point / area light
+    int localUsed = 0;            // how many of `local` this frame rendered
+    VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
+    gl::Buffer stats;
+    gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
+    lpv::ProbeTracer probe;  // lpv.source=probe (docs/lpv.md, "Stage attribution")
+    LpvCascade& first() { return cascades.front(); }
+    const LpvCascade& first() const { return cascades.front(); }
 };
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
 
+// Cascades in use: the raster baseline is the seed's single volume.
+int cascadeCount(const LpvSettings& s) { return s.path == LpvSettings::Path::Raster ? 1 : s.cascades; }
+
 // --check entries of one R, G, B volume triple (SH coefficients: signed);
-// `volume` picks the triple when the frame runs (it may alternate).
+// `volume` picks the triple when the frame runs (it may alternate; nullptr
+// before the first frame).
 void outputRgb(PassDecl& d, const std::string& name, std::function<const lpv::Rgb*()> volume) {
     for (std::size_t c = 0; c < 3; ++c)
-        d.output(name + "." + "rgb"[c], [volume, c] { return &(*volume())[c]; }, Check::signedValues);
+        d.output(name + "." + "rgb"[c], [volume, c]() -> const gl::Texture* {
+            const lpv::Rgb* v = volume();
+            return v ? &(*v)[c] : nullptr;
+        }, Check::signedValues);
+}
+
+// The same triple of every cascade: cascade 0 keeps the single-volume name,
+// cascade i > 0 adds ".cascade<i>". `pick` chooses the triple of a cascade.
+void outputCascadesRgb(PassDecl& d, const LpvState* st, const LpvSettings& s, const std::string& name,
+                       std::function<const lpv::Rgb*(const LpvCascade&)> pick, int first = 0) {
+    for (int i = first; i < cascadeCount(s); ++i)
+        outputRgb(d, i == 0 ? name : name + ".cascade" + std::to_string(i), [st, i, pick]() -> const lpv::Rgb* {
+            return std::size_t(i) < st->cascades.size() ? pick(st->cascades[std::size_t(i)]) : nullptr;
+        });
 }
 
 class LpvPass : public Pass {
@@ -76,21 +106,35 @@ public:
         st.programs = &ctx.programs;
         st.ledger = &ctx.ledger;
         const LpvSettings& ls = ctx.settings.lpv;
-        st.placement = lpv::placeVolume(ls, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        const int count = cascadeCount(ls);
+        std::vector<lpv::Placement> placements =
+            lpv::placeCascades(ls, count, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+        st.cascades.resize(std::size_t(count));
         auto sun = resolveSun(ctx.scene, ctx.settings);
         st.sunRsm = sun.has_value();
-        lpv::UniformInputs in;
-        in.placement = st.placement;
-        in.rsmViewProj = orthoLightViewProj(st.placement.box(), sun ? sun->towardSun : glm::vec3(0, 1, 0));
-        in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
-        bool compatible = st.havePrevious && lpv::historyCompatible(st.placement, st.previous);
-        in.historyValid = compatible && !ctx.view.cut;
-        in.shift = compatible ? lpv::temporalShift(st.placement, st.previous) : glm::ivec3(0);
-        gpu::LpvUniforms u = lpv::makeUniforms(ls, in);
-        if (!st.ubo) st.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms", sizeof(u));
-        st.ubo.upload(&u, sizeof(u));
-        st.previous = st.placement;
-        st.havePrevious = true;
+        // One sun RSM for every cascade, fitted to the coarsest (it holds the others).
+        rsmViewProj_ = orthoLightViewProj(placements.back().box(), sun ? sun->towardSun : glm::vec3(0, 1, 0));
+        for (int i = 0; i < count; ++i) {
+            LpvCascade& c = st.cascades[std::size_t(i)];
+            c.placement = placements[std::size_t(i)];
+            lpv::UniformInputs in;
+            in.placement = c.placement;
+            in.rsmViewProj = rsmViewProj_;
+            in.specular = lpvSpecularActive(ctx.scene, ctx.settings);
+            in.cascade = i;
+            if (count > 1) in.cascades = placements;
+            bool compatible = c.havePrevious && lpv::historyCompatible(c.placement, c.previous);
+            in.historyValid = compatible && !ctx.view.cut;
+            in.shift = compatible ? lpv::temporalShift(c.placement, c.previous) : glm::ivec3(0);
+            c.uniforms = lpv::makeUniforms(ls, in);
+            if (!c.ubo)
+                c.ubo = gl::Buffer(ctx.ledger, i == 0 ? std::string("lpv.uniforms")
+                                                      : "lpv.uniforms.cascade" + std::to_string(i),
+                                   sizeof(c.uniforms));
+            c.ubo.upload(&c.uniforms, sizeof(c.uniforms));
+            c.previous = c.placement;
+            c.havePrevious = true;
+        }
 
         int n = ls.rsm;
         if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
@@ -98,16 +142,16 @@ public:
             // Compute rasterizer (sun RSM only; local lights' RSMs stay on the
             // hardware rasterizer): visibility buffer of the light's view, then
             // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
-            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
             VisibilityTarget& t = st.rsmVis;
-            rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, in.rsmViewProj, {n, n}, t,
+            rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, rsmViewProj_, {n, n}, t,
                                 visibilityOptions(ctx.settings));
             if (!t.checked) {
                 t.checkOverflow(name());
                 t.checked = true;
             }
             const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", visibilityDefines(t));
-            bindVisibility(resolve, ctx.gpuScene, in.rsmViewProj, t);
+            bindVisibility(resolve, ctx.gpuScene, rsmViewProj_, t);
             glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
             glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
             gl::dispatch(resolve, n, n);
@@ -116,12 +160,14 @@ public:
         } else if (st.sunRsm) {
             const gl::Program& prog =
                 ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
-            prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, in.rsmViewProj);
-            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+            prog.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, rsmViewProj_);
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
             rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
         }
         // Local lights: one perspective RSM per spot light, six per point /
-        // area light, each with its own uniform block (its view-projection).
+        // area light, each with its own uniform block per cascade (that
+        // cascade's placement, this RSM's view-projection): every RSM is
+        // injected into every cascade (issue 13: "and its cascades").
         const auto& views = ctx.res.localRsmViews;
         if (st.local.size() < views.size()) st.local.resize(views.size());
         st.localUsed = int(views.size());
@@ -130,19 +176,26 @@ public:
         for (std::size_t i = 0; i < views.size(); ++i) {
             LocalRsm& r = st.local[i];
             ensureTargets(ctx, r.rsm, r.fbo, "lpv.rsm.local" + std::to_string(i), n);
-            gpu::LpvUniforms lu = u;
-            lu.rsmViewProj = views[i].viewProj;
-            lu.rsmInvViewProj = glm::inverse(views[i].viewProj);
-            if (!r.ubo) r.ubo = gl::Buffer(ctx.ledger, "lpv.uniforms.local" + std::to_string(i), sizeof(lu));
-            r.ubo.upload(&lu, sizeof(lu));
+            if (r.ubo.size() < st.cascades.size()) r.ubo.resize(st.cascades.size());
+            for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+                gpu::LpvUniforms lu = st.cascades[k].uniforms;
+                lu.rsmViewProj = views[i].viewProj;
+                lu.rsmInvViewProj = glm::inverse(views[i].viewProj);
+                if (!r.ubo[k])
+                    r.ubo[k] = gl::Buffer(ctx.ledger,
+                                          "lpv.uniforms.local" + std::to_string(i) +
+                                              (k == 0 ? std::string() : ".cascade" + std::to_string(k)),
+                                          sizeof(lu));
+                r.ubo[k].upload(&lu, sizeof(lu));
+            }
             const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(views[i].light)];
             local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, views[i].viewProj);
             glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
             local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
-            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo.id());
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo[0].id());
             rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
         }
-        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
     std::vector<std::pair<std::string, double>> stats() override {
         return {{"rsms", double(st_->localUsed + (st_->sunRsm ? 1 : 0))}};
@@ -162,6 +215,7 @@ public:
     }
 
 private:
+    glm::mat4 rsmViewProj_{1.0f};
     static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
                               int n) {
         bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
@@ -198,25 +252,29 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        st.volumes.ensureLight(ctx.ledger, st.placement.grid,
-                               ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F);
         if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
-        // Every RSM of the frame adds into the same accumulation.
-        if (ls.path == LpvSettings::Path::Raster) {
-            bool first = true;
-            if (st.sunRsm) lpv::injectRaster(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, first), first = false;
-            for (int i = 0; i < st.localUsed; ++i, first = false)
-                lpv::injectRaster(ctx.programs, st.local[std::size_t(i)].ubo, st.local[std::size_t(i)].rsm, ls.rsm,
-                                  st.volumes, first);
-            if (first) lpv::injectRaster(ctx.programs, st.ubo, st.rsm, 0, st.volumes, true);  // clears only
-        } else {
-            st.stats.clearZero();
-            if (st.sunRsm) lpv::injectCompute(ctx.programs, st.ubo, st.rsm, ls.rsm, st.volumes, st.stats);
-            for (int i = 0; i < st.localUsed; ++i)
-                lpv::injectCompute(ctx.programs, st.local[std::size_t(i)].ubo, st.local[std::size_t(i)].rsm, ls.rsm,
-                                   st.volumes, st.stats);
+        // Every RSM of the frame (the sun's and each local-light face) adds
+        // into the same accumulation of every cascade.
+        const GLenum format = ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F;
+        if (ls.path == LpvSettings::Path::Compute) st.stats.clearZero();
+        for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+            LpvCascade& c = st.cascades[k];
+            c.volumes.ensureLight(ctx.ledger, c.placement.grid, format);
+            if (ls.path == LpvSettings::Path::Raster) {
+                bool first = true;
+                if (st.sunRsm) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, first), first = false;
+                for (int i = 0; i < st.localUsed; ++i, first = false)
+                    lpv::injectRaster(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
+                                      ls.rsm, c.volumes, first);
+                if (first) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, 0, c.volumes, true);  // clears only
+            } else {
+                if (st.sunRsm) lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
+                for (int i = 0; i < st.localUsed; ++i)
+                    lpv::injectCompute(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
+                                       ls.rsm, c.volumes, st.stats);
+            }
         }
-        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.ubo.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
     std::vector<std::pair<std::string, double>> stats() override {
         if (!st_->stats) return {};
@@ -227,12 +285,12 @@ public:
     }
     // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
-        lpv::Volumes* v = &st_->volumes;
+        const LpvState* st = st_.get();
         if (s.lpv.path == LpvSettings::Path::Raster) {
-            outputRgb(d, "lpv.step0", [v] { return &v->step[0]; });
-            outputRgb(d, "lpv.accum", [v] { return &v->accum; });
+            outputCascadesRgb(d, st, s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
+            outputCascadesRgb(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accum; });
         } else {
-            outputRgb(d, "lpv.inject", [v] { return &v->inject; });
+            outputCascadesRgb(d, st, s.lpv, "lpv.inject", [](const LpvCascade& c) { return &c.volumes.inject; });
         }
     }
 };
@@ -246,10 +304,11 @@ public:
         if (s.lpv.path == LpvSettings::Path::Raster)
             return d.skip("lpv.path=raster injects straight into the propagation format");
         // pack writes step 0 only; accum is first written by lpv.propagate.
-        lpv::Volumes* v = &st_->volumes;
-        outputRgb(d, "lpv.step0", [v] { return &v->step[0]; });
+        outputCascadesRgb(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
     }
-    void execute(FrameContext& ctx) override { lpv::packLight(ctx.programs, st_->ubo, st_->volumes); }
+    void execute(FrameContext& ctx) override {
+        for (LpvCascade& c : st_->cascades) lpv::packLight(ctx.programs, c.ubo, c.volumes);
+    }
 };
 
 // lpv.inject_geometry: blocking potential from the RSM and the G-buffer.
@@ -260,21 +319,33 @@ public:
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (!geometryNeeded(s)) return d.skip("lpv.occlusion and lpv.bounce are off");
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
-        d.output("lpv.geometry", &st_->volumes.geometry, Check::signedValues);
-        d.output("lpv.geometry_albedo", &st_->volumes.geometryAlbedo);
+        const LpvState* st = st_.get();
+        for (int i = 0; i < cascadeCount(s.lpv); ++i) {
+            std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
+            auto volumes = [st, i]() -> const lpv::Volumes* {
+                return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes : nullptr;
+            };
+            d.output("lpv.geometry" + suffix, [volumes] { auto v = volumes(); return v ? &v->geometry : nullptr; },
+                     Check::signedValues);
+            d.output("lpv.geometry_albedo" + suffix,
+                     [volumes] { auto v = volumes(); return v ? &v->geometryAlbedo : nullptr; });
+        }
         d.debugImage("lpv.geometry.slice", [this] { return geometrySlice(); });
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
-        st.volumes.ensureGeometry(ctx.ledger);
         const GBuffer& g = ctx.res.gbuffer;
         lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
         // Blocking potential from the sun's orthographic RSM (its texel areas)
         // and the G-buffer; local lights' perspective RSMs are not used here.
-        lpv::injectGeometry(ctx.programs, st.ubo, st.rsm, st.sunRsm ? ctx.settings.lpv.rsm : 0, gb, st.volumes);
+        for (LpvCascade& c : st.cascades) {
+            c.volumes.ensureGeometry(ctx.ledger);
+            lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, st.sunRsm ? ctx.settings.lpv.rsm : 0, gb, c.volumes);
+        }
     }
     DebugImage geometrySlice() const {
-        const lpv::Volumes& v = st_->volumes;
+        if (st_->cascades.empty()) return {"lpv.geometry.slice", nullptr};
+        const lpv::Volumes& v = st_->first().volumes;
         if (!v.geometry || !st_->programs) return {"lpv.geometry.slice", nullptr};
         glm::ivec3 d = v.grid + 1;
         st_->geometrySlice.ensure(*st_->ledger, "lpv.debug.geometry_slice", {GL_TEXTURE_2D, GL_RGBA32F, d.x, d.y});
@@ -297,25 +368,38 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        if (ls.path == LpvSettings::Path::Raster)
-            st.lastStep = lpv::propagateRaster(ctx.programs, st.ubo, st.volumes, ls.iterations);
-        else
-            st.lastStep = lpv::propagateCompute(ctx.programs, st.ubo, st.volumes, ls.iterations);
-        st.result = &st.volumes.accum;
+        for (std::size_t i = 0; i < st.cascades.size(); ++i) {
+            LpvCascade& c = st.cascades[i];
+            if (ls.path == LpvSettings::Path::Raster) {
+                c.lastStep = lpv::propagateRaster(ctx.programs, c.ubo, c.volumes, ls.iterations);
+            } else {
+                // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
+                if (i > 0) c.volumes.ensureNear(ctx.ledger);
+                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
+            }
+            c.result = &c.volumes.accum;
+            // Stage attribution: the path-traced probe volume replaces the propagated one.
+            if (ls.source == LpvSettings::Source::Probe) st.probe.fill(ctx, c.ubo, c.volumes, i > 0);
+        }
     }
-    void declare(PassDecl& d, const Scene&, const Settings&) const override {
-        LpvState* st = st_.get();
-        outputRgb(d, "lpv.accum", [st] { return &st->volumes.accum; });
-        outputRgb(d, "lpv.last_step", [st] { return &st->volumes.step[std::size_t(st->lastStep)]; });
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        const LpvState* st = st_.get();
+        outputCascadesRgb(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accum; });
+        outputCascadesRgb(d, st, s.lpv, "lpv.last_step",
+                          [](const LpvCascade& c) { return &c.volumes.step[std::size_t(c.lastStep)]; });
+        // Cascades i > 0 keep their near part (compute path; docs/lpv.md, "Cascades").
+        if (s.lpv.path == LpvSettings::Path::Compute)
+            outputCascadesRgb(d, st, s.lpv, "lpv.near", [](const LpvCascade& c) { return &c.volumes.near; }, 1);
         d.debugImage("lpv.volume.slice", [this] { return lightSlice(); });
     }
     DebugImage lightSlice() const {
-        const lpv::Volumes& v = st_->volumes;
-        if (!st_->result || !st_->programs) return {"lpv.volume.slice", nullptr};
+        if (st_->cascades.empty()) return {"lpv.volume.slice", nullptr};
+        const lpv::Volumes& v = st_->first().volumes;
+        if (!st_->first().result || !st_->programs) return {"lpv.volume.slice", nullptr};
         st_->lightSlice.ensure(*st_->ledger, "lpv.debug.light_slice", {GL_TEXTURE_2D, GL_RGBA32F, v.grid.x, v.grid.y});
         const gl::Program& prog = st_->programs->compute("lpv/slice.comp");
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // producer: lpv.propagate / lpv.temporal
-        const lpv::Rgb& r = *st_->result;
+        const lpv::Rgb& r = *st_->first().result;
         for (GLuint c = 0; c < 3; ++c) glBindTextureUnit(RTGI_LPV_SLICE_TEX_A + c, r[c].id());
         glBindImageTexture(RTGI_LPV_IMG_SLICE, st_->lightSlice.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         prog.set(RTGI_LPV_LOC_Z, v.grid.z / 2);
@@ -335,15 +419,21 @@ public:
     std::string name() const override { return "lpv.temporal"; }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
-        LpvState* st = st_.get();
-        outputRgb(d, "lpv.history", [st] { return &st->volumes.history[std::size_t(st->historyTarget)]; });
+        if (cascadeCount(s.lpv) > 1)
+            return d.skip("lpv.temporal blends a single volume (lpv.cascades > 1: not implemented, docs/lpv.md)");
+        const LpvState* st = st_.get();
+        outputRgb(d, "lpv.history", [st]() -> const lpv::Rgb* {
+            if (st->cascades.empty()) return nullptr;
+            const LpvCascade& c = st->cascades.front();
+            return &c.volumes.history[std::size_t(c.historyTarget)];
+        });
     }
     void execute(FrameContext& ctx) override {
-        LpvState& st = *st_;
-        st.volumes.ensureHistory(ctx.ledger);
-        st.historyTarget = 1 - st.historyTarget;
-        lpv::temporalBlend(ctx.programs, st.ubo, st.volumes, st.historyTarget);
-        st.result = &st.volumes.history[std::size_t(st.historyTarget)];
+        LpvCascade& c = st_->first();
+        c.volumes.ensureHistory(ctx.ledger);
+        c.historyTarget = 1 - c.historyTarget;
+        lpv::temporalBlend(ctx.programs, c.ubo, c.volumes, c.historyTarget);
+        c.result = &c.volumes.history[std::size_t(c.historyTarget)];
     }
 };
 
@@ -363,15 +453,35 @@ public:
         FrameResources& r = ctx.res;
         const glm::ivec2 s = ctx.view.size;
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
-        lpv::ApplyInputs in;
-        in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
-        in.volume = st.result;
-        in.brdfLut = specular ? &r.brdfLut : nullptr;
-        in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
-        in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
-        in.indirect = &r.indirectDiffuse;
-        in.specular = specular ? &r.specular : nullptr;
-        lpv::applyCompute(ctx.programs, st.ubo, in);
+        const int count = int(st.cascades.size());
+        if (count > 1) {
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        }
+        for (int i = 0; i < count; ++i) {
+            const LpvCascade& c = st.cascades[std::size_t(i)];
+            lpv::ApplyInputs in;
+            in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
+            in.volume = c.result;
+            in.brdfLut = specular ? &r.brdfLut : nullptr;
+            in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
+            in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
+            in.indirect = &r.indirectDiffuse;
+            in.specular = specular ? &r.specular : nullptr;
+            in.cascade = i;
+            in.cascades = count;
+            in.near = i > 0 ? &c.volumes.near : nullptr;
+            // The self-illumination correction undoes an artefact of the propagation;
+            // a probe volume (lpv.source=probe) has none to undo.
+            // Without a sun there is no orthographic RSM to read the exitance from.
+            in.rsm = ctx.settings.lpv.selfCorrection && st.sunRsm &&
+                             ctx.settings.lpv.source == LpvSettings::Source::Propagated
+                         ? &st.rsm
+                         : nullptr;
+            in.sumE = &st.sumE;
+            in.sumS = &st.sumS;
+            lpv::applyCompute(ctx.programs, c.ubo, in);
+        }
     }
 };
 

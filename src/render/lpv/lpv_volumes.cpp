@@ -103,6 +103,10 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt) {
     return changed;
 }
 
+void Volumes::ensureNear(gl::MemoryLedger& ledger) {
+    ensureRgb(ledger, near, "lpv.near", {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+}
+
 void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     glm::ivec3 c = grid + 1;
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
@@ -221,14 +225,47 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
-int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations) {
+namespace {
+
+void copyRgb(const Rgb& from, Rgb& to, glm::ivec3 g) {
+    for (std::size_t c = 0; c < 3; ++c)
+        glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, g.x, g.y,
+                           g.z);
+}
+
+}  // namespace
+
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near) {
     const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format));
+    // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
+    int nearK = 0;
+    while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
+    float nearF = nearK + 1 <= iterations ? float(cascadeNearWeight(nearK + 1, iterations)) : 0.0f;
+    auto nearStep = [&](int k) {
+        if (!near) return;
+        if (k == nearK) {
+            // Producer: lpv.pack (k = 0, step[0]) or the iteration k (accum), image stores.
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            copyRgb(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
+        } else if (k == nearK + 1 && nearF > 0.0f) {
+            const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(v.format));
+            // Producers: the copy above and iteration k's accum stores.
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                            GL_TEXTURE_UPDATE_BARRIER_BIT);
+            bindRgbTextures(v.accum, RTGI_LPV_TEX_SOURCE_R);
+            bindRgbImages(v.near, RTGI_LPV_IMG_NEAR_R, GL_READ_WRITE, v.format);
+            mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF);
+            gl::dispatch(mix, v.grid.x, v.grid.y, v.grid.z);
+        }
+    };
     bindUbo(ubo);
-    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
-    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
-    bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
+    nearStep(0);
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
+        // Rebound every iteration: the near part's mix uses units of its own.
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+        bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -237,6 +274,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         prog.set(RTGI_LPV_LOC_ITERATION, k);
         gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
         src = dst;
+        nearStep(k);
     }
     return src;
 }
@@ -284,6 +322,9 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     const gl::Texture* directional = in.s3ho ? in.s3ho : in.bentNormal;
     if (in.s3ho) d.push_back({"RTGI_LPV_S3HO", ""});
     else if (in.bentNormal) d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
+    if (in.rsm) d.push_back({"RTGI_LPV_SELF", ""});
+    const bool cascaded = in.cascades > 1;
+    if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -302,6 +343,18 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
+    if (cascaded) {
+        if (in.cascade > 0)
+            b.texture(RTGI_LPV_TEX_APPLY_NEAR_R, (*in.near)[0])
+                .texture(RTGI_LPV_TEX_APPLY_NEAR_G, (*in.near)[1])
+                .texture(RTGI_LPV_TEX_APPLY_NEAR_B, (*in.near)[2]);
+        // Producer: the previous cascade's dispatch (image stores into the sums).
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        b.image(RTGI_LPV_IMG_APPLY_SUM_E, *in.sumE, GL_READ_WRITE, GL_RGBA32F)
+            .image(RTGI_LPV_IMG_APPLY_SUM_S, *in.sumS, GL_READ_WRITE, GL_RGBA32F);
+        prog.set(RTGI_LPV_LOC_APPLY_LAST, in.cascade == in.cascades - 1 ? 1 : 0);
+    }
     gl::dispatch(prog, g.size.x, g.size.y);
 }
 

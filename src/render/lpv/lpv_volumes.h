@@ -26,6 +26,7 @@ struct Volumes {
     Rgb inject;                  // R32F (4X, Y, Z): fp32 atomic accumulation, coefficient k at 4x + k; zero between frames
     std::array<Rgb, 2> step;     // propagation ping-pong (format)
     Rgb accum;                   // sum of all iterations (format)
+    Rgb near;                    // cascades i > 0: the part of accum the finer cascade covers (format, docs/lpv.md)
     gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A); zero between frames
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
@@ -36,6 +37,7 @@ struct Volumes {
 
     // (Re)allocates the light volumes; returns true when they changed.
     bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format);
+    void ensureNear(gl::MemoryLedger& ledger);
     void ensureGeometry(gl::MemoryLedger& ledger);
     void ensureHistory(gl::MemoryLedger& ledger);
     void ensureRasterTargets();
@@ -68,13 +70,24 @@ struct GBufferView {
 void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
                     const GBufferView& gbuffer, Volumes& v);
 // Iterations 1..n; returns the index of step[] holding the last iteration.
-int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
+// `near` (cascades i > 0): also fills v.near with the steps weighted by
+// cascadeNearWeight (v.ensureNear first).
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
+                     bool near = false);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 // lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
 // `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
 struct ApplyInputs {
     GBufferView gbuffer;
     const Rgb* volume = nullptr;
+    // Cascades (docs/lpv.md): this dispatch adds cascade `cascade` of `cascades`
+    // (its own ubo); `near` its near part (cascade > 0); `sumE`, `sumS` RGBA32F
+    // running sums between the dispatches, which run finest first.
+    int cascade = 0, cascades = 1;
+    const Rgb* near = nullptr;
+    const Rsm* rsm = nullptr;  // set: subtract the self-illumination of sunlit receivers (lpv.self_correction)
+    gl::Texture* sumE = nullptr;
+    gl::Texture* sumS = nullptr;
     const gl::Texture* brdfLut = nullptr;     // split-sum LUT (SSR family), optional
     const gl::Texture* s3ho = nullptr;        // AO hooks, optional; S3HO wins over bent normals
     const gl::Texture* bentNormal = nullptr;

@@ -1,0 +1,80 @@
+#include "render/lpv/lpv_probe.h"
+
+#include "compute/lib/bvh_shared.h"
+#include "render/lpv/lpv_math.h"  // lpv_shared.h with the GLSL types
+#include "render/gpu_scene.h"
+#include "render/gpu_types.h"
+#include "render/reference/reference_passes.h"
+#include "render/renderer.h"
+#include "scene/bvh.h"
+
+#include <algorithm>
+
+namespace rtgi::lpv {
+
+static_assert(RTGI_LPV_PROBE_IMG_ACCUM_B == RTGI_LPV_PROBE_IMG_ACCUM_R + 2 &&
+              RTGI_LPV_PROBE_IMG_ACCUM_G == RTGI_LPV_PROBE_IMG_ACCUM_R + 1);
+
+ProbeParams probeParams(const Settings& s, const Aabb&) {
+    ProbeParams p;
+    p.directions = s.lpv.probeDirections;
+    p.bounces = s.lpv.bounce ? 2 : 1;  // as compareWithReference's matching-bounce reference
+    p.seed = unsigned(s.reference.seed);
+    return p;
+}
+
+void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near) {
+    if (!nodes_) {
+        Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
+        if (bvh.triangles.empty()) {  // an empty scene: one leaf with an empty box, never hit
+            bvh.nodes.assign(1, gpu::BvhNode{glm::vec3(1e30f), 0, glm::vec3(-1e30f), 0});
+            bvh.triangles.assign(1, gpu::BvhTriangle{});
+        }
+        nodes_ = gl::Buffer(ctx.ledger, "lpv.probe.bvh.nodes", std::int64_t(bvh.nodes.size() * sizeof(gpu::BvhNode)),
+                            bvh.nodes.data(), 0);
+        triangles_ = gl::Buffer(ctx.ledger, "lpv.probe.bvh.triangles",
+                                std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
+    }
+    const ProbeParams p = probeParams(ctx.settings, ctx.scene.bounds());
+    // Lambert only, as the matching-bounce reference (reference.specular=off).
+    gl::Defines defines = formatDefines(v.format);
+    defines.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
+    // Emission hit from the cell is the emitter's direct light when emitters
+    // are lights (emissive.lights=on), as in the indirect reference.
+    if (ctx.settings.light.emissiveLights) defines.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
+    const gl::Program& prog = ctx.programs.compute("lpv/probe.comp", defines);
+    glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, nodes_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, triangles_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_VERTICES, ctx.gpuScene.vertices().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_INDICES, ctx.gpuScene.indices().id());
+    ctx.gpuScene.bindTables();
+    for (GLuint c = 0; c < 3; ++c)
+        glBindImageTexture(RTGI_LPV_PROBE_IMG_ACCUM_R + c, v.accum[c].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
+    // Producer: lpv.propagate's image stores into accum (overwritten here).
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    // Slabs of one workgroup depth: short dispatches however many directions.
+    for (int z = 0; z < v.grid.z; z += RTGI_LPV_LOCAL_3D) {
+        glProgramUniform4ui(prog.id(), RTGI_LPV_PROBE_LOC_PARAMS, GLuint(p.directions), GLuint(p.bounces), p.seed,
+                            GLuint(z));
+        gl::dispatch(prog, v.grid.x, v.grid.y, std::min(RTGI_LPV_LOCAL_3D, v.grid.z - z));
+    }
+    // Consumers: the copy below and lpv.apply's texture fetches.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    if (near && v.near[0])
+        for (std::size_t c = 0; c < 3; ++c)
+            glCopyImageSubData(v.accum[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, v.near[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0,
+                               v.grid.x, v.grid.y, v.grid.z);
+}
+
+FloatImage renderProbeIndirect(const Renderer& run, const View& view) {
+    Settings ps = run.settings();
+    ps.lpv.source = LpvSettings::Source::Probe;
+    ps.reference.kind = ReferenceSettings::Kind::Off;  // the caller has its reference
+    gl::Profiler profiler(false);
+    Renderer r(run.scene(), ps, profiler);
+    r.render(view);
+    return readTexture(r.resources().indirectDiffuse);
+}
+
+}  // namespace rtgi::lpv
