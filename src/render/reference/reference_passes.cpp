@@ -263,10 +263,9 @@ private:
         auto t0 = std::chrono::steady_clock::now();
         rays_ = 0;
         const int end = begin + count;
-        // Paths per dispatch bounded by pixels, not only by samples: 4 paths
-        // per pixel at 3840x2160 (33 M paths, ~1 s on the atrium on an H100)
-        // lost the trace (zero standard error, garbage ray counters), while
-        // 14.7 M (2560x1440) ran. 8.3 M = 4 paths per pixel at 1080p.
+        // Paths per dispatch bounded by pixels, not only by samples, so that
+        // one dispatch stays well under a second (8.3 M = 4 paths per pixel at
+        // 1080p; ~0.2 s on the atrium on an H100).
         const double pixels = double(s.x) * double(s.y);
         const int perDispatch =
             std::clamp(int(kMaxSamplesPerDispatch * (ao_ ? 4.0 : 1.0) / pixels), 1, c.samplesPerDispatch);
@@ -278,7 +277,12 @@ private:
             // Producer: the previous dispatch of this loop (accumulation images).
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
             gl::dispatch(prog, s.x, s.y);
-            if (progress::wantsSteps()) glFinish();  // a terminal shows finished samples
+            // One submission per dispatch: queued back to back, 64 dispatches of
+            // ~0.2 s (the 2160p atrium) ran as one ~11 s submission and the
+            // NVIDIA driver dropped it (ray counters garbage, zero variance);
+            // 4 of them (0.9 s) ran. Waiting here also lets a terminal show
+            // finished samples.
+            glFinish();
             progress::report(ao_ ? "reference AO rays" : "reference paths", first + n, c.spp);
         }
         glFinish();
