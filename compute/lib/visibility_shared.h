@@ -29,6 +29,8 @@
 #define RTGI_VISIBILITY_LOC_PHASE 6        // int: 32-bit path phase (0 depth, 1 id); 64-bit path: always 0
 #define RTGI_VISIBILITY_LOC_FLAGS 7        // int: RTGI_VISIBILITY_FLAG_*
 #define RTGI_VISIBILITY_LOC_CAPACITY 8     // ivec2 (large-triangle capacity, bin-node capacity)
+#define RTGI_VISIBILITY_LOC_RSM_LIGHT 9    // visibility/rsm_resolve.comp (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 9-12
+#define RTGI_VISIBILITY_LOC_RSM_FACE 13    // visibility/rsm_resolve.comp (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
 #define RTGI_VISIBILITY_FLAG_DEPTH_BIAS 1  // glPolygonOffset(1.5, 2) of the shadow map
 #define RTGI_VISIBILITY_FLAG_CULL_BACK 2   // back-face culling (off for every view today: scenes may be open)
 

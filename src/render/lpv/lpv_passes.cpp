@@ -160,9 +160,8 @@ public:
         int n = ls.rsm;
         if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
         if (st.sunRsm && useComputeRasterLightViews(ctx.settings)) {
-            // Compute rasterizer (sun RSM only; local lights' RSMs stay on the
-            // hardware rasterizer): visibility buffer of the light's view, then
-            // a resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
+            // Compute rasterizer: visibility buffer of the light's view, then a
+            // resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
             VisibilityTarget& t = st.rsmVis;
             rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, rsmViewProj_, {n, n}, t,
@@ -214,7 +213,32 @@ public:
             glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
             local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo[0].id());
-            rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
+            if (useComputeRasterLightViews(ctx.settings)) {
+                // The compute rasterizer, one visibility target for every face
+                // (rasterizeVisibility orders its clear after the previous reads).
+                VisibilityTarget& t = st.rsmVis;
+                rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, views[i].viewProj, {n, n}, t,
+                                    visibilityOptions(ctx.settings));
+                if (!t.checked) {
+                    t.checkOverflow(name());
+                    t.checked = true;
+                }
+                gl::Defines defs = visibilityDefines(t);
+                defs.push_back({"RTGI_RSM_LOCAL", ""});
+                const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", defs);
+                bindVisibility(resolve, ctx.gpuScene, views[i].viewProj, t);
+                glProgramUniform4fv(resolve.id(), RTGI_VISIBILITY_LOC_RSM_LIGHT, 4, &g.positionRange.x);
+                resolve.set(RTGI_VISIBILITY_LOC_RSM_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
+                glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, r.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                                   GL_RGBA32F);
+                glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, r.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                                   GL_RGBA16F);
+                gl::dispatch(resolve, n, n);
+                copyVisibilityDepth(ctx.programs, t, r.rsm.depth);
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            } else {
+                rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
+            }
         }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
