@@ -112,7 +112,8 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         const double injectBytes = s.lpv.shOrder == 2 ? 108.0 : 48.0;
         double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * (32.0 + fmt + 8.0)) +
                      (cascades - 1) * cells * volumeTextures * fmt;
-        if (s.lpv.temporal > 0.0f && cascades == 1) lpv += cells * 2.0 * volumeTextures * fmt;
+        // Temporal: two histories per cascade, and two of the near part for cascades i > 0.
+        if (s.lpv.temporal > 0.0f) lpv += (2.0 * cascades - 1.0) * cells * 2.0 * volumeTextures * fmt;
         std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
                                   ? std::to_string(s.lpv.grid.x)
                                   : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +

@@ -884,20 +884,28 @@ TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole
         for (int c = 0; c < 3; ++c) uploadRgba(vol[std::size_t(c)], v.c[c]);
     };
     // Static scene: the history starts from another volume B and every frame blends the same
-    // current volume A: h_k = A + t^k (B - A) (CPU double), -> A.
-    {
+    // current volume A: h_k = A + t^k (B - A) (CPU double), -> A. The whole volume (accum ->
+    // history) and a cascade's near part (near -> nearHistory, cascades i > 0) alike.
+    for (bool nearPart : {false, true}) {
+        INFO("near part: " << nearPart);
         GpuLpv g(grid, GL_RGBA32F, CpuOptions{});
         lpv::Placement p;
         p.grid = grid;
         uniformsFor(g, p, glm::ivec3(0));
-        upload(g.v.accum, randomLight(grid, rng));
-        upload(g.v.history[1], randomLight(grid, rng));
-        CpuVolume a = readRgb(g.v.accum), b = readRgb(g.v.history[1]);
+        g.v.ensureNear(g.ledger);
+        g.v.ensureNearHistory(g.ledger);
+        lpv::Rgb& cur = nearPart ? g.v.near : g.v.accum;
+        auto& hist = nearPart ? g.v.nearHistory : g.v.history;
+        upload(cur, randomLight(grid, rng));
+        upload(hist[1], randomLight(grid, rng));
+        CpuVolume a = readRgb(cur), b = readRgb(hist[1]);
         int target = 0;
         const int frames = 12;
-        for (int k = 0; k < frames; ++k, target = 1 - target) lpv::temporalBlend(g.programs, g.ubo, g.v, target);
+        for (int k = 0; k < frames; ++k, target = 1 - target)
+            nearPart ? lpv::temporalBlendNear(g.programs, g.ubo, g.v, target)
+                     : lpv::temporalBlend(g.programs, g.ubo, g.v, target);
         glMemoryBarrier(GL_ALL_BARRIER_BITS);
-        CpuVolume h = readRgb(g.v.history[std::size_t(1 - target)]), expected = a;
+        CpuVolume h = readRgb(hist[std::size_t(1 - target)]), expected = a;
         double w = std::pow(t, frames);
         for (int c = 0; c < 3; ++c)
             for (std::size_t i = 0; i < a.c[c].size(); ++i) expected.c[c][i] = a.c[c][i] + w * (b.c[c][i] - a.c[c][i]);

@@ -41,6 +41,8 @@ struct LpvCascade {
     int historyTarget = 0;
     const lpv::Rgb* result = nullptr;  // volume read by lpv.apply
     const lpv::Hi* resultHi = nullptr; // its band-2 part (lpv.sh_order=2)
+    const lpv::Rgb* nearResult = nullptr;  // cascades i > 0: the near part read by lpv.apply
+    const lpv::Hi* nearResultHi = nullptr;
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
 };
 
@@ -437,6 +439,8 @@ public:
             }
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
+            c.nearResult = i > 0 ? &c.volumes.near : nullptr;
+            c.nearResultHi = i > 0 && ls.shOrder == 2 ? &c.volumes.nearHi : nullptr;
             // Stage attribution: the path-traced probe volume replaces the propagated one.
             if (ls.source == LpvSettings::Source::Probe) st.probe.fill(ctx, c.ubo, c.volumes, i > 0);
         }
@@ -482,8 +486,6 @@ public:
     std::string name() const override { return "lpv.temporal"; }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
-        if (cascadeCount(s.lpv) > 1)
-            return d.skip("lpv.temporal blends a single volume (lpv.cascades > 1: not implemented, docs/lpv.md)");
         const LpvState* st = st_.get();
         outputRgb(d, "lpv.history", [st]() -> const lpv::Rgb* {
             if (st->cascades.empty()) return nullptr;
@@ -497,13 +499,26 @@ public:
                 return &c.volumes.historyHi[std::size_t(c.historyTarget)];
             });
     }
+    // Every cascade blends its whole volume with its own history, re-indexed by
+    // its own cell shift (each cascade snaps to its own cells); cascades i > 0
+    // blend their near part the same way, so the apply's near / far split is a
+    // split of the blended volume.
     void execute(FrameContext& ctx) override {
-        LpvCascade& c = st_->first();
-        c.volumes.ensureHistory(ctx.ledger);
-        c.historyTarget = 1 - c.historyTarget;
-        lpv::temporalBlend(ctx.programs, c.ubo, c.volumes, c.historyTarget);
-        c.result = &c.volumes.history[std::size_t(c.historyTarget)];
-        if (c.resultHi) c.resultHi = &c.volumes.historyHi[std::size_t(c.historyTarget)];
+        for (std::size_t i = 0; i < st_->cascades.size(); ++i) {
+            LpvCascade& c = st_->cascades[i];
+            c.volumes.ensureHistory(ctx.ledger);
+            c.historyTarget = 1 - c.historyTarget;
+            const auto t = std::size_t(c.historyTarget);
+            lpv::temporalBlend(ctx.programs, c.ubo, c.volumes, c.historyTarget);
+            c.result = &c.volumes.history[t];
+            if (c.resultHi) c.resultHi = &c.volumes.historyHi[t];
+            if (i > 0) {
+                c.volumes.ensureNearHistory(ctx.ledger);
+                lpv::temporalBlendNear(ctx.programs, c.ubo, c.volumes, c.historyTarget);
+                c.nearResult = &c.volumes.nearHistory[t];
+                if (c.nearResultHi) c.nearResultHi = &c.volumes.nearHistoryHi[t];
+            }
+        }
     }
 };
 
@@ -534,7 +549,7 @@ public:
             in.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
             in.volume = c.result;
             in.volumeHi = c.resultHi;
-            in.nearHi = i > 0 && c.resultHi ? &c.volumes.nearHi : nullptr;
+            in.nearHi = i > 0 && c.resultHi ? c.nearResultHi : nullptr;
             in.brdfLut = specular ? &r.brdfLut : nullptr;
             in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
             in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
@@ -542,7 +557,7 @@ public:
             in.specular = specular ? &r.specular : nullptr;
             in.cascade = i;
             in.cascades = count;
-            in.near = i > 0 ? &c.volumes.near : nullptr;
+            in.near = i > 0 ? c.nearResult : nullptr;
             // The self-illumination correction undoes an artefact of the propagation;
             // a probe volume (lpv.source=probe) has none to undo.
             // Without a sun there is no orthographic RSM to read the exitance from.

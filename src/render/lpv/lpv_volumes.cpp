@@ -173,6 +173,16 @@ void Volumes::ensureHistory(gl::MemoryLedger& ledger) {
             ensureHi(ledger, historyHi[std::size_t(k)], "lpv.history" + std::to_string(k) + ".hi", grid, format, true);
 }
 
+void Volumes::ensureNearHistory(gl::MemoryLedger& ledger) {
+    for (int k = 0; k < 2; ++k)
+        ensureRgb(ledger, nearHistory[std::size_t(k)], "lpv.near_history" + std::to_string(k),
+                  {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+    if (shOrder == 2)
+        for (int k = 0; k < 2; ++k)
+            ensureHi(ledger, nearHistoryHi[std::size_t(k)], "lpv.near_history" + std::to_string(k) + ".hi", grid,
+                     format, true);
+}
+
 void Volumes::ensureRasterTargets() {
     if (!emptyVao) {
         GLuint vao = 0;
@@ -399,20 +409,35 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
     return src;
 }
 
-void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target) {
+namespace {
+// out = mix(cur, prev re-indexed by the cell shift, lpv.temporal) (lpv/temporal.comp).
+void blendVolume(gl::ProgramCache& programs, const gl::Buffer& ubo, const Volumes& v, const Rgb& cur, const Hi& curHi,
+                 const Rgb& prev, const Hi& prevHi, const Rgb& out, const Hi& outHi) {
     const gl::Program& prog = programs.compute("lpv/temporal.comp", formatDefines(v.format, v.shOrder));
     bindUbo(ubo);
-    // Producer: lpv.propagate (image stores / blended framebuffer writes into accum).
+    // Producer: lpv.propagate (image stores / blended framebuffer writes into accum and near).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-    bindRgbTextures(v.accum, RTGI_LPV_TEX_CUR_R);
-    bindRgbTextures(v.history[std::size_t(1 - target)], RTGI_LPV_TEX_PREV_R);
-    bindRgbImages(v.history[std::size_t(target)], RTGI_LPV_IMG_OUT_R, GL_WRITE_ONLY, v.format);
+    bindRgbTextures(cur, RTGI_LPV_TEX_CUR_R);
+    bindRgbTextures(prev, RTGI_LPV_TEX_PREV_R);
+    bindRgbImages(out, RTGI_LPV_IMG_OUT_R, GL_WRITE_ONLY, v.format);
     if (v.shOrder == 2) {
-        bindHiTextures(v.accumHi, RTGI_LPV_TEX_CUR_HI_R);
-        bindHiTextures(v.historyHi[std::size_t(1 - target)], RTGI_LPV_TEX_PREV_HI_R);
-        bindHiImages(v.historyHi[std::size_t(target)], RTGI_LPV_IMG_OUT_HI_R, GL_WRITE_ONLY, v.format);
+        bindHiTextures(curHi, RTGI_LPV_TEX_CUR_HI_R);
+        bindHiTextures(prevHi, RTGI_LPV_TEX_PREV_HI_R);
+        bindHiImages(outHi, RTGI_LPV_IMG_OUT_HI_R, GL_WRITE_ONLY, v.format);
     }
     gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+}
+}  // namespace
+
+void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target) {
+    const auto t = std::size_t(target), p = std::size_t(1 - target);
+    blendVolume(programs, ubo, v, v.accum, v.accumHi, v.history[p], v.historyHi[p], v.history[t], v.historyHi[t]);
+}
+
+void temporalBlendNear(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target) {
+    const auto t = std::size_t(target), p = std::size_t(1 - target);
+    blendVolume(programs, ubo, v, v.near, v.nearHi, v.nearHistory[p], v.nearHistoryHi[p], v.nearHistory[t],
+                v.nearHistoryHi[t]);
 }
 
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in) {

@@ -34,6 +34,7 @@ struct Volumes {
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
     std::array<Rgb, 2> history;  // temporal blend targets (format)
+    std::array<Rgb, 2> nearHistory;  // cascades i > 0: the near part's temporal blend targets (format)
     // lpv.sh_order=2 only (empty otherwise): the band-2 parts of inject, step, accum, near.
     int shOrder = 1;
     Rgb injectHi;                // R32F (4X, Y, Z): coefficient 4 + k at 4x + k
@@ -42,6 +43,7 @@ struct Volumes {
     Hi accumHi;
     Hi nearHi;
     std::array<Hi, 2> historyHi;
+    std::array<Hi, 2> nearHistoryHi;
     gl::FramebufferHandle injectFbo;                   // raster baseline: step[0] + accum, additive
     std::array<gl::FramebufferHandle, 2> propagateFbo; // raster baseline: step[k] + accum (blended)
     gl::VertexArrayHandle emptyVao;                    // attribute-less draws need a bound VAO (core profile)
@@ -51,6 +53,7 @@ struct Volumes {
     void ensureNear(gl::MemoryLedger& ledger);
     void ensureGeometry(gl::MemoryLedger& ledger);
     void ensureHistory(gl::MemoryLedger& ledger);
+    void ensureNearHistory(gl::MemoryLedger& ledger);
     void ensureRasterTargets();
 };
 
@@ -110,5 +113,9 @@ struct ApplyInputs {
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in);
 // history[target] = mix(accum, history[1 - target] re-indexed, lpv.temporal) (and historyHi with band 2).
 void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target);
+// nearHistory[target] = mix(near, nearHistory[1 - target] re-indexed, lpv.temporal): cascades i > 0
+// blend their near part with the same factor and shift as the whole, so that the apply's
+// u near + U (total - near) stays a blend of consistent volumes.
+void temporalBlendNear(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target);
 
 }  // namespace rtgi::lpv
