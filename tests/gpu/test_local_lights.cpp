@@ -113,6 +113,14 @@ struct Frame {
     std::unique_ptr<Renderer> r;
 };
 
+// Calls fn(x, y, p) for every pixel that sees geometry, p its world position (double).
+template <class F>
+void forEachSurfacePixel(const Frame& f, const Scene& s, const Settings& st, F&& fn) {
+    for (int y = 0; y < kSize.y; ++y)
+        for (int x = 0; x < kSize.x; ++x)
+            if (f.depth.at(x, y, 0) > 0) fn(x, y, worldPosition(s, st, kSize, f.depth, x, y));
+}
+
 Frame render(const Scene& s, const Settings& st, gl::Profiler& prof) {
     Frame f;
     f.r = renderFrames(s, st, kSize, prof);
@@ -137,21 +145,18 @@ TEST_CASE("Local lights: a point light on a plane follows the inverse-square cos
     Camera cam = resolveCamera(s, st);
     int n = 0, bad = 0;
     double worst = 0;
-    for (int y = 0; y < kSize.y; ++y)
-        for (int x = 0; x < kSize.x; ++x) {
-            if (!(f.depth.at(x, y, 0) > 0)) continue;
-            glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
-            if (std::abs(p.x) > 3.9 || std::abs(p.z) > 3.9) continue;  // the floor's silhouette
-            glm::dvec3 toL = lp - p, v = glm::normalize(glm::dvec3(cam.position) - p);
-            double d2 = glm::dot(toL, toL);
-            double expect = brdfCos({0, 1, 0}, v, toL / std::sqrt(d2), albedo, 1.0) * I / d2;
-            double got = f.direct.at(x, y, 0);
-            double rel = std::abs(got - expect) / expect;
-            worst = std::max(worst, rel);
-            // fp16 output (5e-4) and the G-buffer position (depth in fp32).
-            if (rel > 5e-3) ++bad;
-            ++n;
-        }
+    forEachSurfacePixel(f, s, st, [&](int x, int y, glm::dvec3 p) {
+        if (std::abs(p.x) > 3.9 || std::abs(p.z) > 3.9) return;  // the floor's silhouette
+        glm::dvec3 toL = lp - p, v = glm::normalize(glm::dvec3(cam.position) - p);
+        double d2 = glm::dot(toL, toL);
+        double expect = brdfCos({0, 1, 0}, v, toL / std::sqrt(d2), albedo, 1.0) * I / d2;
+        double got = f.direct.at(x, y, 0);
+        double rel = std::abs(got - expect) / expect;
+        worst = std::max(worst, rel);
+        // fp16 output (5e-4) and the G-buffer position (depth in fp32).
+        if (rel > 5e-3) ++bad;
+        ++n;
+    });
     INFO("floor pixels " << n << ", worst relative error " << worst);
     REQUIRE(n > 1000);
     CHECK(bad == 0);  // also: no shadow acne anywhere on the receiver
@@ -170,18 +175,15 @@ TEST_CASE("Local lights: spot cone falloff follows the KHR_lights_punctual formu
     Frame f = render(s, st, prof);
     Camera cam = resolveCamera(s, st);
     int n = 0, penumbra = 0, bad = 0;
-    for (int y = 0; y < kSize.y; ++y)
-        for (int x = 0; x < kSize.x; ++x) {
-            if (!(f.depth.at(x, y, 0) > 0)) continue;
-            glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
-            glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
-            double cd = glm::dot(-l, dir);
-            double expect = brdfCos({0, 1, 0}, v, l, albedo, 1.0) * I / glm::dot(toL, toL) * khrSpot(cd, inner, outer);
-            double got = f.direct.at(x, y, 0);
-            if (std::abs(got - expect) > 5e-3 * expect + 2e-4) ++bad;
-            if (cd > std::cos(outer) && cd < std::cos(inner)) ++penumbra;
-            ++n;
-        }
+    forEachSurfacePixel(f, s, st, [&](int x, int y, glm::dvec3 p) {
+        glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
+        double cd = glm::dot(-l, dir);
+        double expect = brdfCos({0, 1, 0}, v, l, albedo, 1.0) * I / glm::dot(toL, toL) * khrSpot(cd, inner, outer);
+        double got = f.direct.at(x, y, 0);
+        if (std::abs(got - expect) > 5e-3 * expect + 2e-4) ++bad;
+        if (cd > std::cos(outer) && cd < std::cos(inner)) ++penumbra;
+        ++n;
+    });
     INFO("pixels " << n << ", in the penumbra " << penumbra << ", off " << bad);
     REQUIRE(penumbra > 50);
     CHECK(bad <= n / 200);  // PCF at the cone's rim may differ on a handful
@@ -205,24 +207,21 @@ TEST_CASE("Local lights: spot and point shadows of a cube agree with a CPU ray c
         Frame f = render(s, st, prof);
         Camera cam = resolveCamera(s, st);
         int n = 0, agree = 0, shadowed = 0;
-        for (int y = 0; y < kSize.y; ++y)
-            for (int x = 0; x < kSize.x; ++x) {
-                if (!(f.depth.at(x, y, 0) > 0)) continue;
-                glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
-                if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 3.5 || std::abs(p.z) > 3.5) continue;  // floor only
-                // Away from edges: the answer does not change when the cube
-                // grows or shrinks by 3 cm (a few shadow texels there).
-                bool grown = segmentHitsBox(p, lp, lo, hi, 0.03), shrunk = segmentHitsBox(p, lp, lo, hi, -0.03);
-                if (grown != shrunk) continue;
-                glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
-                double unshadowed = brdfCos({0, 1, 0}, v, l, 0.5, 1.0) * (kind == 0 ? 8.0 : 4.0) / glm::dot(toL, toL);
-                if (kind == 0) unshadowed *= khrSpot(glm::dot(-l, glm::dvec3(0, -1, 0)), glm::radians(50.0), glm::radians(60.0));
-                if (unshadowed < 1e-3) continue;  // outside the cone: nothing to decide
-                bool gpuShadowed = f.direct.at(x, y, 0) < 0.5 * unshadowed;
-                agree += gpuShadowed == grown;
-                shadowed += grown;
-                ++n;
-            }
+        forEachSurfacePixel(f, s, st, [&](int x, int y, glm::dvec3 p) {
+            if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 3.5 || std::abs(p.z) > 3.5) return;  // floor only
+            // Away from edges: the answer does not change when the cube
+            // grows or shrinks by 3 cm (a few shadow texels there).
+            bool grown = segmentHitsBox(p, lp, lo, hi, 0.03), shrunk = segmentHitsBox(p, lp, lo, hi, -0.03);
+            if (grown != shrunk) return;
+            glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
+            double unshadowed = brdfCos({0, 1, 0}, v, l, 0.5, 1.0) * (kind == 0 ? 8.0 : 4.0) / glm::dot(toL, toL);
+            if (kind == 0) unshadowed *= khrSpot(glm::dot(-l, glm::dvec3(0, -1, 0)), glm::radians(50.0), glm::radians(60.0));
+            if (unshadowed < 1e-3) return;  // outside the cone: nothing to decide
+            bool gpuShadowed = f.direct.at(x, y, 0) < 0.5 * unshadowed;
+            agree += gpuShadowed == grown;
+            shadowed += grown;
+            ++n;
+        });
         INFO((kind == 0 ? "spot" : "point") << ": pixels " << n << ", CPU-shadowed " << shadowed << ", agree " << agree);
         REQUIRE(n > 500);
         REQUIRE(shadowed > 30);
@@ -296,25 +295,22 @@ TEST_CASE("Emissive regions: a square emitter becomes a cosine-lobe light of its
     Camera cam = resolveCamera(s, st);
     int n = 0, bad = 0, far = 0;
     double worstFar = 0;
-    for (int y = 0; y < kSize.y; ++y)
-        for (int x = 0; x < kSize.x; ++x) {
-            if (!(f.depth.at(x, y, 0) > 0)) continue;
-            glm::dvec3 p = worldPosition(s, st, kSize, f.depth, x, y);
-            if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 3.5 || std::abs(p.z) > 3.5) continue;
-            glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
-            double cosE = std::max(glm::dot(-l, glm::dvec3(0, -1, 0)), 0.0);
-            double approx = brdfCos({0, 1, 0}, v, l, albedo, 1.0) * le * area * cosE / glm::dot(toL, toL);
-            if (std::abs(f.direct.at(x, y, 0) - approx) > 5e-3 * approx + 1e-5) ++bad;
-            ++n;
-            // The approximation's Lambert irradiance against the exact polygon
-            // irradiance: within 2 % once the receiver is 5 sides away (d ≥ 5a).
-            if (glm::length(toL) >= 5 * 2 * h) {
-                double exact = polygonIrradiance(p, {0, 1, 0}, {{-h, y0, -h}, {h, y0, -h}, {h, y0, h}, {-h, y0, h}}, le);
-                double approxE = le * area * cosE * std::max(l.y, 0.0) / glm::dot(toL, toL);
-                worstFar = std::max(worstFar, std::abs(approxE / exact - 1.0));
-                ++far;
-            }
+    forEachSurfacePixel(f, s, st, [&](int x, int y, glm::dvec3 p) {
+        if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 3.5 || std::abs(p.z) > 3.5) return;
+        glm::dvec3 toL = lp - p, l = glm::normalize(toL), v = glm::normalize(glm::dvec3(cam.position) - p);
+        double cosE = std::max(glm::dot(-l, glm::dvec3(0, -1, 0)), 0.0);
+        double approx = brdfCos({0, 1, 0}, v, l, albedo, 1.0) * le * area * cosE / glm::dot(toL, toL);
+        if (std::abs(f.direct.at(x, y, 0) - approx) > 5e-3 * approx + 1e-5) ++bad;
+        ++n;
+        // The approximation's Lambert irradiance against the exact polygon
+        // irradiance: within 2 % once the receiver is 5 sides away (d ≥ 5a).
+        if (glm::length(toL) >= 5 * 2 * h) {
+            double exact = polygonIrradiance(p, {0, 1, 0}, {{-h, y0, -h}, {h, y0, -h}, {h, y0, h}, {-h, y0, h}}, le);
+            double approxE = le * area * cosE * std::max(l.y, 0.0) / glm::dot(toL, toL);
+            worstFar = std::max(worstFar, std::abs(approxE / exact - 1.0));
+            ++far;
         }
+    });
     INFO("floor pixels " << n << ", off the approximation " << bad << ", worst far-field error " << worstFar);
     REQUIRE(n > 1000);
     REQUIRE(far > 500);

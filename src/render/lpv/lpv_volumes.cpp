@@ -164,23 +164,22 @@ void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
 }
 
-void Volumes::ensureHistory(gl::MemoryLedger& ledger) {
-    for (int k = 0; k < 2; ++k)
-        ensureRgb(ledger, history[std::size_t(k)], "lpv.history" + std::to_string(k),
-                  {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
-    if (shOrder == 2)
-        for (int k = 0; k < 2; ++k)
-            ensureHi(ledger, historyHi[std::size_t(k)], "lpv.history" + std::to_string(k) + ".hi", grid, format, true);
+namespace {
+// Two temporal blend targets (ping-pong) of a volume, band 2 included.
+void ensureHistoryPair(gl::MemoryLedger& ledger, const Volumes& v, std::array<Rgb, 2>& rgb, std::array<Hi, 2>& hi,
+                       const std::string& label) {
+    for (int k = 0; k < 2; ++k) {
+        ensureRgb(ledger, rgb[std::size_t(k)], label + std::to_string(k), {GL_TEXTURE_3D, v.format, v.grid.x, v.grid.y, v.grid.z},
+                  true);
+        if (v.shOrder == 2) ensureHi(ledger, hi[std::size_t(k)], label + std::to_string(k) + ".hi", v.grid, v.format, true);
+    }
 }
+}  // namespace
+
+void Volumes::ensureHistory(gl::MemoryLedger& ledger) { ensureHistoryPair(ledger, *this, history, historyHi, "lpv.history"); }
 
 void Volumes::ensureNearHistory(gl::MemoryLedger& ledger) {
-    for (int k = 0; k < 2; ++k)
-        ensureRgb(ledger, nearHistory[std::size_t(k)], "lpv.near_history" + std::to_string(k),
-                  {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
-    if (shOrder == 2)
-        for (int k = 0; k < 2; ++k)
-            ensureHi(ledger, nearHistoryHi[std::size_t(k)], "lpv.near_history" + std::to_string(k) + ".hi", grid,
-                     format, true);
+    ensureHistoryPair(ledger, *this, nearHistory, nearHistoryHi, "lpv.near_history");
 }
 
 void Volumes::ensureRasterTargets() {
