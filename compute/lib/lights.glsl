@@ -15,7 +15,7 @@
 // fall off as max(cos θ, 0) (a Lambertian emitter seen from afar).
 float localLightAttenuation(GpuLight g, vec3 p, out vec3 l, out float dist) {
     vec3 toL = g.positionRange.xyz - p;
-    float dist2 = max(dot(toL, toL), 1e-30);
+    float dist2 = max(dot(toL, toL), 1e-8);  // 1/d² stays finite times any fp32 intensity
     dist = sqrt(dist2);
     l = toL / dist;
     float atten = 1.0 / dist2;

@@ -206,8 +206,9 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_PROBE_IMG_ACCUM_G 1
 #define RTGI_LPV_PROBE_IMG_ACCUM_B 2
 #define RTGI_LPV_PROBE_LOC_PARAMS  0  // uvec4: directions per cell, bounces, seed, first z slice
-#define RTGI_LPV_RSM_LOC_LIGHT 1  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 1-4
-#define RTGI_LPV_RSM_LOC_FACE  5  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
+// After scene.vert's mat4 at RTGI_RASTER_LOC_LIGHT_VIEW_PROJ (locations 0-3) of the same program.
+#define RTGI_LPV_RSM_LOC_LIGHT 4  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 4-7
+#define RTGI_LPV_RSM_LOC_FACE  8  // lpv/rsm.frag (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
 // stage interfaces of the seed's raster baseline (varyings and colour outputs)
 #define RTGI_LPV_VARY_CELL 0    // inject_raster.vert -> .geom
 #define RTGI_LPV_VARY_R 1

@@ -24,13 +24,6 @@ void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum seve
     std::fprintf(stderr, "GL debug: %s\n", msg);
 }
 
-bool hasExtension(const char* name) {
-    GLint n = 0;
-    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-    for (GLint i = 0; i < n; ++i)
-        if (std::strcmp(reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i))), name) == 0) return true;
-    return false;
-}
 
 const char* deviceName(EGLDeviceEXT dev) {
     const char* s = nullptr;
@@ -175,6 +168,17 @@ HeadlessContext::~HeadlessContext() {
         if (context_) eglDestroyContext(display_, context_);
         eglTerminate(display_);
     }
+}
+
+bool hasExtension(const char* name) {
+    if (!glGetIntegerv || !glGetStringi) return false;  // no loaded context
+    GLint n = 0;
+    glGetIntegerv(GL_NUM_EXTENSIONS, &n);
+    for (GLint i = 0; i < n; ++i) {
+        const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+        if (e && std::strcmp(e, name) == 0) return true;
+    }
+    return false;
 }
 
 }  // namespace rtgi::gl

@@ -45,5 +45,7 @@ private:
 ContextInfo queryContextInfo(bool debug);
 // GL errors reported through KHR_debug since the last call (tests assert 0).
 int takeDebugErrorCount();
+// Whether the current context lists the extension (false without a loaded context).
+bool hasExtension(const char* name);
 
 }  // namespace rtgi::gl

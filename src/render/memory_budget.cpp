@@ -1,5 +1,7 @@
 #include "render/memory_budget.h"
 
+#include "gl/context.h"
+
 #include "render/visibility/visibility.h"
 
 #include "render/renderer.h"
@@ -149,15 +151,7 @@ void checkMemoryBudget(const Renderer& renderer, glm::ivec2 resolution, std::int
 
 DeviceMemory availableDeviceMemory(std::int64_t override) {
     if (override > 0) return {override, "--max-memory"};
-    auto hasExtension = [](const char* name) {
-        GLint n = 0;
-        glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-        for (GLint i = 0; i < n; ++i) {
-            const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
-            if (e && std::string(e) == name) return true;
-        }
-        return false;
-    };
+    using gl::hasExtension;
     // Enum values from the extension specifications (not in the generated loader).
     constexpr GLenum kNvxCurrentAvailableVidmem = 0x9049;  // GL_GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX, KiB
     constexpr GLenum kAtiTextureFreeMemory = 0x87FC;       // GL_TEXTURE_FREE_MEMORY_ATI, [0] = KiB free

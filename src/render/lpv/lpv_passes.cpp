@@ -162,23 +162,8 @@ public:
         int n = ls.rsm;
         if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
         if (st.sunRsm && useComputeRasterLightViews(ctx.settings)) {
-            // Compute rasterizer: visibility buffer of the light's view, then a
-            // resolve into flux/normal (lpv/rsm.glsl) and the depth copy.
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
-            VisibilityTarget& t = st.rsmVis;
-            rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, rsmViewProj_, {n, n}, t,
-                                visibilityOptions(ctx.settings));
-            if (!t.checked) {
-                t.checkOverflow(name());
-                t.checked = true;
-            }
-            const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", visibilityDefines(t));
-            bindVisibility(resolve, ctx.gpuScene, rsmViewProj_, t);
-            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, st.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, st.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-            gl::dispatch(resolve, n, n);
-            copyVisibilityDepth(ctx.programs, t, st.rsm.depth);
-            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            rsmCompute(ctx, rsmViewProj_, n, st.rsm, nullptr, 0.0f);
         } else if (st.sunRsm) {
             const gl::Program& prog =
                 ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
@@ -216,28 +201,7 @@ public:
             local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo[0].id());
             if (useComputeRasterLightViews(ctx.settings)) {
-                // The compute rasterizer, one visibility target for every face
-                // (rasterizeVisibility orders its clear after the previous reads).
-                VisibilityTarget& t = st.rsmVis;
-                rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, views[i].viewProj, {n, n}, t,
-                                    visibilityOptions(ctx.settings));
-                if (!t.checked) {
-                    t.checkOverflow(name());
-                    t.checked = true;
-                }
-                gl::Defines defs = visibilityDefines(t);
-                defs.push_back({"RTGI_RSM_LOCAL", ""});
-                const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", defs);
-                bindVisibility(resolve, ctx.gpuScene, views[i].viewProj, t);
-                glProgramUniform4fv(resolve.id(), RTGI_VISIBILITY_LOC_RSM_LIGHT, 4, &g.positionRange.x);
-                resolve.set(RTGI_VISIBILITY_LOC_RSM_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
-                glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, r.rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                                   GL_RGBA32F);
-                glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, r.rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                                   GL_RGBA16F);
-                gl::dispatch(resolve, n, n);
-                copyVisibilityDepth(ctx.programs, t, r.rsm.depth);
-                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                rsmCompute(ctx, views[i].viewProj, n, r.rsm, &g, views[i].tanHalfFov);
             } else {
                 rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
             }
@@ -263,6 +227,32 @@ public:
 
 private:
     glm::mat4 rsmViewProj_{1.0f};
+    // Compute rasterizer: the light view's visibility buffer (one target for
+    // every RSM; rasterizeVisibility orders its clear after the previous
+    // reads), a resolve into flux/normal (lpv/rsm.glsl: the sun's texel, or
+    // with `local` a spot/point/area face of field tan(half fov)) and the depth copy.
+    void rsmCompute(FrameContext& ctx, const glm::mat4& viewProj, int n, lpv::Rsm& rsm, const gpu::GpuLight* local,
+                    float tanHalfFov) {
+        VisibilityTarget& t = st_->rsmVis;
+        rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, viewProj, {n, n}, t, visibilityOptions(ctx.settings));
+        if (!t.checked) {
+            t.checkOverflow(name());
+            t.checked = true;
+        }
+        gl::Defines defs = visibilityDefines(t);
+        if (local) defs.push_back({"RTGI_RSM_LOCAL", ""});
+        const gl::Program& resolve = ctx.programs.compute("visibility/rsm_resolve.comp", defs);
+        bindVisibility(resolve, ctx.gpuScene, viewProj, t);
+        if (local) {
+            glProgramUniform4fv(resolve.id(), RTGI_VISIBILITY_LOC_RSM_LIGHT, 4, &local->positionRange.x);
+            resolve.set(RTGI_VISIBILITY_LOC_RSM_FACE, glm::vec2(tanHalfFov, float(n)));
+        }
+        glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        gl::dispatch(resolve, n, n);
+        copyVisibilityDepth(ctx.programs, t, rsm.depth);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
     static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
                               int n) {
         bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});

@@ -2,6 +2,7 @@
 // clear -> setup -> bin -> tile (twice on the 32-bit path) and the depth copy.
 #include "render/visibility/visibility.h"
 
+#include "gl/context.h"
 #include "gl/profiler.h"
 #include "render/gpu_scene.h"
 
@@ -44,18 +45,8 @@ bool visibilityAtomic64Supported() {
     // checks before the context exists) the answer is unknown: say no, and do
     // not cache it, so a later call with a context asks the driver.
     if (!glGetIntegerv || !glGetStringi) return false;
-    static const bool supported = [] {
-        GLint n = 0;
-        glGetIntegerv(GL_NUM_EXTENSIONS, &n);
-        bool nv = false, i64 = false;
-        for (GLint i = 0; i < n; ++i) {
-            const char* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
-            if (!e) continue;
-            nv |= std::strcmp(e, "GL_NV_shader_atomic_int64") == 0;
-            i64 |= std::strcmp(e, "GL_ARB_gpu_shader_int64") == 0;
-        }
-        return nv && i64;
-    }();
+    static const bool supported =
+        gl::hasExtension("GL_NV_shader_atomic_int64") && gl::hasExtension("GL_ARB_gpu_shader_int64");
     return supported;
 }
 
