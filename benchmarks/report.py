@@ -164,6 +164,21 @@ def error_value(r):
     return k, nums[k]
 
 
+def error_text(r):
+    """The configurations table's error cell: the RMSE corrected for the reference's noise with its 95 %
+    interval when the run has them (issue 21), else the error_value metric."""
+    e = r.get("error", {})
+    if isinstance(e.get("rmse_debiased"), (int, float)) and isinstance(e.get("rmse_ci95"), list):
+        lo, hi = e["rmse_ci95"]
+        text = "rmse %.4g ± %.2g (debiased; 95 %% [%.4g, %.4g])" % (e["rmse_debiased"], (hi - lo) / 2, lo, hi)
+        ratio = e.get("reference", {}).get("noise_ratio")
+        if isinstance(ratio, (int, float)):
+            text += ", ref. noise %.2f×" % ratio
+        return text
+    metric, err = error_value(r)
+    return "%s %.4g" % (metric, err) if err is not None else ""
+
+
 def technique(r):
     """(family, variant label) of a configuration; family None for a frame without LPV/AO/SSR passes."""
     names = pass_ms(r).keys()
@@ -399,6 +414,45 @@ def seed000_table(results):
     return "\n".join(lines)
 
 
+def gi_suite_table(results):
+    """Issue 22: per view, whether the LPV helps (gain = 1 - rmse / rmse without the LPV, on debiased RMSEs
+    against the full reference), with LPV ms, the error's 95 % interval and the matching-bounce skill; the
+    training views and the held-out views (the sweep's "held_out") separately, each with its mean and minimum."""
+    rows = [r for r in results if isinstance(r.get("error", {}).get("gain", {}).get("lpv"), dict)]
+    if not rows:
+        return None
+    out = []
+    for split, title in ((False, "training views"), (True, "held-out views")):
+        part = [r for r in rows if bool(r["sweep"].get("held_out")) == split]
+        if not part:
+            continue
+        lines = ["**%s**" % title, "",
+                 "| scene | view | res | LPV ms | RMSE (debiased, 95 %%) | RMSE lpv=off | gain | interior gain | "
+                 "matching-bounce skill | ref. noise / error | ref. spp |",
+                 "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        gains = []
+        for r in part:
+            e = r["error"]
+            g = e["gain"]["lpv"]
+            lpv_ms = sum(ms for n, ms in pass_ms(r).items() if n.startswith("lpv."))
+            lo, hi = e.get("rmse_ci95", [float("nan")] * 2)
+            mb = e.get("matching_bounce", {}).get("skill")
+            ref = e.get("reference", {})
+            ratio = ref.get("noise_ratio")
+            gains.append(g["gain"])
+            lines.append("| %s | %s | %s | %.3f | %.4f [%.4f, %.4f] | %.4f | %s%+.3f%s | %+.3f | %s | %s | %s |" % (
+                r["sweep"]["scene_label"], r["sweep"].get("view") or "(own)", r["resolution"], lpv_ms,
+                e.get("rmse_debiased", float("nan")), lo, hi, g["rmse_without"],
+                "**" if g["gain"] <= 0 else "", g["gain"], "**" if g["gain"] <= 0 else "",
+                g["interior"]["gain"], "%.3f" % mb if isinstance(mb, (int, float)) else "—",
+                "%.2f" % ratio if isinstance(ratio, (int, float)) else str(ratio), ref.get("spp", "—")))
+        lines.append("")
+        lines.append("%s: mean gain %.3f, minimum %.3f (%d views; **bold**: the LPV makes the image worse)." % (
+            title, sum(gains) / len(gains), min(gains), len(gains)))
+        out.append("\n".join(lines))
+    return "\n\n".join(out)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+", help="sweep output directories (each with results.jsonl)")
@@ -451,6 +505,10 @@ def main():
     else:
         md += ["No sweep varies a work axis (%s) over two or more values." % ", ".join(WORK), ""]
 
+    gi = gi_suite_table(results)
+    if gi:
+        md += ["## GI suite: does the LPV help?", "", gi, ""]
+
     md += ["## Seed 003, table 6.3 layout", ""]
     t003 = seed003_tables(results)
     md += (t003 and ["\n\n".join(t003), "",
@@ -465,9 +523,8 @@ def main():
     md += ["## Configurations", "",
            "| id | sweep | configuration | frame ms | %s |" % ("error" if with_error else "—"), "|---|---|---|---:|---:|"]
     for r in results:
-        metric, err = error_value(r)
         md.append("| %s | %s | %s | %.3f | %s |" % (r["sweep"]["id"], r["sweep"].get("name", ""), r["sweep"].get("label", ""),
-                                                  frame_ms(r), "%s %.4g" % (metric, err) if err is not None else ""))
+                                                  frame_ms(r), error_text(r)))
     if failed:
         md += ["", "### Failed", ""]
         for r in failed:

@@ -32,6 +32,7 @@ struct Surface {
     float roughness;
     float metallic;
     vec3 emission;
+    float specular; // 1: Lambert + GGX; 0: Lambert only (reference.caustics=off after a diffuse vertex)
 };
 
 vec3 refVertexVec3(uint v, uint offset) {
@@ -67,17 +68,51 @@ Surface surfaceAt(Hit h, vec3 rayOrigin, vec3 rayDir) {
     s.roughness = mat.params.x;
     s.metallic = mat.params.y;
     s.emission = mat.emissive.rgb;
+    s.specular = 1.0;
     return s;
+}
+
+// ---- caustic paths (reference.caustics) ----------------------------------
+// A path is "diffuse" from the first vertex whose sampled direction came
+// from the cosine lobe, or whose roughness is at least
+// RTGI_REF_CAUSTIC_ROUGHNESS. Later vertices see light through a glossy
+// lobe: camera → diffuse → glossy → light, the caustic paths none of the
+// real-time techniques model and the source of the reference's fireflies
+// (a sharp GGX lobe evaluated towards the sun by next-event estimation).
+//   regularized: path-space regularization (Kaplanyan & Dachsbacher 2013,
+//     "Path Space Regularization for Holistic and Robust Light
+//     Transport"): such a vertex is shaded with roughness at least
+//     RTGI_REF_CAUSTIC_ROUGHNESS — the lobe is widened, so its peak value
+//     (and the variance) is bounded, at a bias the docs measure;
+//   off: such a vertex reflects with its Lambert lobe only (the caustic
+//     transport is removed: biased dark where caustics exist);
+//   on (neither define): unmodified.
+void refRegularize(inout Surface s, bool afterDiffuse) {
+#if defined(RTGI_REF_CAUSTICS_REGULARIZED)
+    if (afterDiffuse) s.roughness = max(s.roughness, RTGI_REF_CAUSTIC_ROUGHNESS);
+#elif defined(RTGI_REF_CAUSTICS_OFF)
+    if (afterDiffuse) s.specular = 0.0;
+#endif
+}
+
+// Whether the path is diffuse after leaving s by a sample of the given lobe.
+bool refDiffuseAfter(Surface s, bool specularLobe, bool afterDiffuse) {
+#ifdef RTGI_REF_CAUSTIC_ROUGHNESS
+    return afterDiffuse || !specularLobe || s.roughness >= RTGI_REF_CAUSTIC_ROUGHNESS;
+#else
+    return afterDiffuse || !specularLobe;
+#endif
 }
 
 // BRDF × cos of the reference: the real-time BRDF (brdf.glsl) or, with
 // RTGI_REF_DIFFUSE_ONLY, its Lambert lobe alone (furnace tests, diffuse-only
 // comparisons).
-vec3 refBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, float roughness, float metallic) {
+vec3 refBrdfCos(Surface s, vec3 v, vec3 l) {
 #ifdef RTGI_REF_DIFFUSE_ONLY
-    return diffuseAlbedo(albedo, metallic) * INV_PI * max(dot(n, l), 0.0);
+    return evalDiffuseCos(s.normal, l, s.albedo, s.metallic);
 #else
-    return evalBrdfCos(n, v, l, albedo, roughness, metallic);
+    return s.specular > 0.0 ? evalBrdfCos(s.normal, v, l, s.albedo, s.roughness, s.metallic)
+                            : evalDiffuseCos(s.normal, l, s.albedo, s.metallic);
 #endif
 }
 
@@ -91,7 +126,7 @@ vec3 directLight(Surface s, vec3 v, vec3 origin) {
     if (frame.sunDirection.w > 0.0) {
         vec3 l = frame.sunDirection.xyz;
         if (dot(s.geometric, l) > 0.0 && !traceAny(origin, l, 0.0, BVH_MISS))
-            L += refBrdfCos(s.normal, v, l, s.albedo, s.roughness, s.metallic) * frame.sunIrradiance.rgb;
+            L += refBrdfCos(s, v, l) * frame.sunIrradiance.rgb;
     }
     for (int i = 0; i < frame.counts.x; ++i) {
         GpuLight g = lights[i];
@@ -100,7 +135,7 @@ vec3 directLight(Surface s, vec3 v, vec3 origin) {
         float atten = localLightAttenuation(g, s.position, l, dist);
         if (atten <= 0.0 || dot(s.geometric, l) <= 0.0) continue;
         if (traceAny(origin, l, 0.0, dist)) continue;
-        L += refBrdfCos(s.normal, v, l, s.albedo, s.roughness, s.metallic) * g.colorIntensity.rgb * atten;
+        L += refBrdfCos(s, v, l) * g.colorIntensity.rgb * atten;
     }
     return L;
 }
@@ -114,28 +149,31 @@ const float REF_P_SPEC = 0.5;
 // Solid-angle pdf of sampleBrdf's one-sample mixture: cosine lobe (1 − p)
 // and GGX half-vector sampling p (pdf D·N·H / (4 V·H), Walter et al. 2007
 // eq. 35/38). The MIS weights of emitter sampling need it for any l.
-float brdfPdf(vec3 n, vec3 v, vec3 l, float roughness) {
+float brdfPdf(Surface s, vec3 v, vec3 l) {
+    vec3 n = s.normal;
     float nl = dot(n, l);
     if (nl <= 0.0) return 0.0;
-    float pdf = (1.0 - REF_P_SPEC) * nl * INV_PI;
-    if (REF_P_SPEC > 0.0) {
-        float alpha = max(roughness * roughness, 1e-3);
+    float pSpec = REF_P_SPEC * s.specular;
+    float pdf = (1.0 - pSpec) * nl * INV_PI;
+    if (pSpec > 0.0) {
+        float alpha = max(s.roughness * s.roughness, 1e-3);
         vec3 h = normalize(l + v);
-        pdf += REF_P_SPEC * ggxD(max(dot(n, h), 0.0), alpha) * max(dot(n, h), 0.0) / max(4.0 * dot(v, h), 1e-6);
+        pdf += pSpec * ggxD(max(dot(n, h), 0.0), alpha) * max(dot(n, h), 0.0) / max(4.0 * dot(v, h), 1e-6);
     }
     return pdf;
 }
 
-// Samples an outgoing direction for the BRDF at n from the mixture above;
+// Samples an outgoing direction for the BRDF of s from the mixture above;
 // weight = BRDF·cos / mixture pdf (balance heuristic over the two
-// techniques), pdf = the mixture's solid-angle pdf. Returns false when the
-// direction is below the surface.
-bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, inout Rng rng, out vec3 l,
-                out vec3 weight, out float pdf) {
-    float alpha = max(roughness * roughness, 1e-3);
+// techniques), pdf = the mixture's solid-angle pdf, specularLobe = which
+// technique drew it. Returns false when the direction is below the surface.
+bool sampleBrdf(Surface s, vec3 v, inout Rng rng, out vec3 l, out vec3 weight, out float pdf, out bool specularLobe) {
+    vec3 n = s.normal;
+    float alpha = max(s.roughness * s.roughness, 1e-3);
     float choose = rngNext(rng);
     vec2 u = rngNext2(rng);
-    if (choose < REF_P_SPEC) {
+    specularLobe = choose < REF_P_SPEC * s.specular;
+    if (specularLobe) {
         float phi = TWO_PI * u.x;
         float cosT = sqrt((1.0 - u.y) / (1.0 + (alpha * alpha - 1.0) * u.y));
         float sinT = sqrt(max(1.0 - cosT * cosT, 0.0));
@@ -145,9 +183,9 @@ bool sampleBrdf(vec3 n, vec3 v, vec3 albedo, float roughness, float metallic, in
         l = cosineHemisphere(u, n);
     }
     weight = vec3(0.0);
-    pdf = brdfPdf(n, v, l, roughness);
+    pdf = brdfPdf(s, v, l);
     if (!(pdf > 0.0)) return false;
-    weight = refBrdfCos(n, v, l, albedo, roughness, metallic) / pdf;
+    weight = refBrdfCos(s, v, l) / pdf;
     return true;
 }
 
@@ -220,8 +258,8 @@ vec3 sampleEmitters(Surface s, vec3 v, vec3 origin, inout Rng rng) {
     float len = length(seg);
     if (!(len > 0.0) || traceAny(origin, seg / len, 0.0, len)) return vec3(0.0);
     float pl = emitterLightPdf(dist2, cosY);
-    float w = misPower(pl, brdfPdf(s.normal, v, l, s.roughness));
-    return refBrdfCos(s.normal, v, l, s.albedo, s.roughness, s.metallic) * le * (w / pl);
+    float w = misPower(pl, brdfPdf(s, v, l));
+    return refBrdfCos(s, v, l) * le * (w / pl);
 #else
     return vec3(0.0);
 #endif
@@ -236,8 +274,9 @@ vec3 sampleEmitters(Surface s, vec3 v, vec3 origin, inout Rng rng) {
 // ambient term) and emission hit there is weighted 1 (x1 samples no
 // emitters), or 0 with RTGI_REF_EMISSION_IS_DIRECT. Shared by ref/path.comp
 // and the LPV probe reference lpv/probe.comp (a cell centre in place of x1,
-// the same matching-bounce transport).
-vec3 refTraceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, uint maxBounces, inout Rng rng) {
+// the same matching-bounce transport). afterDiffuse: whether the path was
+// already diffuse when it left ro (reference.caustics, refRegularize).
+vec3 refTraceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, uint maxBounces, bool afterDiffuse, inout Rng rng) {
     vec3 L = vec3(0.0);
     for (uint bounce = 1u; bounce <= maxBounces; ++bounce) {
         Hit h;
@@ -249,6 +288,7 @@ vec3 refTraceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, uint maxBoun
             break;
         }
         Surface x = surfaceAt(h, ro, rd);
+        refRegularize(x, afterDiffuse);
         vec3 v = -rd;
         vec3 origin = offsetRayOrigin(x.position, x.geometric, maxAbs(ro));
         float misWeight = emissionMisWeight(pdf, h.t, rd, x.geometric);
@@ -262,7 +302,9 @@ vec3 refTraceRadiance(vec3 ro, vec3 rd, float pdf, vec3 throughput, uint maxBoun
         L += throughput * (directLight(x, v, origin) + sampleEmitters(x, v, origin, rng));
         if (bounce == maxBounces) break;
         vec3 l, w;
-        if (!sampleBrdf(x.normal, v, x.albedo, x.roughness, x.metallic, rng, l, w, pdf)) break;
+        bool specularLobe;
+        if (!sampleBrdf(x, v, rng, l, w, pdf, specularLobe)) break;
+        afterDiffuse = refDiffuseAfter(x, specularLobe, afterDiffuse);
         if (dot(l, x.geometric) <= 0.0) break;  // shading normal sent the ray into the surface
         throughput *= w;
         if (bounce >= 3u) {

@@ -49,7 +49,7 @@ void main() {
         // Strata j < m^2: cell (j % m, j / m) of the unit square; the rest uniform.
         if (j < m * m) u = (vec2(float(j % m), float(j / m)) + u) / float(m);
         vec3 w = uniformSphere(u);
-        vec3 L = refTraceRadiance(x, w, 0.25 * INV_PI, vec3(1.0), uParams.y, rng);
+        vec3 L = refTraceRadiance(x, w, 0.25 * INV_PI, vec3(1.0), uParams.y, true, rng);
         if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
         LpvSh y = lpvProbeBasis(w);
         pr += L.r * y;

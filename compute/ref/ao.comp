@@ -8,13 +8,14 @@
 #include "lib/random.glsl"
 #include "lib/sampling.glsl"
 #include "lib/bvh.glsl"
+#include "lib/moments.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
 
 layout(binding = RTGI_REF_AO_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
 layout(binding = RTGI_REF_AO_TEX_NORMAL) uniform sampler2D uNormal;
-layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // Σx (rgb), sample count (a)
-layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // Σx² (rgb)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // running mean (rgb), sample count (a)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // running M2 (rgb): lib/moments.glsl
 
 
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed
@@ -43,8 +44,12 @@ void main() {
             if (!traceAny(origin, dir, 0.0, uRayLength)) visible += 1.0;
         }
     }
-    // Visibility is 0 or 1, so Σx² = Σx.
-    imageStore(uAccum, p, imageLoad(uAccum, p) + vec4(vec3(visible), n));
-    imageStore(uAccumSq, p, imageLoad(uAccumSq, p) + vec4(vec3(visible), 0.0));
+    // Visibility is 0 or 1: a batch of n rays with k visible has mean k/n
+    // and M2 = Σ(x − k/n)² = k·(1 − k/n).
+    float mean = visible / n;
+    Moments batch = Moments(vec3(mean), vec3(visible * (1.0 - mean)), n);
+    Moments m = momentsMerge(momentsLoad(imageLoad(uAccum, p), imageLoad(uAccumSq, p)), batch);
+    imageStore(uAccum, p, vec4(m.mean, m.n));
+    imageStore(uAccumSq, p, vec4(m.m2, 0.0));
     bvhCommitRayCount(uSamples.x);
 }

@@ -23,6 +23,7 @@
 #include "lib/bvh.glsl"
 #include "lib/lights.glsl"
 #include "lib/ref_scene.glsl"
+#include "lib/moments.glsl"
 
 layout(local_size_x = RTGI_REF_LOCAL, local_size_y = RTGI_REF_LOCAL) in;
 
@@ -31,8 +32,8 @@ layout(binding = RTGI_REF_PATH_TEX_NORMAL) uniform sampler2D uNormal;
 layout(binding = RTGI_REF_TEX_ALBEDO) uniform sampler2D uAlbedo;
 layout(binding = RTGI_REF_TEX_MATERIAL) uniform sampler2D uMaterial;
 layout(binding = RTGI_REF_TEX_EMISSIVE) uniform sampler2D uEmissive;
-layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // Σx (rgb), sample count (a)
-layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // Σx² (rgb)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // running mean (rgb), sample count (a)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // running M2 (rgb): lib/moments.glsl
 
 
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
@@ -44,13 +45,14 @@ float gbufferMagnitude(float d) { return max(maxAbs(frame.cameraPos.xyz), d); }
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
-    vec3 sum = vec3(0.0), sumSq = vec3(0.0);
+    Moments batch = momentsEmpty();
     float d = texelFetch(uLinearDepth, p, 0).r;
     if (isSky(d)) {
+        // A constant: mean = sky (full) or 0 (indirect), no deviation.
 #ifdef RTGI_REF_FULL
-        sum = frame.sky.rgb * float(uSamples.y);
-        sumSq = frame.sky.rgb * frame.sky.rgb * float(uSamples.y);
+        batch.mean = frame.sky.rgb;
 #endif
+        batch.n = float(uSamples.y);
     } else {
         vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
         Surface s;
@@ -67,6 +69,7 @@ void main() {
         s.roughness = rm.x;
         s.metallic = rm.y;
         s.emission = texelFetch(uEmissive, p, 0).rgb;
+        s.specular = 1.0;
         vec3 origin = offsetRayOrigin(s.position, n, gbufferMagnitude(d));
         for (uint k = 0u; k < uSamples.y; ++k) {
             Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
@@ -74,19 +77,22 @@ void main() {
             vec3 L = s.emission + directLight(s, v, origin) + sampleEmitters(s, v, origin, rng);
             vec3 l, w;
             float pdf;
-            if (sampleBrdf(n, v, s.albedo, s.roughness, s.metallic, rng, l, w, pdf))
-                L += refTraceRadiance(origin, l, pdf, w, uSamples.w, rng);
+            bool specularLobe;
+            if (sampleBrdf(s, v, rng, l, w, pdf, specularLobe))
+                L += refTraceRadiance(origin, l, pdf, w, uSamples.w, refDiffuseAfter(s, specularLobe, false), rng);
 #else
             vec3 l = cosineHemisphere(rngNext2(rng), n);
-            vec3 L = refTraceRadiance(origin, l, dot(n, l) * INV_PI, diffuseAlbedo(s.albedo, s.metallic), uSamples.w, rng);
+            vec3 L = refTraceRadiance(origin, l, dot(n, l) * INV_PI, diffuseAlbedo(s.albedo, s.metallic), uSamples.w,
+                                      true, rng);
 #endif
             // A non-finite sample (degenerate geometry) is dropped, never accumulated.
             if (any(isnan(L)) || any(isinf(L))) L = vec3(0.0);
-            sum += L;
-            sumSq += L * L;
+            momentsAdd(batch, L);
         }
     }
-    imageStore(uAccum, p, imageLoad(uAccum, p) + vec4(sum, float(uSamples.y)));
-    imageStore(uAccumSq, p, imageLoad(uAccumSq, p) + vec4(sumSq, 0.0));
+    // One invocation owns its pixel: plain load/store, no atomics.
+    Moments m = momentsMerge(momentsLoad(imageLoad(uAccum, p), imageLoad(uAccumSq, p)), batch);
+    imageStore(uAccum, p, vec4(m.mean, m.n));
+    imageStore(uAccumSq, p, vec4(m.m2, 0.0));
     bvhCommitRayCount(uSamples.x);
 }

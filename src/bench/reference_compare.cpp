@@ -12,6 +12,8 @@
 #include "render/reference/reference_passes.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <limits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -41,6 +43,51 @@ void addSkill(nlohmann::json& j, const FloatImage& test, const FloatImage& ref, 
     j["skill"] = rmseZero > 0 ? 1.0 - j["rmse"].get<double>() / rmseZero : 0.0;
 }
 
+// The reference's noise in the error (docs/reference.md, "Errors with their
+// uncertainty"): the debiased RMSE and its 95 % interval.
+void addUncertainty(nlohmann::json& j, const FloatImage& test, const FloatImage& ref, const FloatImage& se,
+                    int channels, const std::vector<std::uint8_t>& mask) {
+    RmseUncertainty u = rmseUncertainty(test, ref, se, channels, mask);
+    j["rmse_debiased"] = u.rmseDebiased;
+    j["rmse_ci95"] = {u.low, u.high};
+    j["reference_noise"] = u.noiseRms;
+}
+
+// Converging references (reference.target_noise): each check compares the
+// tested image with the reference so far over the compared pixels.
+void convergeAgainst(ReferenceOutput& out, const Settings& rs, const FloatImage& test, int channels,
+                     const std::vector<std::uint8_t>& mask) {
+    if (!rs.reference.converging()) return;
+    out.setConvergence([&test, channels, &mask](const FloatImage& mean, const FloatImage& se) {
+        RmseUncertainty u = rmseUncertainty(test, mean, se, channels, mask);
+        ConvergenceCheck c;
+        c.noise = u.noiseRms;
+        c.error = u.rmseDebiased;
+        return c;
+    });
+}
+
+// The compared image of `run`'s scene and camera rendered with `settings`
+// for `frames` frames (error.gain's frame without a technique).
+FloatImage renderCompared(const Renderer& run, const Settings& settings, const Camera& camera, glm::ivec2 resolution,
+                          int frames, ReferenceSettings::Kind kind) {
+    gl::Profiler profiler(false);
+    Renderer r(run.scene(), settings, profiler);
+    View prev;
+    for (int f = 0; f < std::max(frames, 1); ++f) {
+        View v = makeView(camera, resolution, f == 0 ? nullptr : &prev, unsigned(f));
+        r.render(v);
+        prev = v;
+    }
+    const gl::Texture& t = comparedTexture(kind, r.resources());
+    if (!t) {  // the indirect term without its only technique: no light at all
+        FloatImage zero = readTexture(r.resources().gbuffer.linearDepth);
+        std::fill(zero.data.begin(), zero.data.end(), 0.0f);
+        return zero;
+    }
+    return readTexture(t);
+}
+
 double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mask) {
     double peak = 0;
     for (std::size_t i = 0; i < std::size_t(ref.width) * std::size_t(ref.height); ++i)
@@ -51,10 +98,63 @@ double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mas
     return std::max(peak, 1e-6);
 }
 
+// Issue 12: an LPV run's indirect light `test` against the path tracer with
+// the light transport the LPV models (one bounce, two with lpv.bounce=on,
+// Lambert only). `rs`: the settings of the reference already traced
+// (`mean`, `se`); when it is an indirect reference with the same transport it
+// is reused, else a matching one is traced (into `matching`).
+nlohmann::json matchingBounceError(const Renderer& run, const Settings& rs, const FloatImage& test, const FloatImage& mean,
+                                   const FloatImage& se, const std::vector<std::uint8_t>& mask,
+                                   const std::vector<std::uint8_t>& interior, const View& v, FloatImage& matching) {
+    using K = ReferenceSettings::Kind;
+    const int channels = 3;
+    Settings ms = referenceRunSettings(run.settings(), K::Indirect);
+    ms.reference = rs.reference;
+    ms.reference.kind = K::Indirect;
+    ms.reference.bounces = run.settings().lpv.bounce ? 2 : 1;
+    ms.reference.specular = false;
+    const bool same = rs.reference.kind == K::Indirect && ms.reference.bounces == rs.reference.bounces &&
+                      ms.reference.specular == rs.reference.specular;
+    matching = mean;
+    FloatImage matchingSe = se;
+    nlohmann::json matchingInfo;
+    if (!same) {
+        gl::Profiler profiler(false);
+        Renderer mref(run.scene(), ms, profiler);
+        auto* mout = dynamic_cast<ReferenceOutput*>(mref.findPass("ref.path"));
+        if (!mout) throw ConfigError("--reference: the matching-bounce reference pass did not run");
+        convergeAgainst(*mout, ms, test, channels, mask);
+        mref.render(v);
+        matching = readTexture(mout->mean());
+        matchingSe = readTexture(mout->standardError());
+        for (auto& [k, val] : mref.findPass("ref.path")->stats()) matchingInfo[k] = val;
+        matchingInfo["spp"] = mout->samplesDone();
+        matchingInfo["mean_stderr"] = rmsStandardError(matchingSe, channels, mask);
+        if (!mout->convergenceInfo().is_null()) matchingInfo["convergence"] = mout->convergenceInfo();
+    }
+    double mpeak = peakLuminance(matching, mask);
+    nlohmann::json mb = metricsJson(compareImages(test, matching, channels, mpeak, mask), true);
+    addSkill(mb, test, matching, channels, mpeak, mask);
+    addUncertainty(mb, test, matching, matchingSe, channels, mask);
+    mb.erase("ssim");
+    nlohmann::json in = metricsJson(compareImages(test, matching, channels, mpeak, interior), true);
+    addSkill(in, test, matching, channels, mpeak, interior);
+    addUncertainty(in, test, matching, matchingSe, channels, interior);
+    in.erase("ssim");
+    mb["interior"] = in;
+    mb["bounces"] = ms.reference.bounces;
+    mb["specular"] = false;
+    mb["same_as_reference"] = same;
+    mb["peak"] = mpeak;
+    if (!same) mb["reference"] = matchingInfo;
+    return mb;
+}
+
 }  // namespace
 
 nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::ivec2 resolution,
-                                    const std::string& outDir, bool writeImages, ReferenceSettings::Kind requested) {
+                                    const std::string& outDir, bool writeImages, ReferenceSettings::Kind requested,
+                                    int framesRendered) {
     using K = ReferenceSettings::Kind;
     FrameResources& res = run.resources();
     K kind = requested != K::Off ? requested : referenceKindFor(run.settings(), res);
@@ -65,6 +165,9 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
                           " to compare with the reference");
     FloatImage test = readTexture(tested);
     FloatImage depth = readTexture(res.gbuffer.linearDepth);
+    std::vector<std::uint8_t> mask(std::size_t(depth.width) * std::size_t(depth.height));
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = depth.data[i * 4] > 0.0f ? 1 : 0;
+    const int channels = kind == K::Ao ? 1 : 3;
 
     // The reference renderer: the same scene, camera and lights, with the
     // real-time techniques off (they would only cost time).
@@ -72,19 +175,18 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     gl::Profiler profiler(false);
     Renderer ref(run.scene(), rs, profiler);
     View v = makeView(camera, resolution, nullptr, 0);
-    ref.render(v);
     const char* passName = kind == K::Ao ? "ref.ao" : "ref.path";
     auto* out = dynamic_cast<ReferenceOutput*>(ref.findPass(passName));
     if (!out) throw ConfigError("--reference: the reference pass did not run");
+    convergeAgainst(*out, rs, test, channels, mask);
+    ref.render(v);
     FloatImage mean = readTexture(out->mean()), se = readTexture(out->standardError());
 
-    std::vector<std::uint8_t> mask(std::size_t(depth.width) * std::size_t(depth.height));
-    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = depth.data[i * 4] > 0.0f ? 1 : 0;
-    int channels = kind == K::Ao ? 1 : 3;
     double peak = kind == K::Ao ? 1.0 : peakLuminance(mean, mask);
     ErrorMetrics m = compareImages(test, mean, channels, peak, mask);
     nlohmann::json e = metricsJson(m, kind != K::Ao);
     addSkill(e, test, mean, channels, peak, mask);
+    addUncertainty(e, test, mean, se, channels, mask);
     e["compared"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirectDiffuse" : "hdr";
     e["kind"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirect" : "full";  // results.json config.reference
     e["pixels_compared"] = "geometry (linear depth > 0; sky excluded)";
@@ -99,6 +201,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
         nlohmann::json in = metricsJson(compareImages(test, mean, channels, peak, interior), kind != K::Ao);
         addSkill(in, test, mean, channels, peak, interior);
+        addUncertainty(in, test, mean, se, channels, interior);
         in.erase("ssim");
         in["relative_depth_jump"] = 0.1;
         e["interior"] = in;
@@ -108,30 +211,11 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     // Lambert only), beside the error against the reference asked for. The
     // same reference when the settings already match, else a second one.
     if (kind == K::Indirect && lpvActive(run.scene(), run.settings())) {
-        Settings ms = rs;
-        ms.reference.bounces = run.settings().lpv.bounce ? 2 : 1;
-        ms.reference.specular = false;
-        bool same = ms.reference.bounces == rs.reference.bounces && ms.reference.specular == rs.reference.specular;
-        FloatImage matching = mean;
-        if (!same) {
-            Renderer mref(run.scene(), ms, profiler);
-            mref.render(v);
-            auto* mout = dynamic_cast<ReferenceOutput*>(mref.findPass(passName));
-            if (!mout) throw ConfigError("--reference: the matching-bounce reference pass did not run");
-            matching = readTexture(mout->mean());
-        }
-        double mpeak = peakLuminance(matching, mask);
-        nlohmann::json mb = metricsJson(compareImages(test, matching, channels, mpeak, mask), true);
-        addSkill(mb, test, matching, channels, mpeak, mask);
-        mb.erase("ssim");
         const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
-        nlohmann::json in = metricsJson(compareImages(test, matching, channels, mpeak, interior), true);
-        addSkill(in, test, matching, channels, mpeak, interior);
-        in.erase("ssim");
-        mb["interior"] = in;
-        mb["bounces"] = ms.reference.bounces;
-        mb["specular"] = false;
-        mb["same_as_reference"] = same;
+        FloatImage matching;
+        nlohmann::json mb = matchingBounceError(run, rs, test, mean, se, mask, interior, v, matching);
+        const double mpeak = mb["peak"].get<double>();
+        const nlohmann::json in = mb["interior"];
         e["matching_bounce"] = mb;
         // Stage attribution (docs/lpv.md): the same frame with the path-traced
         // probe volumes; probe vs matching = lookup error, propagated vs probe
@@ -154,6 +238,47 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
                           {"probe_directions", run.settings().lpv.probeDirections}};
         }
     }
+    // Issue 22: with a full reference, also the LPV's indirect term against
+    // the matching-bounce reference (the suite's skill column).
+    if (kind == K::Full && lpvActive(run.scene(), run.settings()) && res.indirectDiffuse) {
+        FloatImage matching;
+        e["matching_bounce"] = matchingBounceError(run, rs, readTexture(res.indirectDiffuse), mean, se, mask,
+                                                   depthInteriorMask(depth, 0.1), v, matching);
+    }
+    // Issue 22: does the technique help? The same frame composed without its
+    // contribution, against the same reference: gain = 1 − rmse / rmse_without
+    // on the debiased RMSEs (> 0: better than switching it off). LPV off
+    // leaves the ambient term as lpv=off has it; the near-field term off is
+    // ao.nearfield=0.
+    if (kind != K::Ao) {
+        const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
+        auto gainOf = [&](const Settings& without) {
+            FloatImage w = renderCompared(run, without, camera, resolution, framesRendered, kind);
+            nlohmann::json g;
+            for (const std::vector<std::uint8_t>* part : {static_cast<const std::vector<std::uint8_t>*>(&mask), &interior}) {
+                RmseUncertainty on = rmseUncertainty(test, mean, se, channels, *part);
+                RmseUncertainty off = rmseUncertainty(w, mean, se, channels, *part);
+                nlohmann::json x = {{"rmse", on.rmseDebiased}, {"rmse_without", off.rmseDebiased},
+                                    {"rmse_without_ci95", {off.low, off.high}},
+                                    {"gain", off.rmseDebiased > 0 ? 1.0 - on.rmseDebiased / off.rmseDebiased : 0.0}};
+                if (part == &mask) g = x;
+                else g["interior"] = x;
+            }
+            return g;
+        };
+        nlohmann::json gains;
+        if (lpvActive(run.scene(), run.settings())) {
+            Settings w = run.settings();
+            w.lpv.mode = Toggle::Off;
+            gains["lpv"] = gainOf(w);
+        }
+        if (run.settings().ao.nearfield > 0 && run.settings().ao.variant != AoSettings::Variant::Off) {
+            Settings w = run.settings();
+            w.ao.nearfield = 0.0f;
+            gains["nearfield"] = gainOf(w);
+        }
+        if (!gains.empty()) e["gain"] = gains;
+    }
     // Issue 6: the reflection error on the glossy pixels (roughness <=
     // ssr.roughness_cutoff, the ones SSR shades; also with ssr=off, as the
     // baseline), beside the whole-image one. SSIM is computed over the whole
@@ -165,15 +290,29 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         for (std::size_t i = 0; i < glossy.size(); ++i)
             glossy[i] = mask[i] && material.data[i * std::size_t(material.channels)] <= cutoff;
         nlohmann::json g = metricsJson(compareImages(test, mean, channels, peak, glossy), true);
+        addUncertainty(g, test, mean, se, channels, glossy);
         g.erase("ssim");
         e["glossy"] = g;
     }
     nlohmann::json refInfo = referenceSettingsJson(referenceConstants(rs, run.scene().bounds()));
     for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
-    refInfo["spp"] = rs.reference.spp;
+    refInfo["spp"] = out->samplesDone();  // a converging reference's spp is what it took
     // The reference's own noise on the RMSE's scale: RMS of the per-pixel
     // standard error over the compared pixels and channels (docs/reference.md).
     refInfo["mean_stderr"] = rmsStandardError(se, channels, mask);
+    if (!out->convergenceInfo().is_null()) refInfo["convergence"] = out->convergenceInfo();
+    // The reference's noise as a fraction of the (debiased) error: above 0.2
+    // the error says more about the reference than about the frame.
+    {
+        const double deb = e["rmse_debiased"].get<double>(), noise = refInfo["mean_stderr"].get<double>();
+        const double ratio = deb > 0 ? noise / deb : (noise > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+        refInfo["noise_ratio"] = std::isfinite(ratio) ? nlohmann::json(ratio) : nlohmann::json("inf");
+        if (ratio > 0.2)
+            std::fprintf(stderr,
+                         "rtgi: warning: the reference's noise (%.3g) is %.2f of the error (%.3g); the error mostly "
+                         "measures the reference: set reference.target_noise=0.2 or raise reference.spp\n",
+                         noise, ratio, deb);
+    }
     refInfo["from_cache"] = out->fromCache();
     refInfo["cache_key"] = out->cacheKey();
     refInfo["cache_dir"] = rs.reference.cacheDir;

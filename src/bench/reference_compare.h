@@ -16,9 +16,13 @@ namespace rtgi {
 
 // Compares `run`'s current output with the matching reference; writes
 // reference images and the error heat map into outDir when writeImages.
+// `framesRendered`: how many frames `run` rendered (the frames without a
+// technique, for error.gain, are rendered as many times so that temporal
+// filters stand where the run's do).
 nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::ivec2 resolution,
                                     const std::string& outDir, bool writeImages,
-                                    ReferenceSettings::Kind requested = ReferenceSettings::Kind::Off);
+                                    ReferenceSettings::Kind requested = ReferenceSettings::Kind::Off,
+                                    int framesRendered = 1);
 
 // What `rtgi-bench --compare` compares (docs/reference.md, "Comparing image
 // files"): the quantity and which pixels.

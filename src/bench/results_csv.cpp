@@ -17,7 +17,13 @@ const char* const kErrorColumns[] = {
     "rel_rmse",      "pixels",        "interior.rmse",  "interior.mae",  "interior.bias",
     "interior.psnr", "interior.rel_rmse", "interior.pixels", "glossy.rmse", "glossy.mae",
     "glossy.bias",   "glossy.psnr",   "glossy.rel_rmse", "glossy.pixels", "reference.spp",
-    "reference.mean_stderr", "reference.from_cache", "heatmap_max"};
+    "reference.mean_stderr", "reference.from_cache", "heatmap_max",
+    // issue 21: the error corrected for the reference's noise, its 95 % interval
+    "rmse_debiased", "rmse_ci95.0", "rmse_ci95.1", "interior.rmse_debiased", "interior.rmse_ci95.0",
+    "interior.rmse_ci95.1", "reference.noise_ratio",
+    // issue 22: 1 − rmse / rmse without the technique (> 0: it helps)
+    "gain.lpv.gain", "gain.lpv.interior.gain", "gain.lpv.rmse_without", "gain.nearfield.gain",
+    "gain.nearfield.interior.gain"};
 
 std::string number(double v) {
     if (std::isnan(v)) return "nan";
@@ -48,8 +54,15 @@ const nlohmann::json* path(const nlohmann::json& j, const std::string& dotted) {
     while (true) {
         std::size_t dot = dotted.find('.', start);
         std::string part = dotted.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-        if (!cur->is_object() || !cur->contains(part)) return nullptr;
-        cur = &(*cur)[part];
+        if (cur->is_array()) {  // "rmse_ci95.0": an element of an array
+            char* end = nullptr;
+            const unsigned long k = std::strtoul(part.c_str(), &end, 10);
+            if (part.empty() || *end != '\0' || k >= cur->size()) return nullptr;
+            cur = &(*cur)[k];
+        } else {
+            if (!cur->is_object() || !cur->contains(part)) return nullptr;
+            cur = &(*cur)[part];
+        }
         if (dot == std::string::npos) return cur;
         start = dot + 1;
     }

@@ -171,7 +171,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     }
     if (opts.reference) {
         r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages,
-                                          opts.referenceKind);
+                                          opts.referenceKind, opts.warmup + opts.frames);
         // The frames above were timed without the reference passes; the
         // configuration this result describes is compared with this kind.
         r["config"]["reference"] = r["error"]["kind"];

@@ -252,7 +252,7 @@ nlohmann::json SweepConfig::describe() const {
         if (k == "view") view = v;
     }
     return {{"id", id},       {"label", label()}, {"scene_label", sceneLabel}, {"scenes", scenes},
-            {"view", view},   {"axes", axes},     {"set", set}};
+            {"view", view},   {"axes", axes},     {"set", set}, {"held_out", heldOut}};
 }
 
 namespace {
@@ -278,7 +278,7 @@ SweepSpec parseSweepImpl(const std::string& text, const std::string& source) {
     }
     if (!j.is_object()) throw ConfigError(fail(source, "a sweep must be a JSON object"));
     static const std::set<std::string> known = {"name",   "description", "scenes", "resolutions", "frames",   "warmup",
-                                                "images", "check",       "base",   "axes",        "reference"};
+                                                "images", "check",       "base",   "axes",        "reference", "held_out"};
     for (auto& [k, v] : j.items())
         if (!known.count(k)) throw ConfigError(fail(source, "unknown sweep field '" + k + "'"));
     SweepSpec spec;
@@ -376,6 +376,23 @@ SweepSpec parseSweepImpl(const std::string& text, const std::string& source) {
                 }
                 spec.configs.push_back(std::move(c));
             }
+    // "held_out": ["LABEL/VIEW", ...]: views kept out of tuning (the test set
+    // of a train/test split); each must name a scene label and view above.
+    if (j.contains("held_out")) {
+        if (!j["held_out"].is_array()) throw ConfigError(fail(source, "'held_out' must be a list of \"LABEL/VIEW\" strings"));
+        for (auto& h : j["held_out"]) {
+            if (!h.is_string()) throw ConfigError(fail(source, "'held_out' entries must be \"LABEL/VIEW\" strings"));
+            const std::string name = h.get<std::string>();
+            bool found = false;
+            for (auto& c : spec.configs) {
+                std::string view;
+                for (auto& [k, v] : c.assignments)
+                    if (k == "view") view = v;
+                if (c.sceneLabel + "/" + view == name) found = c.heldOut = true;
+            }
+            if (!found) throw ConfigError(fail(source, "'held_out' names '" + name + "', which is no scene label/view of this sweep"));
+        }
+    }
     return spec;
 }
 }  // namespace

@@ -27,6 +27,9 @@ struct SweepConfig {
     std::vector<std::pair<std::string, std::string>> assignments;
     // The subset of assignments that come from axes (what varies in the sweep).
     std::vector<std::pair<std::string, std::string>> axisValues;
+    // Named in the sweep's "held_out" list: a view kept out of tuning, reported
+    // as the test set (not part of the id).
+    bool heldOut = false;
 
     std::string canonical() const;  // what the id hashes
     std::string label() const;      // "atrium view=a 1920x1080 ao=hbao ao.samples=8"

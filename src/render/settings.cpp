@@ -105,6 +105,7 @@ const char* const kAoDualCombine[] = {"product", "min"};
 const char* const kAoFilterChain[] = {"blur-temporal", "blur-temporal-blur"};
 const char* const kSsrTracer[] = {"auto", "off", "linear", "dda", "hiz"};
 const char* const kReference[] = {"off", "ao", "indirect", "full"};
+const char* const kCaustics[] = {"on", "off", "regularized"};
 const char* const kResolution[] = {"full", "half"};
 
 template <class T>
@@ -290,6 +291,28 @@ std::vector<SettingKey> buildKeys() {
             "next-event estimation of emissive triangles, MIS with BRDF sampling (off: emitters found by BRDF rays only)",
             "on|off", s.reference.lightSampling = parseBool("reference.light_sampling", v),
             s.reference.lightSampling ? "on" : "off"),
+        KEY("reference.caustics",
+            "caustic paths (camera, diffuse, glossy, light): on as they are, off removed, regularized (roughened)",
+            "on|off|regularized",
+            s.reference.caustics = parseEnum<ReferenceSettings::Caustics>("reference.caustics", v, kCaustics),
+            kCaustics[int(s.reference.caustics)]),
+        KEY("reference.caustic_roughness",
+            "roughness floor of glossy vertices after a diffuse one (caustics=regularized; the lobe test of off)",
+            "0.01..1",
+            s.reference.causticRoughness = parseFloat("reference.caustic_roughness", v, 0.01, 1),
+            fmt(s.reference.causticRoughness)),
+        KEY("reference.target_noise",
+            "trace until the reference's RMS standard error is at most this fraction of the compared error (0 = off)",
+            "0..1", s.reference.targetNoise = parseFloat("reference.target_noise", v, 0, 1),
+            fmt(s.reference.targetNoise)),
+        KEY("reference.target_stderr",
+            "trace until the reference's RMS standard error is at most this value (0 = off; with target_noise: the looser)",
+            "0..1e6", s.reference.targetStderr = parseFloat("reference.target_stderr", v, 0, 1e6),
+            fmt(s.reference.targetStderr)),
+        KEY("reference.time_budget", "seconds a converging reference may trace (0 = no limit)", "0..1e6",
+            s.reference.timeBudget = parseFloat("reference.time_budget", v, 0, 1e6), fmt(s.reference.timeBudget)),
+        KEY("reference.max_spp", "most samples per pixel a converging reference traces", "1..16777216",
+            s.reference.maxSpp = parseInt("reference.max_spp", v, 1, 16777216), fmt(s.reference.maxSpp)),
     };
 }
 

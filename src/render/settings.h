@@ -118,6 +118,20 @@ struct ReferenceSettings {
     int seed = 1;                         // fixed seed of the sample sequence
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
     bool lightSampling = true;            // next-event estimation of emissive triangles with MIS (off: BRDF sampling only)
+    // Caustic paths (camera → diffuse → glossy → light, docs/reference.md):
+    // kept as they are (on), removed (off) or path-space regularized.
+    enum class Caustics { On, Off, Regularized } caustics = Caustics::Regularized;
+    float causticRoughness = 0.3f;        // regularized: roughness floor after a diffuse vertex; the lobe test of off
+    // Convergence to a noise target (docs/reference.md, "Converging"): 0 = off
+    // (exactly `spp` samples). targetNoise is relative to the error the
+    // reference is compared with (RMS standard error <= targetNoise × the
+    // debiased RMSE), targetStderr absolute; the run stops at the looser of
+    // the two, at timeBudget seconds or at maxSpp samples.
+    double targetNoise = 0;
+    double targetStderr = 0;
+    double timeBudget = 300;
+    int maxSpp = 65536;
+    bool converging() const { return targetNoise > 0 || targetStderr > 0; }
 };
 
 // Visibility: hardware rasterization or the compute rasterizer (docs/visibility.md).

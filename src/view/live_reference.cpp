@@ -90,6 +90,7 @@ void LiveReference::measure(Renderer& run) {
     if (channels == 1) peak = 1.0;
     errors_.metrics = compareImages(test, mean, channels, peak, mask);
     errors_.referenceNoise = rmsStandardError(se, channels, mask);
+    errors_.uncertainty = rmseUncertainty(test, mean, se, channels, mask);
     errors_.heatMax = errorQuantile(test, mean, channels, 0.99);
     errors_.compared = kind_ == K::Ao ? "ao" : kind_ == K::Indirect ? "indirect" : "full";
     errors_.valid = true;

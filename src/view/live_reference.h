@@ -20,6 +20,7 @@ struct LiveErrors {
     bool valid = false;
     ErrorMetrics metrics;      // over the geometry pixels (SSIM: whole image)
     double referenceNoise = 0; // RMS standard error of the reference over the same pixels
+    RmseUncertainty uncertainty; // debiased RMSE and its 95 % interval (docs/reference.md)
     double heatMax = 0;        // 99th percentile of |Δ luminance| (the heat map's scale, as rtgi-bench's)
     int samples = 0, targetSamples = 0;
     std::string compared;      // "ao", "indirect", "full"

@@ -203,6 +203,9 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
                     ImGui::Text("RMSE %.4g   relative RMSE %.4g", e.metrics.rmse, e.metrics.relRmse);
                 ImGui::Text("SSIM %.4f   PSNR %.2f dB", e.metrics.ssim, e.metrics.psnr);
                 ImGui::Text("reference noise (RMS SE) %.4g", e.referenceNoise);
+                const RmseUncertainty& u = e.uncertainty;
+                ImGui::Text("RMSE debiased %.4g +- %.2g (95 %%: %.4g .. %.4g)", u.rmseDebiased, 0.5 * (u.high - u.low),
+                            u.low, u.high);
                 if (e.referenceNoise > 0.5 * e.metrics.rmse)
                     ImGui::TextWrapped("the reference's noise is still comparable to the error: let it converge");
             }

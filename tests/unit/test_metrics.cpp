@@ -106,6 +106,23 @@ TEST_CASE("Reference settings -> GPU constants") {
     REQUIRE(c.defines().size() == 2);
     CHECK(c.defines()[0].name == "RTGI_REF_FULL");
     CHECK(c.defines()[1].name == "RTGI_REF_DIFFUSE_ONLY");
+    // Caustic paths: regularized by default (with the roughness floor as a
+    // define), removed with off, untouched with on; no glossy lobe, no define.
+    s.reference.specular = true;
+    c = referenceConstants(s, box);
+    REQUIRE(c.defines().size() == 3);
+    CHECK(c.defines()[1].name == "RTGI_REF_CAUSTICS_REGULARIZED");
+    CHECK(c.defines()[2].name == "RTGI_REF_CAUSTIC_ROUGHNESS");
+    CHECK(std::stod(c.defines()[2].value) == doctest::Approx(0.3));
+    applySetting(s, "reference.caustics", "off");
+    applySetting(s, "reference.caustic_roughness", "0.5");
+    c = referenceConstants(s, box);
+    CHECK(c.defines()[1].name == "RTGI_REF_CAUSTICS_OFF");
+    CHECK(std::stod(c.defines()[2].value) == doctest::Approx(0.5));
+    applySetting(s, "reference.caustics", "on");
+    CHECK(referenceConstants(s, box).defines().size() == 1);
+    CHECK_THROWS_AS(applySetting(s, "reference.caustics", "maybe"), ConfigError);
+    CHECK_THROWS_AS(applySetting(s, "reference.target_noise", "2"), ConfigError);
     CHECK_THROWS_AS(applySetting(s, "reference.seed", "-1"), ConfigError);
     CHECK_THROWS_AS(applySetting(s, "reference.specular", "maybe"), ConfigError);
 }

@@ -257,4 +257,42 @@ double rmsStandardError(const FloatImage& se, int channels, const std::vector<st
     return count > 0 ? std::sqrt(sum / double(count)) : 0.0;
 }
 
+RmseUncertainty rmseUncertainty(const FloatImage& test, const FloatImage& ref, const FloatImage& se, int channels,
+                                const std::vector<std::uint8_t>& mask, double z) {
+    const std::size_t n = std::size_t(ref.width) * std::size_t(ref.height);
+    const auto at = [](const FloatImage& img, std::size_t i, int c) {
+        return double(img.data[i * std::size_t(img.channels) + std::size_t(std::min(c, img.channels - 1))]);
+    };
+    double sq = 0, noise = 0, var = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!mask.empty() && !mask[i]) continue;
+        bool finite = true;
+        for (int c = 0; c < channels; ++c)
+            finite &= std::isfinite(at(test, i, c)) && std::isfinite(at(ref, i, c)) && std::isfinite(at(se, i, c));
+        if (!finite) continue;
+        double sdSum = 0;  // Σ_c √Var((d_c − e_c)²): fully correlated channels
+        for (int c = 0; c < channels; ++c) {
+            const double d = at(test, i, c) - at(ref, i, c), s2 = at(se, i, c) * at(se, i, c);
+            sq += d * d;
+            noise += s2;
+            const double d2 = std::max(0.0, d * d - s2);
+            sdSum += std::sqrt(4.0 * d2 * s2 + 2.0 * s2 * s2);
+        }
+        var += sdSum * sdSum;
+        count += std::size_t(channels);
+    }
+    RmseUncertainty u;
+    u.z = z;
+    if (count == 0) return u;
+    const double m = double(count);
+    const double mse = sq / m, noiseMse = noise / m, deb = mse - noiseMse, sd = std::sqrt(var) / m;
+    u.rmse = std::sqrt(mse);
+    u.rmseDebiased = std::sqrt(std::max(0.0, deb));
+    u.low = std::sqrt(std::max(0.0, deb - z * sd));
+    u.high = std::sqrt(std::max(0.0, deb + z * sd));
+    u.noiseRms = std::sqrt(noiseMse);
+    return u;
+}
+
 }  // namespace rtgi

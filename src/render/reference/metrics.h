@@ -55,4 +55,29 @@ double errorQuantile(const FloatImage& test, const FloatImage& ref, int channels
 // error.reference.mean_stderr, rtgi-view's live comparison).
 double rmsStandardError(const FloatImage& se, int channels, const std::vector<std::uint8_t>& mask);
 
+// The RMSE against a noisy reference, corrected for the reference's noise,
+// with a confidence interval (docs/reference.md, "Errors with their
+// uncertainty"). Model: the reference pixel r̂ = r + e with e ~ N(0, σ²),
+// σ = its standard error `se` (the mean of many independent samples), so
+// with d = t − r the measured squared error (d − e)² has mean d² + σ² and
+// variance 4d²σ² + 2σ⁴. Hence MSE_debiased = MSE − mean(σ²) (rmseDebiased =
+// √max(0, ·)), and its variance is the sum of the per-pixel variances over
+// M², M = pixels × channels; the channels of a pixel share their paths, so
+// they are combined as fully correlated (the variances' square roots add:
+// an upper bound). d² is estimated by max(0, d̂² − σ²). The interval is
+// MSE_debiased ± z·sd mapped through √max(0, ·); it covers the reference's
+// noise only (the tested frame is what it is), and the error of σ itself
+// (relative 1/√(2(n−1)) for Gaussian samples, more with fireflies) is not in
+// it. Pixels with a non-finite value in any input are left out, as in
+// compareImages.
+struct RmseUncertainty {
+    double rmse = 0;          // as compareImages
+    double rmseDebiased = 0;  // √max(0, MSE − mean(σ²))
+    double low = 0, high = 0; // the interval of the true RMSE
+    double noiseRms = 0;      // √mean(σ²): the reference's noise on the RMSE's scale
+    double z = 1.959963984540054;  // two-sided 95 %
+};
+RmseUncertainty rmseUncertainty(const FloatImage& test, const FloatImage& ref, const FloatImage& se, int channels,
+                                const std::vector<std::uint8_t>& mask = {}, double z = 1.959963984540054);
+
 }  // namespace rtgi

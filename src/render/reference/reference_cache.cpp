@@ -36,7 +36,7 @@ struct Hasher {
 std::string referenceCacheKey(const Scene& scene, const Settings& settings, const ReferenceConstants& c,
                               const View& view) {
     Hasher h;
-    h.str("rtgi-reference-v2");  // v2: emitter NEE + MIS, robust ray origins  // bump when the tracer's estimator changes
+    h.str("rtgi-reference-v3");  // v3: running moments, caustics modes; v2: emitter NEE + MIS  // bump when the estimator changes
     h.str(scene.name);
     h.vec(scene.vertices);
     h.vec(scene.indices);
@@ -75,12 +75,22 @@ std::string referenceCacheKey(const Scene& scene, const Settings& settings, cons
 
 nlohmann::json referenceSettingsJson(const ReferenceConstants& c) {
     static const char* kinds[] = {"off", "ao", "indirect", "full"};
-    nlohmann::json j = {{"reference", kinds[int(c.kind)]}, {"spp", c.spp}, {"seed", c.seed}};
+    static const char* caustics[] = {"on", "off", "regularized"};
+    nlohmann::json j = {{"reference", kinds[int(c.kind)]}, {"seed", c.seed}};
+    // A converging reference's spp is what it took (results.json
+    // error.reference.spp), not a setting: the cache key leaves it out so a
+    // later run can resume the entry.
+    if (c.converging) j["converging"] = true;
+    else j["spp"] = c.spp;
     if (c.kind == ReferenceSettings::Kind::Ao) j["ray_length"] = c.rayLength;
     else {
         j["bounces"] = c.bounces;
         j["specular"] = !c.diffuseOnly;
         j["light_sampling"] = c.lightSampling;
+        if (!c.diffuseOnly) {
+            j["caustics"] = caustics[int(c.caustics)];
+            if (c.caustics != ReferenceSettings::Caustics::On) j["caustic_roughness"] = c.causticRoughness;
+        }
         if (c.kind == ReferenceSettings::Kind::Indirect) j["emission_is_direct"] = c.emissionIsDirect;
     }
     return j;

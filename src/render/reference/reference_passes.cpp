@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <vector>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -25,6 +26,12 @@ gl::Defines ReferenceConstants::defines(bool haveEmitters) const {
     if (lightSampling && haveEmitters) d.push_back({"RTGI_REF_EMITTER_NEE", ""});
     if (kind == ReferenceSettings::Kind::Indirect && emissionIsDirect && haveEmitters)
         d.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
+    if (kind != ReferenceSettings::Kind::Ao && caustics != ReferenceSettings::Caustics::On && !diffuseOnly) {
+        d.push_back({caustics == ReferenceSettings::Caustics::Off ? "RTGI_REF_CAUSTICS_OFF" : "RTGI_REF_CAUSTICS_REGULARIZED", ""});
+        char r[32];
+        std::snprintf(r, sizeof r, "%.9g", double(causticRoughness));
+        d.push_back({"RTGI_REF_CAUSTIC_ROUGHNESS", r});
+    }
     return d;
 }
 
@@ -43,6 +50,9 @@ ReferenceConstants referenceConstants(const Settings& s, const Aabb&) {
     c.diffuseOnly = !s.reference.specular;
     c.lightSampling = s.reference.lightSampling;
     c.emissionIsDirect = s.light.emissiveLights;
+    c.caustics = s.reference.caustics;
+    c.causticRoughness = s.reference.causticRoughness;
+    c.converging = s.reference.converging();
     // Secondary-ray origins: offsetRayOrigin (bvh.glsl) from the point's own
     // floating-point magnitude, no scene-size constant.
     return c;
@@ -135,6 +145,10 @@ public:
         }
         if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_) return;  // still valid
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
+        if (measure_ && c.converging) {
+            executeConverging(ctx, c);
+            return;
+        }
         key_ = referenceCacheKey(ctx.scene, ctx.settings, c, v);
         const glm::ivec2 s = v.size;
         beginView(ctx);
@@ -167,6 +181,8 @@ public:
     }
 
     void setProgressive(int samplesPerFrame) override { progressive_ = std::max(samplesPerFrame, 0); }
+    void setConvergence(Measure measure) override { measure_ = std::move(measure); }
+    nlohmann::json convergenceInfo() const override { return convergence_; }
     int samplesDone() const override { return progressive_ > 0 ? samplesDone_ : spp_; }
 
     const gl::Texture& mean() const override { return mean_; }
@@ -175,6 +191,110 @@ public:
     std::string cacheKey() const override { return key_; }
 
 private:
+    // Traces in batches until planConvergence stops (docs/reference.md,
+    // "Converging to a noise target"). The cache entry holds mean, standard
+    // error and spp, from which the running moments are rebuilt
+    // (M2 = SE²·n·(n − 1)), so a later run with a tighter target continues
+    // the same sample sequence instead of starting over.
+    void executeConverging(FrameContext& ctx, const ReferenceConstants& c) {
+        const glm::ivec2 s = ctx.view.size;
+        key_ = referenceCacheKey(ctx.scene, ctx.settings, c, ctx.view);
+        beginView(ctx);
+        const ReferenceSettings& rs = ctx.settings.reference;
+        ConvergenceTarget target;
+        target.relative = rs.targetNoise;
+        target.absolute = rs.targetStderr;
+        target.timeBudget = rs.timeBudget;
+        target.maxSpp = rs.maxSpp;
+        target.firstSpp = std::min(16, rs.maxSpp);
+        int n = 0;
+        double seconds = 0, rays = 0;
+        fromCache_ = false;
+        int cachedSpp = 0;
+        if (auto cached = loadCachedReference(rs.cacheDir, key_);
+            cached && cached->mean.width == s.x && cached->mean.height == s.y && cached->info.value("spp", 0) > 0) {
+            n = cachedSpp = cached->info.value("spp", 0);
+            seconds = cached->info.value("seconds", 0.0);
+            rays = cached->info.value("rays", 0.0);
+            upload(mean_, cached->mean);
+            upload(se_, cached->standardError);
+            resumeMoments(ctx, *cached, n);
+            fromCache_ = true;
+        }
+        convergence_ = nlohmann::json();
+        nlohmann::json checks = nlohmann::json::array();
+        ConvergenceStep step;
+        int batch = n == 0 ? target.firstSpp : 0;
+        for (;;) {
+            if (batch > 0) {
+                trace(ctx, c, n, batch, n == 0);
+                n += batch;
+                seconds += seconds_;
+                rays += rays_;
+            } else if (!ao_) {
+                resolve(ctx, /*tonemapOnly=*/true);  // a cached mean: make its LDR image
+            }
+            // Producer: resolve dispatch / cache upload (read back by measure_).
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+            ConvergenceCheck check = measure_(readTexture(mean_), readTexture(se_));
+            check.spp = n;
+            check.seconds = seconds;
+            step = planConvergence(target, check);
+            const double goal = targetNoiseFor(target, check.error);
+            checks.push_back({{"spp", n}, {"seconds", seconds}, {"noise", check.noise}, {"error", check.error},
+                              {"target", goal}});
+            std::fprintf(stderr, "rtgi: %s: %d samples, noise %.4g (target %.4g at error %.4g), %.1f s\n",
+                         name().c_str(), n, check.noise, goal, check.error, seconds);
+            if (step.stop != StopReason::None) {
+                convergence_ = {{"spp", n}, {"seconds", seconds}, {"noise", check.noise}, {"error", check.error},
+                                {"target_noise", goal}, {"reached", step.stop == StopReason::Target},
+                                {"stop", toString(step.stop)}, {"resumed_from_spp", cachedSpp},
+                                {"relative_target", target.relative}, {"absolute_target", target.absolute},
+                                {"time_budget", target.timeBudget}, {"max_spp", target.maxSpp}, {"checks", checks}};
+                break;
+            }
+            batch = step.nextBatch;
+            fromCache_ = false;  // more samples were needed than the cache held
+        }
+        spp_ = n;
+        seconds_ = seconds;
+        rays_ = rays;
+        if (!fromCache_) {
+            CachedReference out{readTexture(mean_), readTexture(se_),
+                                {{"settings", referenceSettingsJson(c)}, {"scene", ctx.scene.name},
+                                 {"resolution", std::to_string(s.x) + "x" + std::to_string(s.y)},
+                                 {"seconds", seconds}, {"rays", rays}, {"spp", n}}};
+            storeCachedReference(rs.cacheDir, key_, out);
+        }
+        summarize(ctx);
+    }
+
+    // Running moments from a finished reference: mean and n, M2 = SE²·n·(n−1).
+    void resumeMoments(FrameContext& ctx, const CachedReference& r, int n) {
+        const glm::ivec2 s = ctx.view.size;
+        accum_.ensure(ctx.ledger, name() + ".accum", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        accumSq_.ensure(ctx.ledger, name() + ".accum_sq", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        FloatImage meanN = r.mean, m2 = r.standardError;
+        meanN.channels = m2.channels = 4;
+        const std::size_t pixels = std::size_t(s.x) * std::size_t(s.y);
+        meanN.data.assign(pixels * 4, 0.0f);
+        m2.data.assign(pixels * 4, 0.0f);
+        const double k = double(n) * double(std::max(n - 1, 0));
+        for (std::size_t i = 0; i < pixels; ++i) {
+            for (std::size_t ch = 0; ch < 3; ++ch) {
+                const std::size_t src = i * std::size_t(r.mean.channels) + std::min<std::size_t>(ch, std::size_t(r.mean.channels) - 1);
+                const std::size_t se = i * std::size_t(r.standardError.channels) +
+                                       std::min<std::size_t>(ch, std::size_t(r.standardError.channels) - 1);
+                meanN.data[i * 4 + ch] = r.mean.data[src];
+                const double e = r.standardError.data[se];
+                m2.data[i * 4 + ch] = float(e * e * k);
+            }
+            meanN.data[i * 4 + 3] = float(n);
+        }
+        upload(accum_, meanN);
+        upload(accumSq_, m2);
+    }
+
     static void upload(const gl::Texture& t, const FloatImage& img) {
         glTextureSubImage2D(t.id(), 0, 0, 0, img.width, img.height, img.channels == 4 ? GL_RGBA : GL_RGB, GL_FLOAT,
                             img.data.data());
@@ -230,7 +350,7 @@ private:
             accumSq_.clear();
         }
         // One counter per dispatch, indexed by the dispatch's first sample.
-        rayCounter_.ensure(ctx.ledger, "ref.ray_counters", std::int64_t(c.spp) * 4);
+        rayCounter_.ensure(ctx.ledger, "ref.ray_counters", std::int64_t(begin + count) * 4);
         rayCounter_.clearZero();
         const gl::Program& prog =
             ao_ ? ctx.programs.compute("ref/ao.comp") : ctx.programs.compute("ref/path.comp", c.defines(st_->emitterCount > 0));
@@ -269,7 +389,8 @@ private:
         const double pixels = double(s.x) * double(s.y);
         const int perDispatch =
             std::clamp(int(kMaxSamplesPerDispatch * (ao_ ? 4.0 : 1.0) / pixels), 1, c.samplesPerDispatch);
-        progress::report(ao_ ? "reference AO rays" : "reference paths", begin, c.spp);
+        const int total = c.converging ? end : c.spp;
+        progress::report(ao_ ? "reference AO rays" : "reference paths", begin, total);
         for (int first = begin; first < end; first += perDispatch) {
             int n = std::min(perDispatch, end - first);
             // uvec4 uSamples (Program has no uvec4 setter).
@@ -283,13 +404,13 @@ private:
             // 4 of them (0.9 s) ran. Waiting here also lets a terminal show
             // finished samples.
             glFinish();
-            progress::report(ao_ ? "reference AO rays" : "reference paths", first + n, c.spp);
+            progress::report(ao_ ? "reference AO rays" : "reference paths", first + n, total);
         }
         glFinish();
         seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         // Producer: the dispatches above (ray counter atomics); read once, after timing.
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-        std::vector<std::uint32_t> counts(std::size_t(c.spp));
+        std::vector<std::uint32_t> counts(static_cast<std::size_t>(end));
         rayCounter_.download(counts.data(), std::int64_t(counts.size() * 4));
         // A trace the driver dropped (a reset, a watchdog) leaves the counters
         // undefined: more rays than any path can trace is an error, not a result.
@@ -360,6 +481,8 @@ private:
     int spp_ = 0;
     int progressive_ = 0, samplesDone_ = 0;
     double seconds_ = 0, rays_ = 0, meanStdErr_ = 0;
+    Measure measure_;
+    nlohmann::json convergence_;
 };
 
 }  // namespace

@@ -4,10 +4,15 @@
 // G-buffer surface, progressively, until reference.spp samples per pixel.
 // A finished reference is cached on disk (reference_cache.h) and traced
 // again only when the view changes.
+#include "gl/image_io.h"
 #include "gl/program.h"
 #include "render/pass.h"
+#include "render/reference/convergence.h"
 #include "scene/scene.h"
 
+#include <nlohmann/json.hpp>
+
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -28,8 +33,11 @@ struct ReferenceConstants {
     bool diffuseOnly = false;     // reference.specular=off
     bool lightSampling = true;    // reference.light_sampling: emitter NEE + MIS (when the scene has emitters)
     bool emissionIsDirect = true; // emissive.lights: emission seen from x1 belongs to the direct pass
-    // RTGI_REF_FULL / RTGI_REF_DIFFUSE_ONLY / RTGI_REF_EMITTER_NEE for ref/path.comp
-    // (the last only when `haveEmitters`).
+    ReferenceSettings::Caustics caustics = ReferenceSettings::Caustics::Regularized;
+    float causticRoughness = 0.3f;
+    bool converging = false;      // traced to a noise target: spp is what it took, not part of the cache key
+    // RTGI_REF_FULL / RTGI_REF_DIFFUSE_ONLY / RTGI_REF_EMITTER_NEE /
+    // RTGI_REF_CAUSTICS_* for ref/path.comp (emitter NEE only when `haveEmitters`).
     gl::Defines defines(bool haveEmitters = false) const;
 };
 ReferenceConstants referenceConstants(const Settings& settings, const Aabb& sceneBounds);
@@ -48,6 +56,18 @@ public:
     // view or size restarts it. No cache. 0 = the normal all-at-once trace.
     virtual void setProgressive(int samplesPerFrame) = 0;
     virtual int samplesDone() const = 0;
+    // Converging mode (reference.target_noise / target_stderr): after each
+    // batch `measure` gets the reference so far (mean, standard error) and
+    // returns the check's noise and error (ConvergenceCheck: spp and seconds
+    // are filled in by the pass); planConvergence decides whether to stop and
+    // how many samples to add. A cached reference of the same scene, view and
+    // settings is resumed (its samples kept) or, when it meets the target,
+    // used as it is. Set before the first render.
+    using Measure = std::function<ConvergenceCheck(const FloatImage& mean, const FloatImage& standardError)>;
+    virtual void setConvergence(Measure measure) = 0;
+    // What the converging trace did (spp, seconds, noise, target, stop reason,
+    // checks); empty when it did not converge to a target.
+    virtual nlohmann::json convergenceInfo() const = 0;
 };
 
 }  // namespace rtgi
