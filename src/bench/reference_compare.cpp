@@ -69,8 +69,9 @@ void convergeAgainst(ReferenceOutput& out, const Settings& rs, const FloatImage&
 
 // The compared image of `run`'s scene and camera rendered with `settings`
 // for `frames` frames (error.gain's frame without a technique).
-FloatImage renderCompared(const Renderer& run, const Settings& settings, const Camera& camera, glm::ivec2 resolution,
+FloatImage renderCompared(const Renderer& run, Settings settings, const Camera& camera, glm::ivec2 resolution,
                           int frames, ReferenceSettings::Kind kind) {
+    settings.reference.kind = ReferenceSettings::Kind::Off;  // the frame only
     gl::Profiler profiler(false);
     Renderer r(run.scene(), settings, profiler);
     View prev;
