@@ -1,0 +1,383 @@
+// LDR-FLIP and HDR-FLIP (render/reference/flip.h) against oracles written
+// here from the papers' definitions in double precision: the colour term of
+// images constant along y (where the 2D CSF filter reduces to its 1D
+// marginal), the HDR exposure range from the ACES curve inverted by bisection,
+// and invariants (identical images, masks, non-finite pixels, monotonicity).
+#include "render/reference/flip.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+using namespace rtgi;
+
+namespace {
+
+using Rgb = std::array<double, 3>;
+constexpr double kPi = std::numbers::pi;
+
+// ---- Oracle: FLIP's colour pipeline in double (FLIP paper section 4.1). ----
+
+// sRGB primaries, D65 (IEC 61966-2-1), and the inverse by Gauss-Jordan.
+using M3 = std::array<Rgb, 3>;
+const M3 kToXyz = {{{0.4123908, 0.3575843, 0.1804808}, {0.2126390, 0.7151687, 0.0721923}, {0.0193308, 0.1191948, 0.9505322}}};
+
+M3 invert(M3 a) {
+    M3 b = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    for (int c = 0; c < 3; ++c) {
+        int p = c;
+        for (int r = c + 1; r < 3; ++r)
+            if (std::abs(a[r][c]) > std::abs(a[p][c])) p = r;
+        std::swap(a[c], a[p]), std::swap(b[c], b[p]);
+        double d = a[c][c];
+        for (int k = 0; k < 3; ++k) a[c][k] /= d, b[c][k] /= d;
+        for (int r = 0; r < 3; ++r)
+            if (r != c) {
+                double f = a[r][c];
+                for (int k = 0; k < 3; ++k) a[r][k] -= f * a[c][k], b[r][k] -= f * b[c][k];
+            }
+    }
+    return b;
+}
+Rgb mat(const M3& m, const Rgb& v) {
+    return {m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2], m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+            m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2]};
+}
+Rgb white() { return mat(kToXyz, {1, 1, 1}); }
+
+Rgb toYyCxCz(const Rgb& rgb) {
+    Rgb xyz = mat(kToXyz, rgb), w = white();
+    double x = xyz[0] / w[0], y = xyz[1] / w[1], z = xyz[2] / w[2];
+    return {116 * y - 16, 500 * (x - y), 200 * (y - z)};
+}
+Rgb fromYyCxCz(const Rgb& o) {
+    Rgb w = white();
+    double y = (o[0] + 16) / 116;
+    return mat(invert(kToXyz), {(y + o[1] / 500) * w[0], y * w[1], (y - o[2] / 200) * w[2]});
+}
+Rgb huntLab(Rgb rgb) {
+    for (double& c : rgb) c = std::clamp(c, 0.0, 1.0);
+    Rgb xyz = mat(kToXyz, rgb), w = white();
+    auto f = [](double t) { return t > std::pow(6.0 / 29, 3) ? std::cbrt(t) : t * 841.0 / 108.0 + 4.0 / 29.0; };
+    double fx = f(xyz[0] / w[0]), fy = f(xyz[1] / w[1]), fz = f(xyz[2] / w[2]);
+    double L = 116 * fy - 16;
+    return {L, L / 100 * 500 * (fx - fy), L / 100 * 200 * (fy - fz)};
+}
+double hyab(const Rgb& p, const Rgb& q) { return std::abs(p[0] - q[0]) + std::hypot(p[1] - q[1], p[2] - q[2]); }
+double colourError(const Rgb& filteredTest, const Rgb& filteredRef) {
+    double cmax = std::pow(hyab(huntLab({0, 1, 0}), huntLab({0, 0, 1})), 0.7);
+    double e = std::pow(hyab(huntLab(filteredTest), huntLab(filteredRef)), 0.7);
+    return e < 0.4 * cmax ? 0.95 / (0.4 * cmax) * e : 0.95 + 0.05 * (e - 0.4 * cmax) / (0.6 * cmax);
+}
+
+// The 2D CSF kernel of one opponent channel (FLIP eq. 1, table 1) on its
+// (2r+1)² square, normalised, summed over its rows: the filter an image that
+// is constant along y sees.
+std::vector<double> csfMarginal(double ppd, double a1, double b1, double a2, double b2) {
+    int r = int(std::ceil(3 * std::sqrt(0.04 / (2 * kPi * kPi)) * ppd));
+    std::vector<double> m(std::size_t(2 * r + 1), 0.0);
+    double total = 0;
+    for (int i = -r; i <= r; ++i)
+        for (int j = -r; j <= r; ++j) {
+            double d2 = (i * i + j * j) / (ppd * ppd);
+            double s = a1 * std::sqrt(kPi / b1) * std::exp(-kPi * kPi * d2 / b1) +
+                       (a2 > 0 ? a2 * std::sqrt(kPi / b2) * std::exp(-kPi * kPi * d2 / b2) : 0.0);
+            m[std::size_t(i + r)] += s;
+            total += s;
+        }
+    for (double& v : m) v /= total;
+    return m;
+}
+
+// ΔE_c per column of two images constant along y, given as one row each.
+std::vector<double> colourTermOfRows(const std::vector<Rgb>& test, const std::vector<Rgb>& ref, double ppd) {
+    const std::vector<double> k[3] = {csfMarginal(ppd, 1, 0.0047, 0, 1), csfMarginal(ppd, 1, 0.0053, 0, 1),
+                                      csfMarginal(ppd, 34.1, 0.04, 13.5, 0.025)};
+    int w = int(ref.size()), r = int(k[0].size() / 2);
+    auto filtered = [&](const std::vector<Rgb>& row, int x) {
+        Rgb o{};
+        for (int c = 0; c < 3; ++c)
+            for (int i = -r; i <= r; ++i) o[c] += k[c][std::size_t(i + r)] * toYyCxCz(row[std::size_t(std::clamp(x + i, 0, w - 1))])[c];
+        return fromYyCxCz(o);
+    };
+    std::vector<double> e;
+    for (int x = 0; x < w; ++x) e.push_back(colourError(filtered(test, x), filtered(ref, x)));
+    return e;
+}
+
+FloatImage fromRows(const std::vector<Rgb>& row, int h, int channels = 3) {
+    FloatImage img;
+    img.width = int(row.size()), img.height = h, img.channels = channels;
+    for (int y = 0; y < h; ++y)
+        for (const Rgb& c : row) {
+            for (int k = 0; k < 3; ++k) img.data.push_back(float(c[std::size_t(k)]));
+            if (channels == 4) img.data.push_back(1.0f);
+        }
+    return img;
+}
+FloatImage constant(const Rgb& c, int w, int h) { return fromRows(std::vector<Rgb>(std::size_t(w), c), h); }
+
+FloatImage randomImage(int w, int h, unsigned seed, float scale = 1.0f) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, scale);
+    FloatImage img;
+    img.width = w, img.height = h, img.channels = 4;
+    for (int i = 0; i < w * h; ++i) img.data.insert(img.data.end(), {u(rng), u(rng), u(rng), 1.0f});
+    return img;
+}
+
+const FlipOptions kDefault{};
+const double kPpd = kDefault.pixelsPerDegree;
+
+}  // namespace
+
+TEST_CASE("Flip: the default observer is the papers' 0.7 m wide 4K monitor at 0.7 m") {
+    CHECK(kPpd == doctest::Approx(0.7 * 3840 / 0.7 * kPi / 180).epsilon(1e-12));  // 67.02 pixels per degree
+}
+
+TEST_CASE("Flip: identical images give exactly 0 everywhere") {
+    FloatImage a = randomImage(37, 23, 1), hdr = randomImage(37, 23, 2, 40.0f);
+    FlipResult l = ldrFlip(a, a), h = hdrFlip(hdr, hdr);
+    CHECK(l.mean == 0.0);
+    CHECK(h.mean == 0.0);
+    CHECK(std::all_of(l.errorMap.data.begin(), l.errorMap.data.end(), [](float v) { return v == 0.0f; }));
+    CHECK(std::all_of(h.errorMap.data.begin(), h.errorMap.data.end(), [](float v) { return v == 0.0f; }));
+    CHECK(l.pixels == 37u * 23u);
+    CHECK(l.errorMap.channels == 1);
+}
+
+TEST_CASE("Flip: constant images give the colour term alone, as the paper's formulas in double") {
+    const Rgb pairs[][2] = {{{0, 0, 0}, {1, 1, 1}},        {{1, 0, 0}, {0, 1, 0}},       {{0.5, 0.5, 0.5}, {0.52, 0.52, 0.52}},
+                            {{0.1, 0.1, 0.1}, {0.11, 0.11, 0.11}}, {{0, 1, 0}, {0, 0, 1}}, {{0.2, 0.4, 0.8}, {0.25, 0.4, 0.7}},
+                            {{0.9, 0.9, 0.9}, {0.9, 0.9, 0.9}}};
+    for (const auto& p : pairs) {
+        const Rgb test = p[0], ref = p[1];
+        CAPTURE(test);
+        CAPTURE(ref);
+        // No spatial structure: the CSF filters (normalised) return the
+        // constant, and the feature detectors (zero-sum) return 0.
+        double expected = colourError(fromYyCxCz(toYyCxCz(p[0])), fromYyCxCz(toYyCxCz(p[1])));
+        FlipResult r = ldrFlip(constant(p[0], 24, 20), constant(p[1], 24, 20));
+        CHECK(std::abs(r.mean - expected) < 1e-4);
+        CHECK(*std::max_element(r.errorMap.data.begin(), r.errorMap.data.end()) - *std::min_element(r.errorMap.data.begin(), r.errorMap.data.end()) < 1e-5f);
+    }
+    // Green vs blue is the pair that defines c_max: ΔE_c = 1 exactly.
+    CHECK(std::abs(ldrFlip(constant({0, 1, 0}, 8, 8), constant({0, 0, 1}, 8, 8)).mean - 1.0) < 1e-4);
+}
+
+TEST_CASE("Flip: inputs outside [0, 1] are clamped, RGBA is read as RGB") {
+    FloatImage a = constant({1.7, -0.3, 0.5}, 16, 16), b = constant({1.0, 0.0, 0.5}, 16, 16);
+    CHECK(ldrFlip(a, b).mean == 0.0);
+    FloatImage t = randomImage(16, 16, 5), r = randomImage(16, 16, 6);
+    FloatImage t3 = t, r3 = r;
+    for (FloatImage* img : {&t3, &r3}) {
+        std::vector<float> d;
+        for (std::size_t i = 0; i < img->data.size(); i += 4) d.insert(d.end(), {img->data[i], img->data[i + 1], img->data[i + 2]});
+        img->data = d, img->channels = 3;
+    }
+    CHECK(ldrFlip(t, r).mean == ldrFlip(t3, r3).mean);
+}
+
+TEST_CASE("Flip: a larger constant difference gives a larger error") {
+    double previous = 0;
+    for (double d : {0.01, 0.03, 0.1, 0.2, 0.4}) {
+        double m = ldrFlip(constant({0.3 + d, 0.3 + d, 0.3 + d}, 16, 16), constant({0.3, 0.3, 0.3}, 16, 16)).mean;
+        CAPTURE(d);
+        CHECK(m > previous);
+        previous = m;
+    }
+}
+
+TEST_CASE("Flip: a shifted step edge adds a feature term, blurred far below the CSF cut-off it adds less") {
+    // Vertical luminance edges (constant along y), the test's one pixel right
+    // of the reference's. ΔE = ΔE_c^(1 − ΔE_f), so with the colour term from
+    // the oracle, ΔE_f = 1 − ln ΔE / ln ΔE_c.
+    const int w = 96, h = 6;
+    auto edge = [&](double at, double blurSigma) {
+        std::vector<Rgb> row;
+        for (int x = 0; x < w; ++x) {
+            double s = blurSigma > 0 ? 0.5 * std::erfc(-(x - at) / (blurSigma * std::numbers::sqrt2)) : (x >= at ? 1.0 : 0.0);
+            double v = 0.1 + 0.6 * s;
+            row.push_back({v, v, v});
+        }
+        return row;
+    };
+    auto featureTerm = [&](double blurSigma, double& meanFlip) {
+        auto rt = edge(48.5, blurSigma), rr = edge(47.5, blurSigma);
+        FlipResult f = ldrFlip(fromRows(rt, h), fromRows(rr, h));
+        std::vector<double> c = colourTermOfRows(rt, rr, kPpd);
+        double maxFeature = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double e = f.errorMap.data[std::size_t(y * w + x)], ec = c[std::size_t(x)];
+                // The flip map never falls below its colour term (ΔE_f ≥ 0);
+                // where both vanish there is nothing to compare.
+                CHECK(e >= ec - 1e-4);
+                if (ec > 1e-3 && ec < 0.999) maxFeature = std::max(maxFeature, 1.0 - std::log(e) / std::log(ec));
+            }
+        meanFlip = f.mean;
+        return maxFeature;
+    };
+    double sharpMean = 0, blurMean = 0;
+    double sharp = featureTerm(0.0, sharpMean);
+    double blurred = featureTerm(12.0, blurMean);  // σ = 12 px ≈ 0.18°, far wider than the achromatic CSF (≈1 px)
+    CHECK(sharp > 0.2);
+    CHECK(blurred < 0.5 * sharp);
+    CHECK(blurMean < sharpMean);
+    // Far from the edge the images agree: no error there.
+    FlipResult f = ldrFlip(fromRows(edge(48.5, 0), h), fromRows(edge(47.5, 0), h));
+    CHECK(f.errorMap.data[0] == 0.0f);
+}
+
+namespace {
+// Narkowicz's ACES fit with its 0.6 pre-exposure, as HDR-FLIP uses it.
+double acesOracle(double x) {
+    double y = 0.6 * x;
+    return std::clamp(y * (2.51 * y + 0.03) / (y * (2.43 * y + 0.59) + 0.14), 0.0, 1.0);
+}
+// acesOracle(x) = t by bisection (the curve is increasing on [0, 12]).
+double acesSolve(double t) {
+    double lo = 0, hi = 12;
+    for (int i = 0; i < 200; ++i) (acesOracle(0.5 * (lo + hi)) < t ? lo : hi) = 0.5 * (lo + hi);
+    return 0.5 * (lo + hi);
+}
+}  // namespace
+
+TEST_CASE("hdrFlip: the exposure range follows HDR-FLIP's formulas from the reference's luminance") {
+    // Grey pixels: luminance = the value. 10 values, median = mean of the
+    // 5th and 6th = (0.5 + 0.6) / 2, maximum 100.
+    std::vector<Rgb> row;
+    for (double v : {0.1, 0.9, 0.2, 100.0, 0.3, 0.6, 0.4, 0.8, 0.5, 0.7}) row.push_back({v, v, v});
+    FloatImage ref = fromRows(row, 1), test = ref;
+    test.data[0] = 0.3f;
+    FlipResult r = hdrFlip(test, ref);
+    double x = acesSolve(0.85);
+    double start = std::log2(x / 100.0), stop = std::log2(x / 0.55);
+    CHECK(r.startExposure == doctest::Approx(start).epsilon(1e-6));
+    CHECK(r.stopExposure == doctest::Approx(stop).epsilon(1e-6));
+    CHECK(r.exposures == std::max(2, int(std::ceil(stop - start))));  // ceil(7.5) = 8
+    CHECK(r.exposures == 8);
+
+    // Coloured pixels: Rec. 709 luminance; odd count, median = middle value.
+    std::vector<Rgb> colours = {{1, 0, 0}, {0, 2, 0}, {0, 0, 4}};  // Y = 0.2126, 1.4304, 0.2888
+    FlipResult c = hdrFlip(fromRows(colours, 1), fromRows(colours, 1));
+    CHECK(c.startExposure == doctest::Approx(std::log2(x / 1.4304)).epsilon(1e-6));
+    CHECK(c.stopExposure == doctest::Approx(std::log2(x / 0.2888)).epsilon(1e-6));
+    CHECK(c.exposures == 3);  // stop − start = log2(1.4304 / 0.2888) = 2.31
+}
+
+TEST_CASE("hdrFlip with one exposure equals LDR-FLIP of the exposed, tonemapped images") {
+    FloatImage t = randomImage(40, 30, 11, 8.0f), r = randomImage(40, 30, 12, 8.0f);
+    for (double e : {-2.0, 0.0, 1.5}) {
+        FlipOptions o;
+        o.startExposure = o.stopExposure = e;
+        FlipResult h = hdrFlip(t, r, o);
+        FloatImage tt = t, rr = r;
+        for (FloatImage* img : {&tt, &rr})
+            for (std::size_t i = 0; i < img->data.size(); ++i)
+                if (i % 4 != 3) img->data[i] = float(acesOracle(std::exp2(e) * img->data[i]));
+        FlipResult l = ldrFlip(tt, rr);
+        CAPTURE(e);
+        CHECK(h.exposures == 2);
+        CHECK(h.mean == doctest::Approx(l.mean).epsilon(1e-5));
+        double maxDiff = 0;
+        for (std::size_t i = 0; i < l.errorMap.data.size(); ++i)
+            maxDiff = std::max(maxDiff, double(std::abs(h.errorMap.data[i] - l.errorMap.data[i])));
+        CHECK(maxDiff < 1e-4);
+    }
+    // HDR-FLIP is the per-pixel maximum over exposures: never below one of them.
+    FlipOptions wide;
+    wide.startExposure = -2.0, wide.stopExposure = 1.5;
+    FlipResult all = hdrFlip(t, r, wide);
+    FlipOptions one;
+    one.startExposure = one.stopExposure = 1.5;
+    FlipResult last = hdrFlip(t, r, one);
+    for (std::size_t i = 0; i < all.errorMap.data.size(); ++i) CHECK(all.errorMap.data[i] >= last.errorMap.data[i] - 1e-6f);
+}
+
+TEST_CASE("Flip: the masked mean is the mean of the error map over the mask") {
+    FloatImage t = randomImage(33, 17, 21), r = randomImage(33, 17, 22);
+    std::mt19937 rng(3);
+    std::vector<std::uint8_t> mask(33 * 17);
+    for (auto& m : mask) m = std::uint8_t(rng() % 3 == 0);
+    for (bool hdr : {false, true}) {
+        FlipResult all = hdr ? hdrFlip(t, r) : ldrFlip(t, r);
+        FlipResult masked = hdr ? hdrFlip(t, r, {}, mask) : ldrFlip(t, r, {}, mask);
+        double sum = 0;
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < mask.size(); ++i)
+            if (mask[i]) sum += masked.errorMap.data[i], ++n;
+        CHECK(masked.pixels == n);
+        CHECK(masked.mean == doctest::Approx(sum / double(n)).epsilon(1e-12));
+        if (!hdr) CHECK(masked.errorMap.data == all.errorMap.data);  // the mask selects, it does not change the map
+        CHECK(masked.mean != all.mean);
+    }
+}
+
+TEST_CASE("Flip: NaN/Inf pixels are left out, counted, and do not spread") {
+    FloatImage t = randomImage(30, 20, 31), r = randomImage(30, 20, 32);
+    std::size_t nanAt = 5 * 30 + 7, infAt = 12 * 30 + 20;
+    FloatImage tb = t, rb = r;
+    tb.data[4 * nanAt + 1] = std::numeric_limits<float>::quiet_NaN();
+    rb.data[4 * infAt + 2] = std::numeric_limits<float>::infinity();
+    // The documented replacement: the reference's value in both where the
+    // reference is finite, else the test's.
+    FloatImage te = t, re = r;
+    for (int c = 0; c < 3; ++c) {
+        te.data[4 * nanAt + std::size_t(c)] = r.data[4 * nanAt + std::size_t(c)];
+        re.data[4 * infAt + std::size_t(c)] = t.data[4 * infAt + std::size_t(c)];
+    }
+    // The equivalent finite pair, with the two pixels masked out so that
+    // HDR-FLIP's exposure range comes from the same pixels.
+    std::vector<std::uint8_t> mask(30 * 20, 1);
+    mask[nanAt] = mask[infAt] = 0;
+    for (bool hdr : {false, true}) {
+        CAPTURE(hdr);
+        FlipResult bad = hdr ? hdrFlip(tb, rb) : ldrFlip(tb, rb);
+        FlipResult same = hdr ? hdrFlip(te, re, {}, mask) : ldrFlip(te, re, {}, mask);
+        CHECK(bad.nonFinitePixels == 2);
+        CHECK(bad.pixels == 30u * 20u - 2u);
+        CHECK(std::isfinite(bad.mean));
+        CHECK(std::all_of(bad.errorMap.data.begin(), bad.errorMap.data.end(), [](float v) { return std::isfinite(v); }));
+        CHECK(bad.errorMap.data[nanAt] == 0.0f);
+        CHECK(bad.errorMap.data[infAt] == 0.0f);
+        double sum = 0;
+        for (std::size_t i = 0; i < same.errorMap.data.size(); ++i) {
+            if (i == nanAt || i == infAt) continue;
+            CHECK(bad.errorMap.data[i] == same.errorMap.data[i]);
+            sum += same.errorMap.data[i];
+        }
+        CHECK(bad.mean == doctest::Approx(sum / double(bad.pixels)).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("Flip: bad input is rejected with a message") {
+    FloatImage a = randomImage(8, 8, 1), b = randomImage(8, 9, 2);
+    CHECK_THROWS_AS(ldrFlip(a, b), std::runtime_error);
+    CHECK_THROWS_AS(ldrFlip(a, a, {}, std::vector<std::uint8_t>(3, 1)), std::runtime_error);
+    FlipOptions o;
+    o.startExposure = 2.0, o.stopExposure = 1.0;
+    CHECK_THROWS_AS(hdrFlip(a, a, o), std::runtime_error);
+    o = {};
+    o.pixelsPerDegree = 0.0;
+    CHECK_THROWS_AS(ldrFlip(a, a, o), std::runtime_error);
+}
+
+TEST_CASE("flipErrorColorMap: dark to bright, increasing luminance, opaque") {
+    FloatImage e;
+    e.width = 101, e.height = 1, e.channels = 1;
+    for (int i = 0; i <= 100; ++i) e.data.push_back(float(i) / 100.0f);
+    FloatImage c = flipErrorColorMap(e);
+    REQUIRE(c.channels == 4);
+    auto lum = [&](int i) { return 0.2126 * c.data[std::size_t(4 * i)] + 0.7152 * c.data[std::size_t(4 * i + 1)] + 0.0722 * c.data[std::size_t(4 * i + 2)]; };
+    CHECK(lum(0) < 0.01);
+    CHECK(lum(100) > 0.9);
+    for (int i = 1; i <= 100; ++i) CHECK(lum(i) > lum(i - 1));
+    for (int i = 0; i <= 100; ++i) CHECK(c.data[std::size_t(4 * i + 3)] == 1.0f);
+}
