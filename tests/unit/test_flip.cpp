@@ -194,43 +194,99 @@ TEST_CASE("Flip: a larger constant difference gives a larger error") {
     }
 }
 
-TEST_CASE("Flip: a shifted step edge adds a feature term, blurred far below the CSF cut-off it adds less") {
+// ΔE_f (FLIP eq. 5-6) per column of two images constant along y, given as
+// one row each. The paper's 2D detectors K(i, j) — first or second Gaussian
+// derivative along i (σ = w/2 · ppd) times the Gaussian along j, positive
+// weights normalised to sum 1 and negative ones to −1 — are built on their
+// square and applied as they are, in x (K) and in y (K transposed), to the
+// normalised luminance Y / Y_white.
+std::vector<double> featureTermOfRows(const std::vector<Rgb>& test, const std::vector<Rgb>& ref, double ppd) {
+    double sd = 0.5 * 0.082 * ppd;
+    int r = int(std::ceil(3 * sd)), n = 2 * r + 1, w = int(ref.size());
+    auto detector = [&](bool point) {
+        std::vector<double> k;
+        double pos = 0, neg = 0;
+        for (int i = -r; i <= r; ++i)
+            for (int j = -r; j <= r; ++j) {
+                double g = std::exp(-(i * i + j * j) / (2 * sd * sd)), v = point ? (i * i / (sd * sd) - 1) * g : -i * g;
+                (v > 0 ? pos : neg) += v;
+                k.push_back(v);
+            }
+        for (double& v : k) v = v > 0 ? v / pos : v / -neg;
+        return k;
+    };
+    const std::vector<double> edgeK = detector(false), pointK = detector(true);
+    auto response = [&](const std::vector<Rgb>& row, const std::vector<double>& k, int x) {
+        double gx = 0, gy = 0;
+        for (int i = -r; i <= r; ++i) {
+            double y = mat(kToXyz, row[std::size_t(std::clamp(x + i, 0, w - 1))])[1] / white()[1];
+            for (int j = -r; j <= r; ++j) {
+                gx += k[std::size_t((i + r) * n + j + r)] * y;
+                gy += k[std::size_t((j + r) * n + i + r)] * y;
+            }
+        }
+        return std::hypot(gx, gy);
+    };
+    std::vector<double> f;
+    for (int x = 0; x < w; ++x) {
+        double d = std::max(std::abs(response(ref, edgeK, x) - response(test, edgeK, x)),
+                            std::abs(response(ref, pointK, x) - response(test, pointK, x)));
+        f.push_back(std::sqrt(d / std::numbers::sqrt2));
+    }
+    return f;
+}
+
+TEST_CASE("Flip: a shifted step edge equals the paper's formulas in double and adds a feature term") {
     // Vertical luminance edges (constant along y), the test's one pixel right
-    // of the reference's. ΔE = ΔE_c^(1 − ΔE_f), so with the colour term from
-    // the oracle, ΔE_f = 1 − ln ΔE / ln ΔE_c.
+    // of the reference's: the whole map against ΔE = ΔE_c^(1 − ΔE_f) from the
+    // oracles above. Blurred far below the CSF cut-off, the same shift gives a
+    // smaller feature term ΔE_f (read back from the map as 1 − ln ΔE / ln ΔE_c).
     const int w = 96, h = 6;
-    auto edge = [&](double at, double blurSigma) {
+    auto edge = [&](double at, double blurSigma, Rgb left = {0.1, 0.1, 0.1}, Rgb right = {0.7, 0.7, 0.7}) {
         std::vector<Rgb> row;
         for (int x = 0; x < w; ++x) {
             double s = blurSigma > 0 ? 0.5 * std::erfc(-(x - at) / (blurSigma * std::numbers::sqrt2)) : (x >= at ? 1.0 : 0.0);
-            double v = 0.1 + 0.6 * s;
-            row.push_back({v, v, v});
+            row.push_back({left[0] + s * (right[0] - left[0]), left[1] + s * (right[1] - left[1]), left[2] + s * (right[2] - left[2])});
         }
         return row;
     };
-    auto featureTerm = [&](double blurSigma, double& meanFlip) {
-        auto rt = edge(48.5, blurSigma), rr = edge(47.5, blurSigma);
+    struct Outcome {
+        double maxFeature = 0, peak = 0;
+    };
+    auto evaluate = [&](const std::vector<Rgb>& rt, const std::vector<Rgb>& rr) {
         FlipResult f = ldrFlip(fromRows(rt, h), fromRows(rr, h));
-        std::vector<double> c = colourTermOfRows(rt, rr, kPpd);
-        double maxFeature = 0;
+        std::vector<double> c = colourTermOfRows(rt, rr, kPpd), ft = featureTermOfRows(rt, rr, kPpd);
+        Outcome o;
+        double maxDiff = 0, sum = 0;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double e = f.errorMap.data[std::size_t(y * w + x)], ec = c[std::size_t(x)];
-                // The flip map never falls below its colour term (ΔE_f ≥ 0);
-                // where both vanish there is nothing to compare.
-                CHECK(e >= ec - 1e-4);
-                if (ec > 1e-3 && ec < 0.999) maxFeature = std::max(maxFeature, 1.0 - std::log(e) / std::log(ec));
+                double expected = std::pow(ec, 1 - ft[std::size_t(x)]);
+                maxDiff = std::max(maxDiff, std::abs(e - expected));
+                sum += expected;
+                if (ec > 1e-3 && ec < 0.999) o.maxFeature = std::max(o.maxFeature, 1.0 - std::log(e) / std::log(ec));
+                o.peak = std::max(o.peak, e);
             }
-        meanFlip = f.mean;
-        return maxFeature;
+        // Tolerance: float planes; ΔE_f is a square root, so a float residual
+        // of 1e-7 in the detectors is up to 3e-4 in ΔE_f where the images
+        // agree, damped by ΔE_c·ln ΔE_c there.
+        CHECK(maxDiff < 3e-4);  // measured 5e-5
+        CHECK(f.mean == doctest::Approx(sum / (w * h)).epsilon(1e-4));
+        return o;
     };
-    double sharpMean = 0, blurMean = 0;
-    double sharp = featureTerm(0.0, sharpMean);
-    double blurred = featureTerm(12.0, blurMean);  // σ = 12 px ≈ 0.18°, far wider than the achromatic CSF (≈1 px)
-    CHECK(sharp > 0.2);
-    CHECK(blurred < 0.5 * sharp);
-    CHECK(blurMean < sharpMean);
-    // Far from the edge the images agree: no error there.
+    Outcome sharp = evaluate(edge(48.5, 0), edge(47.5, 0));
+    // σ = 12 px ≈ 0.18°, far wider than the achromatic CSF (≈1 px).
+    Outcome blurred = evaluate(edge(48.5, 12), edge(47.5, 12));
+    // Chromatic edges exercise the red-green and blue-yellow filters
+    // (blue-yellow: the sum of two Gaussians).
+    for (double blur : {0.0, 3.0}) {
+        evaluate(edge(48.5, blur, {0.2, 0.2, 0.7}, {0.6, 0.6, 0.1}), edge(47.5, blur, {0.2, 0.2, 0.7}, {0.6, 0.6, 0.1}));
+        evaluate(edge(48.5, blur, {0.6, 0.1, 0.2}, {0.1, 0.35, 0.2}), edge(46.5, blur, {0.6, 0.1, 0.2}, {0.1, 0.35, 0.2}));
+    }
+    CHECK(sharp.maxFeature > 0.2);
+    CHECK(blurred.maxFeature < 0.5 * sharp.maxFeature);
+    CHECK(blurred.peak < sharp.peak);
+    // Far from the edge the images agree: exactly no error there.
     FlipResult f = ldrFlip(fromRows(edge(48.5, 0), h), fromRows(edge(47.5, 0), h));
     CHECK(f.errorMap.data[0] == 0.0f);
 }
