@@ -121,6 +121,15 @@ FloatImage fromRows(const std::vector<Rgb>& row, int h, int channels = 3) {
         }
     return img;
 }
+FloatImage transposed(const FloatImage& img) {
+    FloatImage t = img;
+    t.width = img.height, t.height = img.width;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            for (int c = 0; c < img.channels; ++c)
+                t.data[std::size_t((x * t.width + y) * img.channels + c)] = img.at(x, y, c);
+    return t;
+}
 FloatImage constant(const Rgb& c, int w, int h) { return fromRows(std::vector<Rgb>(std::size_t(w), c), h); }
 
 FloatImage randomImage(int w, int h, unsigned seed, float scale = 1.0f) {
@@ -256,6 +265,8 @@ TEST_CASE("Flip: a shifted step edge equals the paper's formulas in double and a
     auto evaluate = [&](const std::vector<Rgb>& rt, const std::vector<Rgb>& rr) {
         FlipResult f = ldrFlip(fromRows(rt, h), fromRows(rr, h));
         std::vector<double> c = colourTermOfRows(rt, rr, kPpd), ft = featureTermOfRows(rt, rr, kPpd);
+        // The same images transposed (constant along x) test the vertical passes.
+        FlipResult ftr = ldrFlip(transposed(fromRows(rt, h)), transposed(fromRows(rr, h)));
         Outcome o;
         double maxDiff = 0, sum = 0;
         for (int y = 0; y < h; ++y)
@@ -263,6 +274,7 @@ TEST_CASE("Flip: a shifted step edge equals the paper's formulas in double and a
                 double e = f.errorMap.data[std::size_t(y * w + x)], ec = c[std::size_t(x)];
                 double expected = std::pow(ec, 1 - ft[std::size_t(x)]);
                 maxDiff = std::max(maxDiff, std::abs(e - expected));
+                maxDiff = std::max(maxDiff, std::abs(ftr.errorMap.data[std::size_t(x * h + y)] - expected));
                 sum += expected;
                 if (ec > 1e-3 && ec < 0.999) o.maxFeature = std::max(o.maxFeature, 1.0 - std::log(e) / std::log(ec));
                 o.peak = std::max(o.peak, e);
