@@ -71,11 +71,12 @@ std::array<double, 3> huntLab(double r, double g, double b) {
 
 // HyAB distance (Abasi et al. 2020): |ΔL| + ‖Δ(a, b)‖.
 double hyab(const std::array<double, 3>& p, const std::array<double, 3>& q) {
-    return std::abs(p[0] - q[0]) + std::hypot(p[1] - q[1], p[2] - q[2]);
+    double da = p[1] - q[1], db = p[2] - q[2];
+    return std::abs(p[0] - q[0]) + std::sqrt(da * da + db * db);
 }
 
 constexpr double kQc = 0.7, kPc = 0.4, kPt = 0.95;  // FLIP eq. 3-4
-constexpr double kQf = 0.5, kFeatureW = 0.082;      // FLIP section 4.2
+constexpr double kFeatureW = 0.082;  // FLIP section 4.2; q_f = 0.5 is the square root in flipMap
 
 // c_max: the HyAB distance of the most different pair, pure green vs pure
 // blue, raised to q_c (FLIP section 4.1).
@@ -127,6 +128,10 @@ SeparableSum csfFilter(double ppd, int radius, std::initializer_list<std::array<
         double s = std::sqrt(weight[t] / total);
         Kernel k;
         for (double v : g[t]) k.push_back(float(v * s));
+        // Taps below 1e-9 change no float result (the kernel sums to about 1):
+        // the achromatic and red-green Gaussians (σ ≈ 1 px at 67 ppd) keep 13
+        // of their 21 taps.
+        while (k.size() > 1 && k.front() < 1e-9f) k.erase(k.begin()), k.pop_back();
         out.push_back(std::move(k));
     }
     return out;
@@ -192,6 +197,22 @@ void parallelRows(int rows, const F& f) {
 // residual of 1e-8 into 1e-4).
 enum class Write { overwrite, accumulate, zeroSum };
 
+// One tap of a 1D pass over a row: d (+)= k · (s − c), c = the centre row for
+// zero-sum kernels. The first tap of a non-accumulating pass overwrites, so
+// no pass clears its output first.
+inline void tap(float* d, const float* s, const float* c, float k, int w, bool first, Write mode) {
+    if (mode == Write::zeroSum) {
+        if (first)
+            for (int x = 0; x < w; ++x) d[x] = k * (s[x] - c[x]);
+        else
+            for (int x = 0; x < w; ++x) d[x] += k * (s[x] - c[x]);
+    } else if (first) {
+        for (int x = 0; x < w; ++x) d[x] = k * s[x];
+    } else {
+        for (int x = 0; x < w; ++x) d[x] += k * s[x];
+    }
+}
+
 // dst = src ⋆ k along x, edge pixels repeated (clamp-to-edge, as the
 // reference implementation's BORDER_REPLICATE).
 void filterRows(const Plane& src, Plane& dst, int w, int h, const Kernel& k, Write mode) {
@@ -202,16 +223,8 @@ void filterRows(const Plane& src, Plane& dst, int w, int h, const Kernel& k, Wri
             const float* s = &src[std::size_t(y) * std::size_t(w)];
             for (int i = 0; i < w + 2 * r; ++i) pad[std::size_t(i)] = s[std::clamp(i - r, 0, w - 1)];
             float* d = &dst[std::size_t(y) * std::size_t(w)];
-            if (mode != Write::accumulate) std::fill(d, d + w, 0.0f);
-            const float* c = &pad[std::size_t(r)];
-            for (std::size_t t = 0; t < k.size(); ++t) {
-                const float kt = k[t];
-                const float* p = &pad[t];
-                if (mode == Write::zeroSum)
-                    for (int x = 0; x < w; ++x) d[x] += kt * (p[x] - c[x]);
-                else
-                    for (int x = 0; x < w; ++x) d[x] += kt * p[x];
-            }
+            for (std::size_t t = 0; t < k.size(); ++t)
+                tap(d, &pad[t], &pad[std::size_t(r)], k[t], w, t == 0 && mode != Write::accumulate, mode);
         }
     });
 }
@@ -222,15 +235,10 @@ void filterCols(const Plane& src, Plane& dst, int w, int h, const Kernel& k, Wri
     parallelRows(h, [&](int y0, int y1) {
         for (int y = y0; y < y1; ++y) {
             float* d = &dst[std::size_t(y) * std::size_t(w)];
-            if (mode != Write::accumulate) std::fill(d, d + w, 0.0f);
             const float* c = &src[std::size_t(y) * std::size_t(w)];
             for (std::size_t t = 0; t < k.size(); ++t) {
-                const float kt = k[t];
                 const float* s = &src[std::size_t(std::clamp(y + int(t) - r, 0, h - 1)) * std::size_t(w)];
-                if (mode == Write::zeroSum)
-                    for (int x = 0; x < w; ++x) d[x] += kt * (s[x] - c[x]);
-                else
-                    for (int x = 0; x < w; ++x) d[x] += kt * s[x];
+                tap(d, s, c, k[t], w, t == 0 && mode != Write::accumulate, mode);
             }
         }
     });
@@ -252,76 +260,87 @@ struct Perceived {
     Plane L, a, b, edge, point;
 };
 
+// All planes of one evaluation, allocated once per call and reused by every
+// exposure of HDR-FLIP (fresh allocations cost more than the filters: page
+// faults and clearing).
+struct Workspace {
+    int w, h;
+    Plane yy, cx, cz, lum, tmp, fy, fx, fz;
+    Perceived test, ref;
+    Plane error;
+    Workspace(int width, int height) : w(width), h(height) {
+        std::size_t n = std::size_t(w) * std::size_t(h);
+        for (Plane* p : {&yy, &cx, &cz, &lum, &tmp, &fy, &fx, &fz, &error}) p->resize(n);
+        for (Perceived* q : {&test, &ref})
+            for (Plane* p : {&q->L, &q->a, &q->b, &q->edge, &q->point}) p->resize(n);
+    }
+};
+
+// Runs f(i) for every pixel index, over row bands.
+template <class F>
+void forEachPixel(int w, int h, const F& f) {
+    parallelRows(h, [&](int y0, int y1) {
+        for (std::size_t i = std::size_t(y0) * std::size_t(w); i < std::size_t(y1) * std::size_t(w); ++i) f(i);
+    });
+}
+
 // `rgb`: interleaved linear RGB in [0, 1], finite.
-Perceived perceive(const std::vector<float>& rgb, int w, int h, const FlipKernels& k) {
-    std::size_t n = std::size_t(w) * std::size_t(h);
+void perceive(const std::vector<float>& rgb, const FlipKernels& k, Workspace& ws, Perceived& p) {
+    int w = ws.w, h = ws.h;
     // Linear RGB -> YyCxCz (FLIP section 4.1): the linearised L*a*b*, whose
     // opponent channels the CSF filters act on.
-    Plane yy(n), cx(n), cz(n), lum(n);
-    parallelRows(h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(w); i < std::size_t(y1) * std::size_t(w); ++i) {
-            auto xyz = mul(kRgbToXyz, rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-            double x = xyz[0] / kWhite[0], y = xyz[1] / kWhite[1], z = xyz[2] / kWhite[2];
-            yy[i] = float(116.0 * y - 16.0);
-            cx[i] = float(500.0 * (x - y));
-            cz[i] = float(200.0 * (y - z));
-            lum[i] = float(y);  // (Yy + 16) / 116: the feature pipeline's normalised achromatic channel
-        }
+    forEachPixel(w, h, [&](std::size_t i) {
+        auto xyz = mul(kRgbToXyz, rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+        double x = xyz[0] / kWhite[0], y = xyz[1] / kWhite[1], z = xyz[2] / kWhite[2];
+        ws.yy[i] = float(116.0 * y - 16.0);
+        ws.cx[i] = float(500.0 * (x - y));
+        ws.cz[i] = float(200.0 * (y - z));
+        ws.lum[i] = float(y);  // (Yy + 16) / 116: the feature pipeline's normalised achromatic channel
     });
 
-    Perceived p;
-    Plane tmp(n), fy(n), fx(n), fz(n);
-    filter2D(yy, fy, tmp, w, h, k.achromatic);
-    filter2D(cx, fx, tmp, w, h, k.redGreen);
-    filter2D(cz, fz, tmp, w, h, k.blueYellow);
+    filter2D(ws.yy, ws.fy, ws.tmp, w, h, k.achromatic);
+    filter2D(ws.cx, ws.fx, ws.tmp, w, h, k.redGreen);
+    filter2D(ws.cz, ws.fz, ws.tmp, w, h, k.blueYellow);
     // Back to linear RGB, clamped to the unit cube, then Hunt-adjusted L*a*b*.
-    p.L = std::move(yy), p.a = std::move(cx), p.b = std::move(cz);
-    parallelRows(h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(w); i < std::size_t(y1) * std::size_t(w); ++i) {
-            double y = (fy[i] + 16.0) / 116.0;
-            double x = y + fx[i] / 500.0, z = y - fz[i] / 200.0;
-            auto c = mul(xyzToRgb(), x * kWhite[0], y * kWhite[1], z * kWhite[2]);
-            auto lab = huntLab(c[0], c[1], c[2]);
-            p.L[i] = float(lab[0]), p.a[i] = float(lab[1]), p.b[i] = float(lab[2]);
-        }
+    forEachPixel(w, h, [&](std::size_t i) {
+        double y = (ws.fy[i] + 16.0) / 116.0;
+        double x = y + ws.fx[i] / 500.0, z = y - ws.fz[i] / 200.0;
+        auto c = mul(xyzToRgb(), x * kWhite[0], y * kWhite[1], z * kWhite[2]);
+        auto lab = huntLab(c[0], c[1], c[2]);
+        p.L[i] = float(lab[0]), p.a[i] = float(lab[1]), p.b[i] = float(lab[2]);
     });
 
     // Features on the unfiltered normalised luminance: x derivatives smoothed
-    // along y, y derivatives smoothed along x.
+    // along y, y derivatives smoothed along x (yy and cx are free again).
     const FeatureKernels& f = k.features;
-    Plane ex(n), px(n);
-    filterCols(lum, tmp, w, h, f.smooth, Write::overwrite);
-    filterRows(tmp, ex, w, h, f.edge, Write::zeroSum);
-    filterRows(tmp, px, w, h, f.point, Write::zeroSum);
-    filterRows(lum, tmp, w, h, f.smooth, Write::overwrite);
-    p.edge = std::move(fy), p.point = std::move(fx);
-    filterCols(tmp, p.edge, w, h, f.edge, Write::zeroSum);
-    filterCols(tmp, p.point, w, h, f.point, Write::zeroSum);
-    parallelRows(h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(w); i < std::size_t(y1) * std::size_t(w); ++i) {
-            p.edge[i] = std::hypot(ex[i], p.edge[i]);
-            p.point[i] = std::hypot(px[i], p.point[i]);
-        }
+    Plane &ex = ws.yy, &px = ws.cx;
+    filterCols(ws.lum, ws.tmp, w, h, f.smooth, Write::overwrite);
+    filterRows(ws.tmp, ex, w, h, f.edge, Write::zeroSum);
+    filterRows(ws.tmp, px, w, h, f.point, Write::zeroSum);
+    filterRows(ws.lum, ws.tmp, w, h, f.smooth, Write::overwrite);
+    filterCols(ws.tmp, p.edge, w, h, f.edge, Write::zeroSum);
+    filterCols(ws.tmp, p.point, w, h, f.point, Write::zeroSum);
+    forEachPixel(w, h, [&](std::size_t i) {
+        p.edge[i] = std::sqrt(ex[i] * ex[i] + p.edge[i] * p.edge[i]);
+        p.point[i] = std::sqrt(px[i] * px[i] + p.point[i] * p.point[i]);
     });
-    return p;
 }
 
-// Per-pixel LDR-FLIP of two sanitised images (interleaved RGB in [0, 1]).
-Plane flipMap(const std::vector<float>& test, const std::vector<float>& ref, int w, int h, const FlipKernels& k) {
-    Perceived t = perceive(test, w, h, k), r = perceive(ref, w, h, k);
-    Plane e(std::size_t(w) * std::size_t(h));
-    parallelRows(h, [&](int y0, int y1) {
-        for (std::size_t i = std::size_t(y0) * std::size_t(w); i < std::size_t(y1) * std::size_t(w); ++i) {
-            // Colour: HyAB^q_c, redistributed (FLIP eq. 3-4).
-            double dc = redistribute(std::pow(hyab({r.L[i], r.a[i], r.b[i]}, {t.L[i], t.a[i], t.b[i]}), kQc));
-            // Features: (max(|Δ‖edge‖|, |Δ‖point‖|) / √2)^q_f (FLIP eq. 6).
-            double df = std::max(std::abs(double(r.edge[i]) - t.edge[i]), std::abs(double(r.point[i]) - t.point[i]));
-            df = std::pow(df / std::numbers::sqrt2, kQf);
-            // ΔE = ΔE_c^(1 − ΔE_f) (FLIP eq. 7).
-            e[i] = float(std::pow(dc, 1.0 - df));
-        }
+// Per-pixel LDR-FLIP of two sanitised images (interleaved RGB in [0, 1])
+// into ws.error.
+void flipMap(const std::vector<float>& test, const std::vector<float>& ref, const FlipKernels& k, Workspace& ws) {
+    perceive(test, k, ws, ws.test);
+    perceive(ref, k, ws, ws.ref);
+    const Perceived &t = ws.test, &r = ws.ref;
+    forEachPixel(ws.w, ws.h, [&](std::size_t i) {
+        // Colour: HyAB^q_c, redistributed (FLIP eq. 3-4).
+        double dc = redistribute(std::pow(hyab({r.L[i], r.a[i], r.b[i]}, {t.L[i], t.a[i], t.b[i]}), kQc));
+        // Features: (max(|Δ‖edge‖|, |Δ‖point‖|) / √2)^q_f (FLIP eq. 6).
+        double df = std::max(std::abs(double(r.edge[i]) - t.edge[i]), std::abs(double(r.point[i]) - t.point[i]));
+        df = std::sqrt(df / std::numbers::sqrt2);  // q_f = 0.5
+        // ΔE = ΔE_c^(1 − ΔE_f) (FLIP eq. 7).
+        ws.error[i] = float(std::pow(dc, 1.0 - df));
     });
-    return e;
 }
 
 // ---------------------------------------------------------------------------
@@ -425,8 +444,9 @@ FlipResult ldrFlip(const FloatImage& test, const FloatImage& ref, const FlipOpti
     Inputs in = sanitise(test, ref, mask, options);
     for (auto* img : {&in.test, &in.ref})
         for (float& v : *img) v = std::clamp(v, 0.0f, 1.0f);
-    Plane e = flipMap(in.test, in.ref, in.w, in.h, flipKernels(options.pixelsPerDegree));
-    return finish(in, std::move(e));
+    Workspace ws(in.w, in.h);
+    flipMap(in.test, in.ref, flipKernels(options.pixelsPerDegree), ws);
+    return finish(in, std::move(ws.error));
 }
 
 FlipResult hdrFlip(const FloatImage& test, const FloatImage& ref, const FlipOptions& options,
@@ -477,16 +497,19 @@ FlipResult hdrFlip(const FloatImage& test, const FloatImage& ref, const FlipOpti
     int count = std::max(2, int(std::ceil(stop - start)));
 
     FlipKernels k = flipKernels(options.pixelsPerDegree);
+    Workspace ws(in.w, in.h);
     Plane worst(in.use.size(), 0.0f);
     std::vector<float> tt(in.test.size()), tr(in.ref.size());
     for (int i = 0; i < count; ++i) {
         double scale = std::exp2(start + i * (stop - start) / double(count - 1));
-        for (std::size_t j = 0; j < tt.size(); ++j) {
-            tt[j] = float(aces(scale * in.test[j]));
-            tr[j] = float(aces(scale * in.ref[j]));
-        }
-        Plane e = flipMap(tt, tr, in.w, in.h, k);
-        for (std::size_t j = 0; j < worst.size(); ++j) worst[j] = std::max(worst[j], e[j]);
+        forEachPixel(in.w, in.h, [&](std::size_t j) {
+            for (std::size_t c = 3 * j; c < 3 * j + 3; ++c) {
+                tt[c] = float(aces(scale * in.test[c]));
+                tr[c] = float(aces(scale * in.ref[c]));
+            }
+        });
+        flipMap(tt, tr, k, ws);
+        forEachPixel(in.w, in.h, [&](std::size_t j) { worst[j] = std::max(worst[j], ws.error[j]); });
     }
     FlipResult res = finish(in, std::move(worst));
     res.startExposure = start, res.stopExposure = stop, res.exposures = count;
