@@ -433,8 +433,12 @@ TEST_CASE("Flip: bad input is rejected with a message") {
     o.startExposure = 2.0, o.stopExposure = 1.0;
     CHECK_THROWS_AS(hdrFlip(a, a, o), std::runtime_error);
     o = {};
-    o.pixelsPerDegree = 0.0;
+    o.pixelsPerDegree = 0.5;
     CHECK_THROWS_AS(ldrFlip(a, a, o), std::runtime_error);
+    o.pixelsPerDegree = 1.0;  // the smallest accepted observer still gives finite errors
+    FlipResult r = ldrFlip(a, randomImage(8, 8, 3), o);
+    CHECK(std::isfinite(r.mean));
+    CHECK(r.mean > 0.0);
 }
 
 TEST_CASE("flipErrorColorMap: dark to bright, increasing luminance, opaque") {

@@ -17,6 +17,7 @@ namespace rtgi {
 struct FlipOptions {
     // Observer: pixels per degree of visual angle. The papers' default is a
     // 0.7 m wide 3840-pixel monitor seen from 0.7 m: 3840 · π / 180 ≈ 67.02.
+    // At least 1.
     double pixelsPerDegree = 3840.0 * std::numbers::pi / 180.0;
     // HDR-FLIP only: the exposure range in stops (the images are scaled by
     // 2^exposure before tonemapping). Unset: computed from the reference as
@@ -43,7 +44,7 @@ struct FlipResult {
 // of the mean and counted; before filtering it is given the same finite value
 // in both images (the reference's where finite, else black), so it adds no
 // difference to its neighbours and no NaN spreads. Throws std::runtime_error
-// on a size or channel mismatch.
+// on a size, channel or mask mismatch, or pixelsPerDegree < 1.
 FlipResult ldrFlip(const FloatImage& test, const FloatImage& ref, const FlipOptions& options = {},
                    const std::vector<std::uint8_t>& mask = {});
 
