@@ -22,7 +22,7 @@ namespace {
 using Rgb = std::array<double, 3>;
 constexpr double kPi = std::numbers::pi;
 
-// ---- Oracle: FLIP's colour pipeline in double (FLIP paper section 4.1). ----
+// ---- Oracle: FLIP's colour pipeline in double (FLIP paper, colour pipeline). ----
 
 // sRGB primaries, D65 (IEC 61966-2-1), and the inverse by Gauss-Jordan.
 using M3 = std::array<Rgb, 3>;
@@ -76,7 +76,7 @@ double colourError(const Rgb& filteredTest, const Rgb& filteredRef) {
     return e < 0.4 * cmax ? 0.95 / (0.4 * cmax) * e : 0.95 + 0.05 * (e - 0.4 * cmax) / (0.6 * cmax);
 }
 
-// The 2D CSF kernel of one opponent channel (FLIP eq. 1, table 1) on its
+// The 2D CSF kernel of one opponent channel (FLIP paper, spatial filtering) on its
 // (2r+1)² square, normalised, summed over its rows: the filter an image that
 // is constant along y sees.
 std::vector<double> csfMarginal(double ppd, double a1, double b1, double a2, double b2) {
@@ -203,7 +203,7 @@ TEST_CASE("Flip: a larger constant difference gives a larger error") {
     }
 }
 
-// ΔE_f (FLIP eq. 5-6) per column of two images constant along y, given as
+// ΔE_f (FLIP paper, feature pipeline) per column of two images constant along y, given as
 // one row each. The paper's 2D detectors K(i, j) — first or second Gaussian
 // derivative along i (σ = w/2 · ppd) times the Gaussian along j, positive
 // weights normalised to sum 1 and negative ones to −1 — are built on their

@@ -16,7 +16,7 @@ using std::numbers::pi;
 using Plane = std::vector<float>;
 
 // ---------------------------------------------------------------------------
-// Colour spaces (FLIP paper, section 4.1; sRGB primaries, D65 white).
+// Colour spaces (FLIP paper, colour pipeline; sRGB primaries, D65 white).
 
 using Mat3 = std::array<std::array<double, 3>, 3>;
 
@@ -62,7 +62,7 @@ double labF(double t) {
 }
 
 // Linear RGB (clamped to the unit cube) -> Hunt-adjusted L*a*b*: a and b
-// scaled by 0.01·L* (FLIP eq. 2).
+// scaled by 0.01·L* (FLIP, colour pipeline).
 std::array<double, 3> huntLab(double r, double g, double b) {
     r = std::clamp(r, 0.0, 1.0), g = std::clamp(g, 0.0, 1.0), b = std::clamp(b, 0.0, 1.0);
     auto xyz = mul(kRgbToXyz, r, g, b);
@@ -77,17 +77,17 @@ double hyab(const std::array<double, 3>& p, const std::array<double, 3>& q) {
     return std::abs(p[0] - q[0]) + std::sqrt(da * da + db * db);
 }
 
-constexpr double kQc = 0.7, kPc = 0.4, kPt = 0.95;  // FLIP eq. 3-4
-constexpr double kFeatureW = 0.082;  // FLIP section 4.2; q_f = 0.5 is the square root in flipMap
+constexpr double kQc = 0.7, kPc = 0.4, kPt = 0.95;  // FLIP, colour metric
+constexpr double kFeatureW = 0.082;  // FLIP, feature pipeline; q_f = 0.5 is the square root in flipMap
 
 // c_max: the HyAB distance of the most different pair, pure green vs pure
-// blue, raised to q_c (FLIP section 4.1).
+// blue, raised to q_c (FLIP, colour metric).
 double cmax() {
     static const double c = std::pow(hyab(huntLab(0, 1, 0), huntLab(0, 0, 1)), kQc);
     return c;
 }
 
-// Error redistribution (FLIP eq. 4): [0, p_c·c_max) -> [0, p_t), the rest
+// Error redistribution (FLIP, colour metric): [0, p_c·c_max) -> [0, p_t), the rest
 // -> [p_t, 1].
 double redistribute(double e) {
     double c = cmax(), pcc = kPc * c;
@@ -103,7 +103,7 @@ using Kernel = std::vector<float>;
 // A 2D filter Σ_t k_t ⊗ k_t: a sum of separable terms.
 using SeparableSum = std::vector<Kernel>;
 
-// Contrast sensitivity filter of one YyCxCz channel (FLIP eq. 1):
+// Contrast sensitivity filter of one YyCxCz channel (FLIP, spatial filtering):
 // S(x) = Σ_i a_i √(π/b_i) exp(−π² ‖x‖² / b_i), x in degrees, evaluated on the
 // (2r+1)² pixel square and normalised to sum 1. Each Gaussian term is
 // separable, so the square kernel is exactly Σ_i k_i ⊗ k_i with
@@ -139,7 +139,7 @@ SeparableSum csfFilter(double ppd, int radius, std::initializer_list<std::array<
     return out;
 }
 
-// Edge and point detectors (FLIP section 4.2): the first and second
+// Edge and point detectors (FLIP, feature pipeline): the first and second
 // derivative of a Gaussian of σ = w/2 · ppd pixels along one axis, positive
 // weights normalised to sum 1 and negative ones to −1, times the Gaussian
 // normalised to sum 1 along the other axis (the 2D normalisation of the
@@ -174,7 +174,7 @@ struct FlipKernels {
 };
 
 FlipKernels flipKernels(double ppd) {
-    // CSF parameters (FLIP table 1); A and RG are single Gaussians (a2 = 0).
+    // CSF parameters of the FLIP paper; A and RG are single Gaussians (a2 = 0).
     // One radius for all channels, from the widest term: 3 σ of b = 0.04.
     int r = int(std::ceil(3.0 * std::sqrt(0.04 / (2.0 * pi * pi)) * ppd));
     return {csfFilter(ppd, r, {{1.0, 0.0047}}), csfFilter(ppd, r, {{1.0, 0.0053}}),
@@ -289,7 +289,7 @@ void forEachPixel(int w, int h, const F& f) {
 // `rgb`: interleaved linear RGB in [0, 1], finite.
 void perceive(const std::vector<float>& rgb, const FlipKernels& k, Workspace& ws, Perceived& p) {
     int w = ws.w, h = ws.h;
-    // Linear RGB -> YyCxCz (FLIP section 4.1): the linearised L*a*b*, whose
+    // Linear RGB -> YyCxCz (FLIP, colour pipeline): the linearised L*a*b*, whose
     // opponent channels the CSF filters act on.
     forEachPixel(w, h, [&](std::size_t i) {
         auto xyz = mul(kRgbToXyz, rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
@@ -335,13 +335,13 @@ void flipMap(const std::vector<float>& test, const std::vector<float>& ref, cons
     perceive(ref, k, ws, ws.ref);
     const Perceived &t = ws.test, &r = ws.ref;
     forEachPixel(ws.w, ws.h, [&](std::size_t i) {
-        // Colour: HyAB^q_c, redistributed (FLIP eq. 3-4).
+        // Colour: HyAB^q_c, redistributed (FLIP, colour metric).
         float h = float(hyab({r.L[i], r.a[i], r.b[i]}, {t.L[i], t.a[i], t.b[i]}));
         double dc = redistribute(std::pow(h, float(kQc)));
-        // Features: (max(|Δ‖edge‖|, |Δ‖point‖|) / √2)^q_f (FLIP eq. 6).
+        // Features: (max(|Δ‖edge‖|, |Δ‖point‖|) / √2)^q_f (FLIP, feature metric).
         double df = std::max(std::abs(double(r.edge[i]) - t.edge[i]), std::abs(double(r.point[i]) - t.point[i]));
         df = std::sqrt(df / std::numbers::sqrt2);  // q_f = 0.5
-        // ΔE = ΔE_c^(1 − ΔE_f) (FLIP eq. 7).
+        // ΔE = ΔE_c^(1 − ΔE_f) (FLIP, final error).
         ws.error[i] = std::pow(float(dc), float(1.0 - df));
     });
 }
@@ -388,15 +388,13 @@ Inputs sanitise(const FloatImage& test, const FloatImage& ref, const std::vector
     for (std::size_t i = 0; i < n; ++i) {
         bool ft = finiteRgb(test, i), fr = finiteRgb(ref, i);
         bool masked = mask.empty() || mask[i];
-        // A non-finite pixel gets the same value in both images, so that its
-        // neighbours see no difference there.
-        const FloatImage* src = fr ? &ref : (ft ? &test : nullptr);
-        for (int c = 0; c < 3; ++c) {
-            in.ref[3 * i + std::size_t(c)] = fr ? ref.data[i * std::size_t(ref.channels) + std::size_t(c)] : 0.0f;
-            in.test[3 * i + std::size_t(c)] = test.data[i * std::size_t(test.channels) + std::size_t(c)];
-            if (!(ft && fr))
-                in.test[3 * i + std::size_t(c)] = in.ref[3 * i + std::size_t(c)] =
-                    src ? src->data[i * std::size_t(src->channels) + std::size_t(c)] : 0.0f;
+        for (std::size_t c = 0; c < 3; ++c) {
+            float t = test.data[i * std::size_t(test.channels) + c], r = ref.data[i * std::size_t(ref.channels) + c];
+            // A non-finite pixel gets the same value in both images (the
+            // reference's if finite, else the test's, else black), so that
+            // its neighbours see no difference there.
+            if (!(ft && fr)) t = r = fr ? r : (ft ? t : 0.0f);
+            in.test[3 * i + c] = t, in.ref[3 * i + c] = r;
         }
         in.finite[i] = ft && fr;
         in.use[i] = masked && ft && fr;
@@ -426,7 +424,7 @@ FlipResult finish(const Inputs& in, Plane e) {
 
 // ACES filmic tonemapper as HDR-FLIP uses it: Narkowicz's fit
 // x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14) with the fit's 0.6 pre-exposure
-// folded into the coefficients, clamped to [0, 1] (HDR-FLIP section 3).
+// folded into the coefficients, clamped to [0, 1] (HDR-FLIP paper).
 constexpr double kAces[6] = {0.6 * 0.6 * 2.51, 0.6 * 0.03, 0.0, 0.6 * 0.6 * 2.43, 0.6 * 0.59, 0.14};
 
 double aces(double x) {
@@ -435,7 +433,7 @@ double aces(double x) {
     return std::clamp(y, 0.0, 1.0);
 }
 
-// The x with aces(x) = t (HDR-FLIP eq. 9): the positive root of
+// The x with aces(x) = t (HDR-FLIP, exposure range): the positive root of
 // (k0 − k3 t) x² + (k1 − k4 t) x + (k2 − k5 t) = 0.
 double acesInverse(double t) {
     double c0 = (kAces[1] - kAces[4] * t) / (kAces[0] - kAces[3] * t);
@@ -461,7 +459,7 @@ FlipResult hdrFlip(const FloatImage& test, const FloatImage& ref, const FlipOpti
     for (auto* img : {&in.test, &in.ref})
         for (float& v : *img) v = std::max(v, 0.0f);
 
-    // Exposure range (HDR-FLIP section 4): the start exposure maps the
+    // Exposure range (HDR-FLIP paper): the start exposure maps the
     // reference's largest luminance, the stop exposure its median, to the
     // tonemapped value t = 0.85.
     constexpr double t = 0.85;
@@ -499,7 +497,7 @@ FlipResult hdrFlip(const FloatImage& test, const FloatImage& ref, const FlipOpti
     if (!(start <= stop) || !std::isfinite(start) || !std::isfinite(stop))
         throw std::runtime_error("FLIP: the start exposure (" + std::to_string(start) +
                                  ") must be finite and not above the stop exposure (" + std::to_string(stop) + ")");
-    // Number of exposures, HDR-FLIP section 4: one per stop, at least 2.
+    // Number of exposures, as the HDR-FLIP paper: one per stop, at least 2.
     int count = std::max(2, int(std::ceil(stop - start)));
 
     FlipKernels k = flipKernels(options.pixelsPerDegree);
