@@ -76,41 +76,6 @@ double colourError(const Rgb& filteredTest, const Rgb& filteredRef) {
     return e < 0.4 * cmax ? 0.95 / (0.4 * cmax) * e : 0.95 + 0.05 * (e - 0.4 * cmax) / (0.6 * cmax);
 }
 
-// The 2D CSF kernel of one opponent channel (FLIP paper, spatial filtering) on its
-// (2r+1)² square, normalised, summed over its rows: the filter an image that
-// is constant along y sees.
-std::vector<double> csfMarginal(double ppd, double a1, double b1, double a2, double b2) {
-    int r = int(std::ceil(3 * std::sqrt(0.04 / (2 * kPi * kPi)) * ppd));
-    std::vector<double> m(std::size_t(2 * r + 1), 0.0);
-    double total = 0;
-    for (int i = -r; i <= r; ++i)
-        for (int j = -r; j <= r; ++j) {
-            double d2 = (i * i + j * j) / (ppd * ppd);
-            double s = a1 * std::sqrt(kPi / b1) * std::exp(-kPi * kPi * d2 / b1) +
-                       (a2 > 0 ? a2 * std::sqrt(kPi / b2) * std::exp(-kPi * kPi * d2 / b2) : 0.0);
-            m[std::size_t(i + r)] += s;
-            total += s;
-        }
-    for (double& v : m) v /= total;
-    return m;
-}
-
-// ΔE_c per column of two images constant along y, given as one row each.
-std::vector<double> colourTermOfRows(const std::vector<Rgb>& test, const std::vector<Rgb>& ref, double ppd) {
-    const std::vector<double> k[3] = {csfMarginal(ppd, 1, 0.0047, 0, 1), csfMarginal(ppd, 1, 0.0053, 0, 1),
-                                      csfMarginal(ppd, 34.1, 0.04, 13.5, 0.025)};
-    int w = int(ref.size()), r = int(k[0].size() / 2);
-    auto filtered = [&](const std::vector<Rgb>& row, int x) {
-        Rgb o{};
-        for (int c = 0; c < 3; ++c)
-            for (int i = -r; i <= r; ++i) o[c] += k[c][std::size_t(i + r)] * toYyCxCz(row[std::size_t(std::clamp(x + i, 0, w - 1))])[c];
-        return fromYyCxCz(o);
-    };
-    std::vector<double> e;
-    for (int x = 0; x < w; ++x) e.push_back(colourError(filtered(test, x), filtered(ref, x)));
-    return e;
-}
-
 FloatImage fromRows(const std::vector<Rgb>& row, int h, int channels = 3) {
     FloatImage img;
     img.width = int(row.size()), img.height = h, img.channels = channels;
@@ -203,46 +168,147 @@ TEST_CASE("Flip: a larger constant difference gives a larger error") {
     }
 }
 
-// ΔE_f (FLIP paper, feature pipeline) per column of two images constant along y, given as
-// one row each. The paper's 2D detectors K(i, j) — first or second Gaussian
-// derivative along i (σ = w/2 · ppd) times the Gaussian along j, positive
-// weights normalised to sum 1 and negative ones to −1 — are built on their
-// square and applied as they are, in x (K) and in y (K transposed), to the
-// normalised luminance Y / Y_white.
-std::vector<double> featureTermOfRows(const std::vector<Rgb>& test, const std::vector<Rgb>& ref, double ppd) {
-    double sd = 0.5 * 0.082 * ppd;
-    int r = int(std::ceil(3 * sd)), n = 2 * r + 1, w = int(ref.size());
-    auto detector = [&](bool point) {
-        std::vector<double> k;
-        double pos = 0, neg = 0;
-        for (int i = -r; i <= r; ++i)
-            for (int j = -r; j <= r; ++j) {
-                double g = std::exp(-(i * i + j * j) / (2 * sd * sd)), v = point ? (i * i / (sd * sd) - 1) * g : -i * g;
-                (v > 0 ? pos : neg) += v;
-                k.push_back(v);
-            }
-        for (double& v : k) v = v > 0 ? v / pos : v / -neg;
-        return k;
-    };
-    const std::vector<double> edgeK = detector(false), pointK = detector(true);
-    auto response = [&](const std::vector<Rgb>& row, const std::vector<double>& k, int x) {
-        double gx = 0, gy = 0;
-        for (int i = -r; i <= r; ++i) {
-            double y = mat(kToXyz, row[std::size_t(std::clamp(x + i, 0, w - 1))])[1] / white()[1];
-            for (int j = -r; j <= r; ++j) {
-                gx += k[std::size_t((i + r) * n + j + r)] * y;
-                gy += k[std::size_t((j + r) * n + i + r)] * y;
-            }
+namespace {
+
+// ---- Oracle: the whole LDR-FLIP map by brute force, 2D kernels as the paper
+// defines them (no separation), clamp-to-edge, double precision. ----
+
+// A (2r+1)² kernel, index (i + r)·n + (j + r) for offset (i, j) = (x, y).
+struct Kernel2D {
+    int r = 0;
+    std::vector<double> k;
+    double at(int i, int j) const { return k[std::size_t((i + r) * (2 * r + 1) + j + r)]; }
+};
+
+// CSF of one opponent channel (FLIP paper, spatial filtering):
+// Σ a √(π/b) exp(−π² d² / b), d in degrees, on the square of radius
+// ⌈3 √(0.04 / 2π²) ppd⌉, normalised to sum 1.
+Kernel2D csfKernel(double ppd, double a1, double b1, double a2, double b2) {
+    Kernel2D f;
+    f.r = int(std::ceil(3 * std::sqrt(0.04 / (2 * kPi * kPi)) * ppd));
+    double total = 0;
+    for (int i = -f.r; i <= f.r; ++i)
+        for (int j = -f.r; j <= f.r; ++j) {
+            double d2 = (i * i + j * j) / (ppd * ppd);
+            double s = a1 * std::sqrt(kPi / b1) * std::exp(-kPi * kPi * d2 / b1) +
+                       (a2 > 0 ? a2 * std::sqrt(kPi / b2) * std::exp(-kPi * kPi * d2 / b2) : 0.0);
+            f.k.push_back(s);
+            total += s;
         }
+    for (double& v : f.k) v /= total;
+    return f;
+}
+
+// Edge (first) or point (second) derivative of a Gaussian along x times the
+// Gaussian along y, σ = w/2 · ppd, w = 0.082; positive weights normalised to
+// 1, negative ones to −1 (FLIP paper, feature pipeline).
+Kernel2D detector(double ppd, bool point) {
+    Kernel2D f;
+    double sd = 0.5 * 0.082 * ppd, pos = 0, neg = 0;
+    f.r = int(std::ceil(3 * sd));
+    for (int i = -f.r; i <= f.r; ++i)
+        for (int j = -f.r; j <= f.r; ++j) {
+            double g = std::exp(-(i * i + j * j) / (2 * sd * sd)), v = point ? (i * i / (sd * sd) - 1) * g : -i * g;
+            (v > 0 ? pos : neg) += v;
+            f.k.push_back(v);
+        }
+    for (double& v : f.k) v = v > 0 ? v / pos : v / -neg;
+    return f;
+}
+
+struct OracleMap {
+    std::vector<double> colour, feature;  // ΔE_c, ΔE_f per pixel
+    double flip(std::size_t i) const { return std::pow(colour[i], 1 - feature[i]); }
+};
+
+// `test`, `ref`: linear RGB in [0, 1].
+OracleMap flipOracle(const FloatImage& test, const FloatImage& ref, double ppd) {
+    const int w = ref.width, h = ref.height;
+    const Kernel2D csf[3] = {csfKernel(ppd, 1, 0.0047, 0, 1), csfKernel(ppd, 1, 0.0053, 0, 1),
+                             csfKernel(ppd, 34.1, 0.04, 13.5, 0.025)};
+    const Kernel2D edgeK = detector(ppd, false), pointK = detector(ppd, true);
+    auto opponent = [&](const FloatImage& img) {
+        std::vector<Rgb> o;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) o.push_back(toYyCxCz({img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)}));
+        return o;
+    };
+    const std::vector<Rgb> ot = opponent(test), orf = opponent(ref);
+    auto px = [&](const std::vector<Rgb>& o, int x, int y) {
+        return o[std::size_t(std::clamp(y, 0, h - 1) * w + std::clamp(x, 0, w - 1))];
+    };
+    auto filtered = [&](const std::vector<Rgb>& o, int x, int y) {
+        Rgb f{};
+        for (int c = 0; c < 3; ++c)
+            for (int i = -csf[c].r; i <= csf[c].r; ++i)
+                for (int j = -csf[c].r; j <= csf[c].r; ++j) f[std::size_t(c)] += csf[c].at(i, j) * px(o, x + i, y + j)[std::size_t(c)];
+        return fromYyCxCz(f);
+    };
+    // ‖(K ⋆ Y, Kᵀ ⋆ Y)‖ on the normalised luminance (Yy + 16) / 116.
+    auto feature = [&](const std::vector<Rgb>& o, const Kernel2D& k, int x, int y) {
+        double gx = 0, gy = 0;
+        for (int i = -k.r; i <= k.r; ++i)
+            for (int j = -k.r; j <= k.r; ++j) {
+                double yn = (px(o, x + i, y + j)[0] + 16) / 116;
+                gx += k.at(i, j) * yn;
+                gy += k.at(j, i) * yn;
+            }
         return std::hypot(gx, gy);
     };
-    std::vector<double> f;
-    for (int x = 0; x < w; ++x) {
-        double d = std::max(std::abs(response(ref, edgeK, x) - response(test, edgeK, x)),
-                            std::abs(response(ref, pointK, x) - response(test, pointK, x)));
-        f.push_back(std::sqrt(d / std::numbers::sqrt2));
+    OracleMap m;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            m.colour.push_back(colourError(filtered(ot, x, y), filtered(orf, x, y)));
+            double d = std::max(std::abs(feature(orf, edgeK, x, y) - feature(ot, edgeK, x, y)),
+                                std::abs(feature(orf, pointK, x, y) - feature(ot, pointK, x, y)));
+            m.feature.push_back(std::sqrt(d / std::numbers::sqrt2));
+        }
+    return m;
+}
+
+// Largest |ldrFlip map − oracle map|.
+double maxDifference(const FlipResult& f, const OracleMap& o) {
+    double d = 0;
+    for (std::size_t i = 0; i < o.colour.size(); ++i) d = std::max(d, std::abs(f.errorMap.data[i] - o.flip(i)));
+    return d;
+}
+
+}  // namespace
+
+TEST_CASE("Flip: the error map equals the paper's definition evaluated by brute force in double") {
+    // Random images: structure everywhere, in both directions, up to the
+    // borders. Tolerance: float planes; ΔE_f is a square root, so a float
+    // residual of 1e-7 in the detectors is up to 3e-4 in ΔE_f where the
+    // images nearly agree.
+    for (unsigned seed : {1u, 2u}) {
+        FloatImage t = randomImage(23, 19, 40 + seed), r = randomImage(23, 19, 50 + seed);
+        // Smooth the test towards the reference so that errors span the range.
+        for (std::size_t i = 0; i < t.data.size(); ++i) t.data[i] = r.data[i] + 0.1f * seed * (t.data[i] - r.data[i]);
+        FlipResult f = ldrFlip(t, r);
+        OracleMap o = flipOracle(t, r, kPpd);
+        CAPTURE(seed);
+        CHECK(maxDifference(f, o) < 3e-4);  // measured 1e-5
+        double mean = 0;
+        for (std::size_t i = 0; i < o.colour.size(); ++i) mean += o.flip(i) / double(o.colour.size());
+        CHECK(f.mean == doctest::Approx(mean).epsilon(1e-5));
     }
-    return f;
+    // Saturated primaries next to each other: the chroma filters push the
+    // filtered colours out of the RGB cube, where the clamp matters.
+    // Test: 1-pixel red/green columns; reference: 3-pixel yellow/blue rows.
+    FloatImage st = randomImage(21, 15, 71), sr = st;
+    for (int y = 0; y < 15; ++y)
+        for (int x = 0; x < 21; ++x)
+            for (int c = 0; c < 3; ++c) {
+                std::size_t i = std::size_t((y * 21 + x) * 4 + c);
+                st.data[i] = float(x % 2 ? c == 0 : c == 1);
+                sr.data[i] = float((y / 3) % 2 ? c < 2 : c == 2);
+            }
+    CHECK(maxDifference(ldrFlip(st, sr), flipOracle(st, sr, kPpd)) < 3e-4);
+    // Another observer: 30 pixels per degree (kernel radii 5 and 4).
+    FlipOptions o30;
+    o30.pixelsPerDegree = 30;
+    FloatImage t = randomImage(17, 13, 61), r = randomImage(17, 13, 62);
+    CHECK(maxDifference(ldrFlip(t, r, o30), flipOracle(t, r, 30)) < 3e-4);
 }
 
 TEST_CASE("Flip: a shifted step edge equals the paper's formulas in double and adds a feature term") {
@@ -263,27 +329,19 @@ TEST_CASE("Flip: a shifted step edge equals the paper's formulas in double and a
         double maxFeature = 0, peak = 0;
     };
     auto evaluate = [&](const std::vector<Rgb>& rt, const std::vector<Rgb>& rr) {
-        FlipResult f = ldrFlip(fromRows(rt, h), fromRows(rr, h));
-        std::vector<double> c = colourTermOfRows(rt, rr, kPpd), ft = featureTermOfRows(rt, rr, kPpd);
-        // The same images transposed (constant along x) test the vertical passes.
-        FlipResult ftr = ldrFlip(transposed(fromRows(rt, h)), transposed(fromRows(rr, h)));
+        FloatImage ti = fromRows(rt, h), ri = fromRows(rr, h);
+        FlipResult f = ldrFlip(ti, ri);
+        OracleMap oracle = flipOracle(ti, ri, kPpd);
+        CHECK(maxDifference(f, oracle) < 3e-4);  // tolerance as above; measured 8e-5
+        // The same images transposed (constant along x): the vertical passes.
+        FloatImage tt = transposed(ti), rt2 = transposed(ri);
+        CHECK(maxDifference(ldrFlip(tt, rt2), flipOracle(tt, rt2, kPpd)) < 3e-4);
         Outcome o;
-        double maxDiff = 0, sum = 0;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double e = f.errorMap.data[std::size_t(y * w + x)], ec = c[std::size_t(x)];
-                double expected = std::pow(ec, 1 - ft[std::size_t(x)]);
-                maxDiff = std::max(maxDiff, std::abs(e - expected));
-                maxDiff = std::max(maxDiff, std::abs(ftr.errorMap.data[std::size_t(x * h + y)] - expected));
-                sum += expected;
-                if (ec > 1e-3 && ec < 0.999) o.maxFeature = std::max(o.maxFeature, 1.0 - std::log(e) / std::log(ec));
-                o.peak = std::max(o.peak, e);
-            }
-        // Tolerance: float planes; ΔE_f is a square root, so a float residual
-        // of 1e-7 in the detectors is up to 3e-4 in ΔE_f where the images
-        // agree, damped by ΔE_c·ln ΔE_c there.
-        CHECK(maxDiff < 3e-4);  // measured 5e-5
-        CHECK(f.mean == doctest::Approx(sum / (w * h)).epsilon(1e-4));
+        for (std::size_t i = 0; i < oracle.colour.size(); ++i) {
+            double e = f.errorMap.data[i], ec = oracle.colour[i];
+            if (ec > 1e-3 && ec < 0.999) o.maxFeature = std::max(o.maxFeature, 1.0 - std::log(e) / std::log(ec));
+            o.peak = std::max(o.peak, e);
+        }
         return o;
     };
     Outcome sharp = evaluate(edge(48.5, 0), edge(47.5, 0));
