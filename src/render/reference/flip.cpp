@@ -520,7 +520,7 @@ FlipResult hdrFlip(const FloatImage& test, const FloatImage& ref, const FlipOpti
     return res;
 }
 
-// Magma-like ramp through nine control points read off matplotlib's magma
+// Magma-like ramp through nine control points approximating matplotlib's magma
 // (Smith & van der Walt 2015, CC0), linear between them in display values.
 FloatImage flipErrorColorMap(const FloatImage& errorMap) {
     static const float stops[9][3] = {{0.001f, 0.000f, 0.014f}, {0.114f, 0.065f, 0.277f}, {0.317f, 0.072f, 0.485f},
