@@ -1,8 +1,9 @@
 // LDR-FLIP and HDR-FLIP (render/reference/flip.h) against oracles written
-// here from the papers' definitions in double precision: the colour term of
-// images constant along y (where the 2D CSF filter reduces to its 1D
-// marginal), the HDR exposure range from the ACES curve inverted by bisection,
-// and invariants (identical images, masks, non-finite pixels, monotonicity).
+// here from the papers' definitions in double precision: a colour-only
+// computation for constant images, the whole LDR-FLIP map by brute force with
+// unseparated 2D kernels, the HDR exposure range from the ACES curve inverted
+// by bisection, and invariants (identical images, masks, non-finite pixels,
+// monotonicity).
 #include "render/reference/flip.h"
 
 #include <doctest/doctest.h>
@@ -282,7 +283,7 @@ TEST_CASE("Flip: the error map equals the paper's definition evaluated by brute 
     // images nearly agree.
     for (unsigned seed : {1u, 2u}) {
         FloatImage t = randomImage(23, 19, 40 + seed), r = randomImage(23, 19, 50 + seed);
-        // Smooth the test towards the reference so that errors span the range.
+        // Blend the test towards the reference so that errors span the range.
         for (std::size_t i = 0; i < t.data.size(); ++i) t.data[i] = r.data[i] + 0.1f * seed * (t.data[i] - r.data[i]);
         FlipResult f = ldrFlip(t, r);
         OracleMap o = flipOracle(t, r, kPpd);
