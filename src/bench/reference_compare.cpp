@@ -5,6 +5,7 @@
 #include "gl/image_files.h"
 #include "gl/image_io.h"
 #include "gl/output_files.h"
+#include "render/reference/flip.h"
 #include "render/reference/metrics.h"
 #include "render/reference/reference_cache.h"
 #include "render/lpv/lpv_passes.h"
@@ -51,6 +52,45 @@ void addUncertainty(nlohmann::json& j, const FloatImage& test, const FloatImage&
     j["rmse_debiased"] = u.rmseDebiased;
     j["rmse_ci95"] = {u.low, u.high};
     j["reference_noise"] = u.noiseRms;
+}
+
+// FLIP (docs/flip.md): HDR-FLIP for radiance, LDR-FLIP for AO (channel 0 as
+// a grey display value in [0,1]).
+FlipResult flipOf(const FloatImage& test, const FloatImage& ref, int channels, const std::vector<std::uint8_t>& mask) {
+    if (channels == 3) return hdrFlip(test, ref, {}, mask);
+    auto grey = [](const FloatImage& img) {
+        FloatImage g = img;
+        g.channels = 3;
+        g.data.resize(std::size_t(img.width) * std::size_t(img.height) * 3);
+        for (std::size_t i = 0; i < std::size_t(img.width) * std::size_t(img.height); ++i)
+            g.data[i * 3] = g.data[i * 3 + 1] = g.data[i * 3 + 2] = img.data[i * std::size_t(img.channels)];
+        return g;
+    };
+    return ldrFlip(grey(test), grey(ref), {}, mask);
+}
+
+// The mean of a FLIP error map over a mask (the map is 0 where an input was
+// not finite; those pixels are in FlipResult::nonFinitePixels).
+double flipMean(const FloatImage& map, const std::vector<std::uint8_t>& mask) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < std::size_t(map.width) * std::size_t(map.height); ++i)
+        if (mask.empty() || mask[i]) {
+            sum += map.data[i * std::size_t(map.channels)];
+            ++n;
+        }
+    return n ? sum / double(n) : 0.0;
+}
+
+nlohmann::json flipJson(const FlipResult& f, int channels) {
+    nlohmann::json j = {{"mean", f.mean}, {"kind", channels == 3 ? "hdr" : "ldr"}, {"pixels", f.pixels},
+                        {"non_finite_pixels", f.nonFinitePixels}, {"pixels_per_degree", FlipOptions{}.pixelsPerDegree}};
+    if (channels == 3) {
+        j["start_exposure"] = f.startExposure;
+        j["stop_exposure"] = f.stopExposure;
+        j["exposures"] = f.exposures;
+    }
+    return j;
 }
 
 // Converging references (reference.target_noise): each check compares the
@@ -137,10 +177,13 @@ nlohmann::json matchingBounceError(const Renderer& run, const Settings& rs, cons
     nlohmann::json mb = metricsJson(compareImages(test, matching, channels, mpeak, mask), true);
     addSkill(mb, test, matching, channels, mpeak, mask);
     addUncertainty(mb, test, matching, matchingSe, channels, mask);
+    const FlipResult flip = flipOf(test, matching, channels, mask);
+    mb["flip"] = flipJson(flip, channels);
     mb.erase("ssim");
     nlohmann::json in = metricsJson(compareImages(test, matching, channels, mpeak, interior), true);
     addSkill(in, test, matching, channels, mpeak, interior);
     addUncertainty(in, test, matching, matchingSe, channels, interior);
+    in["flip"] = {{"mean", flipMean(flip.errorMap, interior)}};
     in.erase("ssim");
     mb["interior"] = in;
     mb["bounces"] = ms.reference.bounces;
@@ -188,6 +231,8 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     nlohmann::json e = metricsJson(m, kind != K::Ao);
     addSkill(e, test, mean, channels, peak, mask);
     addUncertainty(e, test, mean, se, channels, mask);
+    const FlipResult flip = flipOf(test, mean, channels, mask);
+    e["flip"] = flipJson(flip, channels);
     e["compared"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirectDiffuse" : "hdr";
     e["kind"] = kind == K::Ao ? "ao" : kind == K::Indirect ? "indirect" : "full";  // results.json config.reference
     e["pixels_compared"] = "geometry (linear depth > 0; sky excluded)";
@@ -203,6 +248,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         nlohmann::json in = metricsJson(compareImages(test, mean, channels, peak, interior), kind != K::Ao);
         addSkill(in, test, mean, channels, peak, interior);
         addUncertainty(in, test, mean, se, channels, interior);
+        in["flip"] = {{"mean", flipMean(flip.errorMap, interior)}};
         in.erase("ssim");
         in["relative_depth_jump"] = 0.1;
         e["interior"] = in;
@@ -292,6 +338,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
             glossy[i] = mask[i] && material.data[i * std::size_t(material.channels)] <= cutoff;
         nlohmann::json g = metricsJson(compareImages(test, mean, channels, peak, glossy), true);
         addUncertainty(g, test, mean, se, channels, glossy);
+        g["flip"] = {{"mean", flipMean(flip.errorMap, glossy)}};
         g.erase("ssim");
         e["glossy"] = g;
     }
@@ -322,6 +369,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     if (writeImages) {
         std::filesystem::create_directories(outDir);
         writePng(outDir + "/error.heatmap.png", errorHeatmap(test, mean, channels, heatMax));
+        writePng(outDir + "/error.flip.png", flipErrorColorMap(flip.errorMap), 1.0f, false);
         writePfm(outDir + "/reference.pfm", mean);
         writePfm(outDir + "/reference.stderr.pfm", se);
         // EXR (tev, Nuke, Blender, OpenImageIO read it): float, bit-exact, so
@@ -337,7 +385,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         }
         for (auto& d : ref.debugImages(*ref.findPass(passName)))
             if (d.tex && *d.tex) writePng(outDir + "/" + d.name + ".png", readTexture(*d.tex), d.scale, false);
-        e["images"] = {"error.heatmap.png", "reference.exr", "reference.stderr.exr", "compared.exr", "compared.mask.png", "reference.pfm",
+        e["images"] = {"error.heatmap.png", "error.flip.png", "reference.exr", "reference.stderr.exr", "compared.exr", "compared.mask.png", "reference.pfm",
                        "reference.stderr.pfm"};
     }
     return e;
@@ -408,8 +456,28 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
     j["peak"] = peak;
     double heatMax = errorQuantile(t, r, channels, 0.99);
     j["heatmap_max"] = heatMax;
+    // FLIP: HDR-FLIP of radiance; LDR-FLIP of ldr images (PNG values are
+    // sRGB-encoded display values: decoded to linear first, as FLIP's sRGB
+    // input; PFM/EXR values are taken as linear) and of AO (grey).
+    FlipResult flip;
+    if (q == Q::Ldr) {
+        auto linear = [](FloatImage img, bool encoded) {
+            if (!encoded) return img;
+            for (std::size_t i = 0; i < img.data.size(); ++i) {
+                if (img.channels == 4 && i % 4 == 3) continue;
+                const double c = std::clamp(double(img.data[i]), 0.0, 1.0);
+                img.data[i] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+            }
+            return img;
+        };
+        flip = ldrFlip(linear(t, !isHdrImageFile(image)), linear(r, !isHdrImageFile(reference)), {}, mask);
+    } else {
+        flip = flipOf(t, r, channels, mask);
+    }
+    j["flip"] = flipJson(flip, q == Q::Radiance ? 3 : 1);
     std::filesystem::create_directories(opts.outDir);
     writePng(opts.outDir + "/error.heatmap.png", errorHeatmap(t, r, channels, heatMax));
+    writePng(opts.outDir + "/error.flip.png", flipErrorColorMap(flip.errorMap), 1.0f, false);
     writeFileAtomic(opts.outDir + "/compare.json", j.dump(2) + "\n");
     return j;
 }
