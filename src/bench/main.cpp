@@ -8,6 +8,7 @@
 #include "gl/context.h"
 #include "gl/output_files.h"
 #include "gl/program.h"
+#include "render/lights.h"
 #include "render/renderer.h"
 
 #include <cmath>
@@ -131,6 +132,7 @@ int main(int argc, char** argv) {
         }
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        checkRadiometricRange(scene, settingsFor(scene, cl));  // also for --validate-only and --print-frame
         if (cl.printFrame) {  // the declared frame; no GL context needed
             std::cout << FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl)).table();
             return 0;

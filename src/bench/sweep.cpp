@@ -2,6 +2,7 @@
 
 #include "bench/run.h"
 #include "bench/sweep_spec.h"
+#include "gl/input_files.h"
 #include "gl/output_files.h"
 #include "gl/program.h"
 #include "render/renderer.h"
@@ -40,9 +41,20 @@ std::string formatDuration(double s) {
 
 // Rewrites results.csv from results.jsonl (the record that resume trusts), so
 // the CSV never holds rows of a configuration interrupted between the writes.
+// The sweep's own record (results.jsonl in --out), through the one reader:
+// absent is empty; a FIFO or device put in its place is an output error.
+std::string readRecords(const std::string& jsonlPath) {
+    if (inputFileProblem(jsonlPath, InputKind::Records) == "does not exist") return {};
+    try {
+        return readInputFile(jsonlPath, InputKind::Records);
+    } catch (const InputError& e) {
+        throw OutputError(e.what());
+    }
+}
+
 void rewriteCsv(const std::string& jsonlPath, const std::string& csvPath) {
     std::string csv = sweepCsvHeader() + "\n";
-    std::ifstream in(jsonlPath);
+    std::istringstream in(readRecords(jsonlPath));
     std::string line;
     while (std::getline(in, line)) {
         auto j = nlohmann::json::parse(line, nullptr, false);
@@ -64,13 +76,15 @@ bool buildHasReference() {
 int runSweepCommand(const CommandLine& cl) {
     // A sweep file is self-contained: its id scheme only sees what the file
     // says, so command-line settings would silently change resumed results.
-    if (describe(cl.settings) != describe(Settings{}))
+    if (!cl.assignments.empty() || describe(cl.settings) != describe(Settings{}))
         throw ConfigError("--sweep: --set/--config do not apply to sweeps; put the keys in the sweep file's \"base\"");
-    std::ifstream f(cl.sweep);
-    if (!f) throw ConfigError("--sweep " + cl.sweep + ": cannot open the file");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    SweepSpec spec = parseSweep(ss.str(), cl.sweep);
+    std::string text;
+    try {
+        text = readInputFile(cl.sweep, InputKind::Config);  // gl/input_files.h: no FIFOs, bounded
+    } catch (const InputError& e) {
+        throw ConfigError(std::string("--sweep ") + e.what());
+    }
+    SweepSpec spec = parseSweep(text, escapeControl(cl.sweep));
     std::vector<SweepConfig> mine = shardOf(spec.configs, cl.shardIndex, cl.shardCount);
 
     const std::string dir = cl.run.outDir;
@@ -78,9 +92,9 @@ int runSweepCommand(const CommandLine& cl) {
     const std::string jsonlPath = dir + "/results.jsonl", csvPath = dir + "/results.csv";
     std::set<std::string> done;
     {
-        std::ifstream in(jsonlPath);
+        std::istringstream in(readRecords(jsonlPath));
         int unreadable = 0;
-        if (in) done = completedIds(in, &unreadable);
+        done = completedIds(in, &unreadable);
         if (unreadable > 0)
             std::fprintf(stderr, "rtgi-bench: %s: ignored %d unreadable line(s) (an interrupted write?)\n",
                          jsonlPath.c_str(), unreadable);

@@ -2,6 +2,7 @@
 // docs/viewer.md). Uses app/ (command line, scenes), render/ and view/; never bench/.
 #include "app/cli.h"
 #include "compute/lib/view_shared.h"
+#include "gl/input_files.h"
 #include "gl/program.h"
 #include "gl/window_host.h"
 #include "render/renderer.h"
@@ -41,11 +42,11 @@ int run(int argc, char** argv) {
     }
     std::vector<view::ScriptAction> script;
     if (!cl.script.empty()) {
-        std::ifstream in(cl.script);
-        if (!in) throw ConfigError("--script " + cl.script + ": cannot open the file");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        script = view::parseScript(ss.str(), cl.script);
+        try {
+            script = view::parseScript(readInputFile(cl.script, InputKind::Config), escapeControl(cl.script));
+        } catch (const InputError& e) {
+            throw ConfigError(std::string("--script ") + e.what());
+        }
     }
     const std::string screenshotPath = cl.screenshot;
     bool vsync = cl.vsync;
