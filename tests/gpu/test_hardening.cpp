@@ -131,3 +131,27 @@ TEST_CASE("hardening: an unwritable --out or a link at results.json stops before
     CHECK(b.seconds < 5.0);
     fs::remove_all(dir);
 }
+
+TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate counts the RSM of every local light face (issue 28)") {
+    // gallery: spot and point lights only; with the LPV on every face in view
+    // gets its own RSM (lpv.rsm.local*), which the estimate did not count.
+    Scene scene = loadBuiltin("gallery");
+    Settings s;
+    for (auto a : {"lpv=on", "lpv.rsm=64", "shadow.local_size=64"}) applyAssignment(s, a);
+    gl::Profiler prof(info().timerQuery);
+    Renderer r(scene, s, prof);
+    const glm::ivec2 res(48, 32);
+    MemoryEstimate e = estimateFrameMemory(r, res);
+    r.render(makeView(resolveCamera(scene, s), res, nullptr, 0));
+    std::int64_t localLedger = 0, localEstimate = 0;
+    for (auto& [name, bytes] : r.ledger().entries())
+        if (name.rfind("lpv.rsm.local", 0) == 0 || name.rfind("lpv.uniforms.local", 0) == 0) localLedger += bytes;
+    for (auto& item : e.items)
+        if (item.setting.rfind("local lights (", 0) == 0) localEstimate += item.bytes;
+    MESSAGE("gallery: estimate " << e.total() << " bytes (local RSMs " << localEstimate << "), ledger " << r.ledger().total()
+                                 << " (local RSMs " << localLedger << ")");
+    CHECK(localLedger > 0);
+    CHECK(localEstimate >= localLedger);
+    CHECK(e.total() >= r.ledger().total());
+    CHECK(e.total() <= 2 * r.ledger().total());
+}
