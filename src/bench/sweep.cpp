@@ -101,7 +101,7 @@ int runSweepCommand(const CommandLine& cl) {
     }
     std::vector<SweepConfig> todo = pending(mine, done);
     std::fprintf(stderr, "rtgi-bench: sweep '%s': %zu configurations%s, shard %d/%d holds %zu, %zu done, %zu to run\n",
-                 spec.name.c_str(), spec.configs.size(),
+                 escapeControl(spec.name).c_str(), spec.configs.size(),
                  spec.duplicates ? (" (" + std::to_string(spec.duplicates) + " duplicates dropped)").c_str() : "",
                  cl.shardIndex, cl.shardCount, mine.size(), mine.size() - todo.size(), todo.size());
     rewriteCsv(jsonlPath, csvPath);
@@ -140,7 +140,7 @@ int runSweepCommand(const CommandLine& cl) {
                 renderer.reset();
                 loadedScene.clear();
                 scene = std::make_unique<Scene>(loadScenes(paths));
-                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
             }
             Settings settings = effectiveSettings(scene->suggestedSettings, c.assignments, scene->name);
             // A configuration with a reference is timed without it (the
@@ -183,7 +183,7 @@ int runSweepCommand(const CommandLine& cl) {
             renderer.reset();  // its state after a throw inside configure() is not trusted
             loadedScene.clear();
             ++failures;
-            std::fprintf(stderr, "rtgi-bench: %s: %s\n", c.label().c_str(), e.what());
+            std::fprintf(stderr, "rtgi-bench: %s: %s\n", escapeControl(c.label()).c_str(), escapeControl(e.what()).c_str());
         }
         double wall = std::chrono::duration<double>(Clock::now() - t0).count();
         line["sweep"] = c.describe();
@@ -203,7 +203,7 @@ int runSweepCommand(const CommandLine& cl) {
                      c.id.c_str(), c.label().c_str(), line.contains("total_ms") ? line["total_ms"].get<double>() : 0.0,
                      wall, formatDuration(elapsed).c_str(), formatDuration(eta).c_str());
     }
-    std::fprintf(stderr, "rtgi-bench: sweep '%s': wrote %s and %s\n", spec.name.c_str(), jsonlPath.c_str(),
+    std::fprintf(stderr, "rtgi-bench: sweep '%s': wrote %s and %s\n", escapeControl(spec.name).c_str(), jsonlPath.c_str(),
                  csvPath.c_str());
     if (failures > 0) {
         std::fprintf(stderr, "rtgi-bench: %d of %zu configurations failed (lines with \"failed\" in %s)\n", failures,

@@ -93,17 +93,16 @@ bool readInputBytes(const std::string& path, InputKind kind, std::vector<unsigne
         return false;
     }
     // Read to the end, but never past the limit (a file growing while it is
-    // read stops there as well).
+    // read stops there as well): the size fstat reported first, then 64 KiB
+    // chunks until the end of the file.
     const std::uintmax_t limit = inputSizeLimit(kind);
     out.resize(std::size_t(st.st_size));
     std::size_t got = 0;
+    unsigned char chunk[65536];
     for (;;) {
-        if (got == out.size()) {
-            if (got > limit) break;
-            out.resize(std::max<std::size_t>(out.size() * 2, got + 65536));
-        }
-        const ssize_t n = ::read(fd, out.data() + got, out.size() - got);
-        if (n < 0 && errno == EINTR) continue;
+        const bool initial = got < out.size();
+        const ssize_t n = initial ? ::read(fd, out.data() + got, out.size() - got) : ::read(fd, chunk, sizeof chunk);
+        if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
         if (n < 0) {
             why = std::string("could not be read (") + std::strerror(errno) + ")";
             ::close(fd);
@@ -111,7 +110,9 @@ bool readInputBytes(const std::string& path, InputKind kind, std::vector<unsigne
             return false;
         }
         if (n == 0) break;
+        if (!initial) out.insert(out.end(), chunk, chunk + n);
         got += std::size_t(n);
+        if (got > limit) break;
     }
     ::close(fd);
     if (got > limit) {

@@ -200,8 +200,8 @@ TEST_CASE("hardening: emitters whose products overflow float are refused at load
     doc = triangleGltf(d, 1e15);
     makeEmissive(doc, {1, 1, 1}, 1e29);
     expectExit("--scene " + write(d, doc) + run, 3, "emissive region 0: emission x area");
-    // A unit emitter of 9.9e29 is fine alone; emissive.scale=1e12 makes it 9.9e41.
-    doc = triangleGltf(d, 1.0);
+    // An emitter of 9.9e29 (0.5 m^2) is fine alone; emissive.scale=1e12 makes it 9.9e41.
+    doc = triangleGltf(d, 0.5);
     makeEmissive(doc, {1, 1, 1}, 9.9e29);
     expectExit("--scene " + write(d, doc) + run + " --set emissive.scale=1e12", 2,
                "emissive.scale=1e+12: material 'material0': emission becomes 9.9e+41, more than 1e+30");
@@ -220,7 +220,7 @@ TEST_CASE("hardening: accepted-but-wrong lights and materials are warnings or er
     CAPTURE(r.err);
     CHECK(r.rc == 0);
     CHECK(r.seconds < 5.0);
-    CHECK(r.err.find("1000 directional lights; only the first is used (the frame has one sun), the other 999 are ignored") !=
+    CHECK(r.err.find("1000 directional lights; only 'light 0' is used (the frame has one sun), the other 999 are ignored") !=
           std::string::npos);
 
     struct Case {
