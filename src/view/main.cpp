@@ -53,7 +53,7 @@ int run(int argc, char** argv) {
     const bool automate = cl.framesGiven || !screenshotPath.empty();
 
     Scene scene = loadScenes(cl.run.scenes);
-    for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", w.c_str());
+    for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", escapeControl(w).c_str());
     auto host = gl::WindowHost::create(cl.run.resolution, "rtgi-view: " + scene.name, cl.debug, vsync && !automate);
     gl::Profiler profiler(host->info().timerQuery);
     Settings settings = settingsFor(scene, cl);
@@ -301,13 +301,13 @@ int main(int argc, char** argv) {
     try {
         return run(argc, argv);
     } catch (const SceneError& e) {
-        std::fprintf(stderr, "rtgi-view: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-view: %s\n", escapeControl(e.what()).c_str());
         return 3;
     } catch (const ConfigError& e) {
-        std::fprintf(stderr, "rtgi-view: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-view: %s\n", escapeControl(e.what()).c_str());
         return 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "rtgi-view: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-view: %s\n", escapeControl(e.what()).c_str());
         return 4;
     }
 }
