@@ -1,6 +1,7 @@
 // Issue 16 on the GPU tier: the memory estimate against the ledger (the
 // resources a frame really allocated), and rtgi-bench stopping at once with
 // exit 2 for configurations beyond the memory budget.
+#include "bench_runner.h"
 #include "gpu_fixture.h"
 #include "render/memory_budget.h"
 
@@ -53,23 +54,8 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate bounds the l
 }
 
 namespace {
-struct Run {
-    int rc = -1;
-    std::string err;
-    double seconds = 0;
-};
-Run bench(const std::string& args) {
-    fs::path log = fs::temp_directory_path() / ("rtgi-hardening-" + std::to_string(getpid()) + ".log");
-    auto t0 = std::chrono::steady_clock::now();
-    int rc = std::system((std::string(RTGI_BENCH_EXE) + " " + args + " > /dev/null 2> " + log.string()).c_str());
-    Run r;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.rc = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    std::ifstream in(log);
-    r.err.assign(std::istreambuf_iterator<char>(in), {});
-    fs::remove(log);
-    return r;
-}
+using Run = test::BenchRun;
+Run bench(const std::string& args) { return test::runBench(args, 120); }  // tests/bench_runner.h
 }  // namespace
 
 TEST_CASE("hardening: lpv.grid=512 and --res 16384x16384 stop within 5 s with exit 2 naming the memory and the setting") {
