@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 #include "app/version.h"
+#include "gl/input_files.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -182,15 +183,17 @@ CommandLine parseCommandLine(Host host, int argc, char** argv) {
     checkCommandLine(c);
     // --config files first, then --set in order: the command line wins.
     for (auto& f : configs) {
-        std::ifstream in(f);
-        if (!in) throw ConfigError("--config " + f + ": cannot open the file");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        for (auto& kv : flattenJsonConfig(ss.str(), f)) {
+        std::string text;
+        try {
+            text = readInputFile(f, InputKind::Config);  // gl/input_files.h: no FIFOs, bounded
+        } catch (const InputError& e) {
+            throw ConfigError(std::string("--config ") + e.what());
+        }
+        for (auto& kv : flattenJsonConfig(text, escapeControl(f))) {
             try {
                 applySetting(c.settings, kv.first, kv.second);
             } catch (const ConfigError& e) {
-                throw ConfigError(f + ": " + e.what());
+                throw ConfigError(escapeControl(f) + ": " + e.what());
             }
             c.assignments.push_back(kv);
         }
@@ -268,7 +271,27 @@ std::string quoteCommandLine(int argc, char** argv) {
     return out;
 }
 
+namespace {
+// The frame has one sun (one shadow map, one RSM, one LPV injection:
+// docs/lights.md): Scene::sun() is the first directional light; the others
+// are left out with a warning (stderr and results.json "warnings").
+void warnExtraSuns(Scene& s) {
+    std::size_t suns = 0;
+    for (auto& l : s.lights) suns += l.type == LightType::Directional ? 1 : 0;
+    if (suns < 2) return;
+    const std::string first = s.sun()->name.empty() ? std::string("the first") : "'" + s.sun()->name + "'";
+    s.warnings.push_back(s.name + ": " + std::to_string(suns) + " directional lights; only " + first +
+                         " is used (the frame has one sun), the other " + std::to_string(suns - 1) + " are ignored");
+}
+}  // namespace
+
 Scene loadScenes(const std::vector<std::string>& specs) {
+    Scene s = mergeScenes(specs);
+    warnExtraSuns(s);
+    return s;
+}
+
+Scene mergeScenes(const std::vector<std::string>& specs) {
     if (specs.empty()) throw SceneError("--scene: no scene given");
     std::vector<Scene> floors, models;
     for (auto& s : specs) {

@@ -87,5 +87,7 @@ std::string quoteCommandLine(int argc, char** argv);
 // (minimum y = 0, centred in x/z), the floor is scaled to 10x the model's
 // footprint, and the camera frames the model.
 Scene loadScenes(const std::vector<std::string>& specs);
+// loadScenes without the scene-wide warnings (several suns).
+Scene mergeScenes(const std::vector<std::string>& specs);
 
 }  // namespace rtgi

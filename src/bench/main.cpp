@@ -6,8 +6,10 @@
 #include "bench/run.h"
 #include "bench/sweep.h"
 #include "gl/context.h"
+#include "gl/input_files.h"
 #include "gl/output_files.h"
 #include "gl/program.h"
+#include "render/lights.h"
 #include "render/renderer.h"
 
 #include <cmath>
@@ -85,13 +87,13 @@ int compareCommand(int argc, char** argv) {
         std::cout << "  wrote " << opts.outDir << "/compare.json, error.heatmap.png\n";
         return 0;
     } catch (const OutputError& e) {
-        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", escapeControl(e.what()).c_str());
         return kExitOutput;
     } catch (const ConfigError& e) {
-        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", escapeControl(e.what()).c_str());
         return 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: --compare: %s\n", escapeControl(e.what()).c_str());
         return 3;
     }
 }
@@ -105,7 +107,7 @@ int main(int argc, char** argv) {
     try {
         cl = parseCommandLine(Host::Bench, argc, argv);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: %s\n", escapeControl(e.what()).c_str());
         return 2;
     }
     if (cl.help) {
@@ -130,7 +132,8 @@ int main(int argc, char** argv) {
             checkOutputTarget(cl.run.outDir + "/results.csv");
         }
         Scene scene = loadScenes(cl.run.scenes);
-        for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+        for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
+        checkRadiometricRange(scene, settingsFor(scene, cl));  // also for --validate-only and --print-frame
         if (cl.printFrame) {  // the declared frame; no GL context needed
             std::cout << FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl)).table();
             return 0;
@@ -177,19 +180,19 @@ int main(int argc, char** argv) {
         }
         return 0;
     } catch (const OutputError& e) {
-        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: %s\n", escapeControl(e.what()).c_str());
         return kExitOutput;
     } catch (const SceneError& e) {
-        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: %s\n", escapeControl(e.what()).c_str());
         return 3;
     } catch (const ConfigError& e) {
-        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: %s\n", escapeControl(e.what()).c_str());
         return 2;
     } catch (const gl::ShaderError& e) {
-        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: %s\n", escapeControl(e.what()).c_str());
         return 4;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "rtgi-bench: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-bench: %s\n", escapeControl(e.what()).c_str());
         return 4;
     }
 }

@@ -2,6 +2,7 @@
 
 #include "bench/run.h"
 #include "bench/sweep_spec.h"
+#include "gl/input_files.h"
 #include "gl/output_files.h"
 #include "gl/program.h"
 #include "render/renderer.h"
@@ -40,9 +41,20 @@ std::string formatDuration(double s) {
 
 // Rewrites results.csv from results.jsonl (the record that resume trusts), so
 // the CSV never holds rows of a configuration interrupted between the writes.
+// The sweep's own record (results.jsonl in --out), through the one reader:
+// absent is empty; a FIFO or device put in its place is an output error.
+std::string readRecords(const std::string& jsonlPath) {
+    if (inputFileProblem(jsonlPath, InputKind::Records) == "does not exist") return {};
+    try {
+        return readInputFile(jsonlPath, InputKind::Records);
+    } catch (const InputError& e) {
+        throw OutputError(e.what());
+    }
+}
+
 void rewriteCsv(const std::string& jsonlPath, const std::string& csvPath) {
     std::string csv = sweepCsvHeader() + "\n";
-    std::ifstream in(jsonlPath);
+    std::istringstream in(readRecords(jsonlPath));
     std::string line;
     while (std::getline(in, line)) {
         auto j = nlohmann::json::parse(line, nullptr, false);
@@ -64,13 +76,15 @@ bool buildHasReference() {
 int runSweepCommand(const CommandLine& cl) {
     // A sweep file is self-contained: its id scheme only sees what the file
     // says, so command-line settings would silently change resumed results.
-    if (describe(cl.settings) != describe(Settings{}))
+    if (!cl.assignments.empty() || describe(cl.settings) != describe(Settings{}))
         throw ConfigError("--sweep: --set/--config do not apply to sweeps; put the keys in the sweep file's \"base\"");
-    std::ifstream f(cl.sweep);
-    if (!f) throw ConfigError("--sweep " + cl.sweep + ": cannot open the file");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    SweepSpec spec = parseSweep(ss.str(), cl.sweep);
+    std::string text;
+    try {
+        text = readInputFile(cl.sweep, InputKind::Config);  // gl/input_files.h: no FIFOs, bounded
+    } catch (const InputError& e) {
+        throw ConfigError(std::string("--sweep ") + e.what());
+    }
+    SweepSpec spec = parseSweep(text, escapeControl(cl.sweep));
     std::vector<SweepConfig> mine = shardOf(spec.configs, cl.shardIndex, cl.shardCount);
 
     const std::string dir = cl.run.outDir;
@@ -78,16 +92,16 @@ int runSweepCommand(const CommandLine& cl) {
     const std::string jsonlPath = dir + "/results.jsonl", csvPath = dir + "/results.csv";
     std::set<std::string> done;
     {
-        std::ifstream in(jsonlPath);
+        std::istringstream in(readRecords(jsonlPath));
         int unreadable = 0;
-        if (in) done = completedIds(in, &unreadable);
+        done = completedIds(in, &unreadable);
         if (unreadable > 0)
             std::fprintf(stderr, "rtgi-bench: %s: ignored %d unreadable line(s) (an interrupted write?)\n",
                          jsonlPath.c_str(), unreadable);
     }
     std::vector<SweepConfig> todo = pending(mine, done);
     std::fprintf(stderr, "rtgi-bench: sweep '%s': %zu configurations%s, shard %d/%d holds %zu, %zu done, %zu to run\n",
-                 spec.name.c_str(), spec.configs.size(),
+                 escapeControl(spec.name).c_str(), spec.configs.size(),
                  spec.duplicates ? (" (" + std::to_string(spec.duplicates) + " duplicates dropped)").c_str() : "",
                  cl.shardIndex, cl.shardCount, mine.size(), mine.size() - todo.size(), todo.size());
     rewriteCsv(jsonlPath, csvPath);
@@ -126,7 +140,7 @@ int runSweepCommand(const CommandLine& cl) {
                 renderer.reset();
                 loadedScene.clear();
                 scene = std::make_unique<Scene>(loadScenes(paths));
-                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", w.c_str());
+                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
             }
             Settings settings = effectiveSettings(scene->suggestedSettings, c.assignments, scene->name);
             // A configuration with a reference is timed without it (the
@@ -169,7 +183,7 @@ int runSweepCommand(const CommandLine& cl) {
             renderer.reset();  // its state after a throw inside configure() is not trusted
             loadedScene.clear();
             ++failures;
-            std::fprintf(stderr, "rtgi-bench: %s: %s\n", c.label().c_str(), e.what());
+            std::fprintf(stderr, "rtgi-bench: %s: %s\n", escapeControl(c.label()).c_str(), escapeControl(e.what()).c_str());
         }
         double wall = std::chrono::duration<double>(Clock::now() - t0).count();
         line["sweep"] = c.describe();
@@ -189,7 +203,7 @@ int runSweepCommand(const CommandLine& cl) {
                      c.id.c_str(), c.label().c_str(), line.contains("total_ms") ? line["total_ms"].get<double>() : 0.0,
                      wall, formatDuration(elapsed).c_str(), formatDuration(eta).c_str());
     }
-    std::fprintf(stderr, "rtgi-bench: sweep '%s': wrote %s and %s\n", spec.name.c_str(), jsonlPath.c_str(),
+    std::fprintf(stderr, "rtgi-bench: sweep '%s': wrote %s and %s\n", escapeControl(spec.name).c_str(), jsonlPath.c_str(),
                  csvPath.c_str());
     if (failures > 0) {
         std::fprintf(stderr, "rtgi-bench: %d of %zu configurations failed (lines with \"failed\" in %s)\n", failures,

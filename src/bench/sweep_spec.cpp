@@ -177,7 +177,11 @@ std::vector<SceneEntry> parseScenes(const nlohmann::json& j, const std::string& 
         return s;
     };
     std::vector<SceneEntry> out;
-    for (auto& e : j) {
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const auto& e = j[i];
+        if (!e.is_object() && !e.is_string() && !e.is_array())
+            wrongType(source, "scenes[" + std::to_string(i) + "]",
+                      "a scene (builtin:NAME or a glTF path), a list of scenes or an object with \"scene\"", e);
         SceneEntry se;
         if (e.is_object()) {
             if (!e.contains("scene")) throw ConfigError(fail(source, "a scene object needs \"scene\""));
@@ -312,6 +316,8 @@ SweepSpec parseSweepImpl(const std::string& text, const std::string& source) {
     // Axes: resolutions first (outermost after scenes and views), then the
     // listed axes in order; their cartesian product.
     std::vector<std::vector<Assignments>> axes;
+    if (j.contains("resolutions") && !j["resolutions"].is_array())
+        wrongType(source, "resolutions", "a list of \"WxH\" strings (e.g. [\"1920x1080\"])", j["resolutions"]);
     if (j.contains("resolutions")) axes.push_back(expandAxis({{kResolutionKey, j["resolutions"]}}, source));
     if (j.contains("axes")) {
         if (!j["axes"].is_array()) throw ConfigError(fail(source, "'axes' must be a list"));

@@ -1,5 +1,6 @@
 #include "gl/image_files.h"
 
+#include "gl/input_files.h"
 #include "gl/output_files.h"
 
 #include <tinyexr.h>
@@ -117,24 +118,28 @@ void writeExr(const std::string& path, const FloatImage& img, int channels, ExrP
 }
 
 FloatImage readExr(const std::string& path) {
+    std::vector<unsigned char> bytes;
+    std::string why;
+    if (!readInputBytes(path, InputKind::Image, bytes, why)) throw InputError(escapeControl(path) + ": " + why);
+    const std::string name = escapeControl(path);
     EXRVersion version;
-    if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS)
-        throw std::runtime_error(path + ": not an OpenEXR file (or cannot be opened)");
+    if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS)
+        throw std::runtime_error(name + ": not an OpenEXR file");
     if (version.multipart || version.non_image)
-        throw std::runtime_error(path + ": multi-part and deep EXR files are not supported");
+        throw std::runtime_error(name + ": multi-part and deep EXR files are not supported");
     EXRHeader header;
     InitEXRHeader(&header);
     const char* err = nullptr;
-    if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS)
-        throw std::runtime_error(exrError(path, "cannot read the EXR header", err));
+    if (ParseEXRHeaderFromMemory(&header, &version, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS)
+        throw std::runtime_error(exrError(name, "cannot read the EXR header", err));
     std::unique_ptr<EXRHeader, int (*)(EXRHeader*)> headerGuard(&header, FreeEXRHeader);
-    if (header.tiled) throw std::runtime_error(path + ": tiled EXR files are not supported (write scanlines)");
+    if (header.tiled) throw std::runtime_error(name + ": tiled EXR files are not supported (write scanlines)");
     for (int c = 0; c < header.num_channels; ++c)
         if (header.pixel_types[c] == TINYEXR_PIXELTYPE_HALF) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
     EXRImage image;
     InitEXRImage(&image);
-    if (LoadEXRImageFromFile(&image, &header, path.c_str(), &err) != TINYEXR_SUCCESS)
-        throw std::runtime_error(exrError(path, "cannot read the EXR pixels", err));
+    if (LoadEXRImageFromMemory(&image, &header, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS)
+        throw std::runtime_error(exrError(name, "cannot read the EXR pixels", err));
     std::unique_ptr<EXRImage, int (*)(EXRImage*)> imageGuard(&image, FreeEXRImage);
 
     int idx[4] = {-1, -1, -1, -1};

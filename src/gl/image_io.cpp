@@ -1,11 +1,16 @@
 #include "gl/image_io.h"
 
+#include "gl/input_files.h"
 #include "gl/output_files.h"
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 
 #include <algorithm>
+#include <cctype>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -75,21 +80,37 @@ void writePfm(const std::string& path, const FloatImage& img) {
 }
 
 FloatImage readPfm(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw std::runtime_error(path + ": cannot open");
-    std::string magic;
+    const std::string bytes = readInputFile(path, InputKind::Image);  // gl/input_files.h: bounded, no FIFOs
+    const std::string name = escapeControl(path);
+    // Header: "PF" or "Pf", width, height, scale, separated by whitespace, one
+    // whitespace byte before the raw floats.
+    std::size_t pos = 0;
+    auto token = [&]() {
+        while (pos < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[pos]))) ++pos;
+        std::size_t start = pos;
+        while (pos < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[pos])) && pos - start < 32) ++pos;
+        return bytes.substr(start, pos - start);
+    };
     FloatImage img;
-    double scale = 0;
-    f >> magic >> img.width >> img.height >> scale;
-    f.get();
-    if ((magic != "PF" && magic != "Pf") || img.width <= 0 || img.height <= 0 || scale == 0 ||
-        img.width > 65536 || img.height > 65536)
-        throw std::runtime_error(path + ": not a valid PFM file");
-    if (scale > 0) throw std::runtime_error(path + ": big-endian PFM is not supported");
-    int ch = magic == "PF" ? 3 : 1;
+    const std::string magic = token(), w = token(), h = token(), sc = token();
+    char* end = nullptr;
+    const long wl = std::strtol(w.c_str(), &end, 10);
+    const bool wOk = !w.empty() && *end == 0;
+    const long hl = std::strtol(h.c_str(), &end, 10);
+    const bool hOk = !h.empty() && *end == 0;
+    const double scale = std::strtod(sc.c_str(), &end);
+    const bool sOk = !sc.empty() && *end == 0;
+    if ((magic != "PF" && magic != "Pf") || !wOk || !hOk || !sOk || wl <= 0 || hl <= 0 || scale == 0 ||
+        wl > 65536 || hl > 65536 || pos >= bytes.size())
+        throw std::runtime_error(name + ": not a valid PFM file");
+    if (scale > 0) throw std::runtime_error(name + ": big-endian PFM is not supported");
+    ++pos;  // the single whitespace byte after the scale
+    img.width = int(wl);
+    img.height = int(hl);
+    const int ch = magic == "PF" ? 3 : 1;
     std::vector<float> raw(std::size_t(img.width) * std::size_t(img.height) * std::size_t(ch));
-    f.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size() * 4));
-    if (!f) throw std::runtime_error(path + ": PFM data is truncated");
+    if (bytes.size() - pos < raw.size() * 4) throw std::runtime_error(name + ": PFM data is truncated");
+    std::memcpy(raw.data(), bytes.data() + pos, raw.size() * 4);
     img.channels = 4;
     img.data.assign(std::size_t(img.width) * std::size_t(img.height) * 4, 1.0f);
     for (std::size_t i = 0; i < std::size_t(img.width) * std::size_t(img.height); ++i)
@@ -99,9 +120,13 @@ FloatImage readPfm(const std::string& path) {
 
 FloatImage readImage(const std::string& path) {
     if (path.size() > 4 && path.substr(path.size() - 4) == ".pfm") return readPfm(path);
+    const std::string bytes = readInputFile(path, InputKind::Image);
+    const std::string name = escapeControl(path);
+    if (bytes.size() > std::size_t(INT_MAX)) throw std::runtime_error(name + ": image file is too large for the PNG/JPEG decoder (2 GiB)");
     int w = 0, h = 0, n = 0;
-    unsigned char* px = stbi_load(path.c_str(), &w, &h, &n, 4);
-    if (!px) throw std::runtime_error(path + ": cannot read image (" + std::string(stbi_failure_reason()) + ")");
+    unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()), &w,
+                                              &h, &n, 4);
+    if (!px) throw std::runtime_error(name + ": cannot read image (" + std::string(stbi_failure_reason()) + ")");
     FloatImage img;
     img.width = w;
     img.height = h;

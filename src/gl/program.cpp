@@ -1,6 +1,7 @@
 #include "gl/program.h"
 
 #include "gl/embedded.h"
+#include "gl/input_files.h"
 #include "gl/profiler.h"
 #include "gl/resources.h"
 
@@ -17,12 +18,8 @@ namespace rtgi {
 
 std::optional<std::string> readEmbeddedFile(std::string_view path) {
     if (const char* dir = std::getenv("RTGI_DATA_DIR")) {
-        std::ifstream f(std::string(dir) + "/" + std::string(path), std::ios::binary);
-        if (f) {
-            std::stringstream ss;
-            ss << f.rdbuf();
-            return ss.str();
-        }
+        const std::string file = std::string(dir) + "/" + std::string(path);
+        if (inputFileProblem(file, InputKind::Config).empty()) return readInputFile(file, InputKind::Config);
     }
     for (int i = 0; i < kEmbeddedFileCount; ++i)
         if (path == kEmbeddedFiles[i].path) return std::string(kEmbeddedFiles[i].text);

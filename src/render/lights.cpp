@@ -4,9 +4,13 @@
 #include "scene/emitters.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtx/norm.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
 
 namespace rtgi {
 
@@ -62,6 +66,76 @@ LocalLights resolveLocalLights(const Scene& scene, const Settings& settings) {
         out.lights.push_back(L);
     }
     return out;
+}
+
+namespace {
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+double maxComponent(glm::dvec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+// The radiometric products with the scene's own values (scale 1) and with the
+// settings' multipliers; the first product beyond its limit is reported.
+struct RangeProblem {
+    std::string what;  // "emissive region 0 (material 'lamp'): Le x A = 9.9e+41"
+    double value = 0, limit = 0;
+};
+std::optional<RangeProblem> radiometricProblem(const Scene& scene, double emissiveScale, std::optional<double> sunE,
+                                               double sunScale, bool emissiveLights) {
+    double flux = 0;
+    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        const double le = maxComponent(glm::dvec3(scene.materials[m].emissive)) * emissiveScale;
+        if (!(le <= kMaxRadiance)) return RangeProblem{"material '" + scene.materials[m].name + "': emission", le, kMaxRadiance};
+    }
+    if (const Light* sun = scene.sun(); sun || sunE) {  // the same sun as resolveSun (gpu_scene.cpp)
+        const double e = (sun ? maxComponent(glm::dvec3(sun->color)) : 1.0) * (sunE ? *sunE : double(sun->intensity)) * sunScale;
+        if (!(e <= kMaxRadiance)) return RangeProblem{"the sun's irradiance", e, kMaxRadiance};
+        const Aabb b = scene.bounds();
+        const double d2 = glm::length2(glm::dvec3(b.hi) - glm::dvec3(b.lo));
+        flux += e * d2;
+    }
+    for (auto& l : scene.lights) {
+        if (l.type == LightType::Directional) continue;
+        const double i = maxComponent(glm::dvec3(l.color)) * double(l.intensity);
+        if (!(i <= kMaxRadiance)) return RangeProblem{"light '" + l.name + "': intensity", i, kMaxRadiance};
+        flux += 4.0 * M_PI * i;
+    }
+    if (emissiveLights && emissiveScale > 0) {
+        int r = 0;
+        for (auto& reg : emissiveRegions(scene, scene.materials)) {
+            const double i = maxComponent(reg.radiance) * emissiveScale * reg.area;
+            if (!(i <= kMaxRadiance))
+                return RangeProblem{"emissive region " + std::to_string(r) + ": emission x area = " + num(maxComponent(reg.radiance) * emissiveScale) +
+                                        " x " + num(reg.area) + " m^2, an intensity of",
+                                    i, kMaxRadiance};
+            flux += 2.0 * M_PI * i;  // cosine lobe: ∫ I cos θ dω over the hemisphere = π I ≤ 2π I
+            ++r;
+        }
+    }
+    if (!(flux <= kMaxLightFlux)) return RangeProblem{"the flux of all lights into the RSMs and the LPV", flux, kMaxLightFlux};
+    return std::nullopt;
+}
+}  // namespace
+
+void checkRadiometricRange(const Scene& scene, const Settings& settings) {
+    if (auto p = radiometricProblem(scene, 1.0, std::nullopt, 1.0, settings.light.emissiveLights))
+        throw SceneError(scene.name + ": " + p->what + " " + num(p->value) + " exceeds " + num(p->limit) +
+                         " (products on the GPU would overflow float; docs/STABILITY.md \"Radiometric range\")");
+    const std::optional<double> sunE =
+        settings.light.sunIrradiance ? std::optional<double>(*settings.light.sunIrradiance) : std::nullopt;
+    if (auto p = radiometricProblem(scene, settings.light.emissiveScale, sunE, settings.light.sunScale,
+                                    settings.light.emissiveLights))
+    {
+        std::string keys;  // the settings that differ from the scene's own values
+        if (settings.light.emissiveScale != 1.0f) keys += "emissive.scale=" + num(settings.light.emissiveScale);
+        if (settings.light.sunScale != 1.0f) keys += (keys.empty() ? "" : ", ") + std::string("sun.scale=") + num(settings.light.sunScale);
+        if (sunE) keys += (keys.empty() ? "" : ", ") + std::string("sun.irradiance=") + num(*sunE);
+        throw ConfigError(keys + ": " + p->what + " becomes " +
+                          num(p->value) + ", more than " + num(p->limit) +
+                          " (products on the GPU would overflow float; docs/STABILITY.md \"Radiometric range\")");
+    }
 }
 
 bool hasLocalLights(const Scene& scene, const Settings& settings) {

@@ -30,6 +30,20 @@ struct LocalLights {
 float lightCutoffIrradiance(float exposure);
 
 LocalLights resolveLocalLights(const Scene& scene, const Settings& settings);
+
+// Radiometric range of the products the passes form, in double before any
+// float exists (docs/STABILITY.md "Radiometric range"): emission x
+// emissive.scale and sun irradiance x sun.scale at most kMaxRadiance; an
+// emissive region's intensity Le·A and a point/spot light's colour x intensity
+// at most kMaxRadiance; the flux all lights can put into the RSMs and the LPV,
+// sum of 4π·I plus E_sun·D² (D: the scene's bounding diagonal, which bounds
+// the sun RSM's footprint), at most kMaxLightFlux. Throws SceneError naming
+// the scene and the light or material when the scene alone is beyond, and
+// ConfigError naming the setting when emissive.scale / sun.* push it beyond.
+// kMaxRadiance: scene/scene.h. The flux bound leaves the fp32 LPV volumes
+// a factor 64 (propagation steps) x 4 pi (SH lobe sums) x 400 below FLT_MAX.
+inline constexpr double kMaxLightFlux = 1e33;
+void checkRadiometricRange(const Scene& scene, const Settings& settings);
 // Cheap test (no region extraction): a point/spot light with intensity > 0,
 // or with emissive.lights=on an emissive material that a draw uses.
 bool hasLocalLights(const Scene& scene, const Settings& settings);

@@ -4,6 +4,8 @@
 
 #include "render/visibility/visibility.h"
 
+#include "render/lights.h"
+#include "render/lpv/lpv_math.h"
 #include "render/renderer.h"
 
 #include <algorithm>
@@ -122,7 +124,15 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
                                         std::to_string(s.lpv.grid.z);
         by["lpv.grid=" + gridKey] += lpv;
         // RSM: flux RGBA32F 16, normal RGBA16F 8, depth 4.
-        by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += 28.0 * double(s.lpv.rsm) * s.lpv.rsm;
+        const double rsmBytes = 28.0 * double(s.lpv.rsm) * s.lpv.rsm;
+        by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += rsmBytes;
+        // Local lights (issue 28): one RSM per face of every local light in
+        // view (spot 1, point / area 6, render/lights.h), each with one LPV
+        // uniform block per cascade; the estimate counts every face.
+        const int faces = hasFamily(r, "lpv.rsm") ? maxShadowLayers(resolveLocalLights(r.scene(), s)) : 0;
+        if (faces > 0)
+            by["local lights (" + std::to_string(faces) + " RSM faces at lpv.rsm=" + std::to_string(s.lpv.rsm) + ")"] +=
+                double(faces) * (rsmBytes + double(cascades) * double(sizeof(gpu::LpvUniforms)));
     }
     // What the renderer holds already (the GPU scene, for one: vertices,
     // indices, BVH, textures) and the small fixed resources.

@@ -61,6 +61,7 @@ std::vector<DebugImage> Renderer::debugImages(const Pass& pass) const {
 }
 
 void Renderer::configure(const Settings& settings) {
+    checkRadiometricRange(scene_, settings);  // before any product becomes a float (render/lights.h)
     bool sceneChanged = !gpuScene_ || settings.light.emissiveScale != settings_.light.emissiveScale ||
                         settings.floorRoughness != settings_.floorRoughness;
     settings_ = settings;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 
 namespace rtgi {
@@ -406,6 +407,7 @@ Assignments flattenJsonConfig(const std::string& text, const std::string& source
     // Nested objects are flattened into dotted keys; "lpv": {"grid": 32}
     // means lpv.grid, and "lpv": "on" sets the family key itself.
     Assignments out;
+    std::set<std::string> given;  // {"lpv": {"cascades": 6}} and "lpv.cascades": 1 name the same key
     std::function<void(const nlohmann::json&, const std::string&)> walk = [&](const nlohmann::json& o,
                                                                              const std::string& prefix) {
         for (auto it = o.begin(); it != o.end(); ++it) {
@@ -431,6 +433,8 @@ Assignments flattenJsonConfig(const std::string& text, const std::string& source
             } else {
                 throw ConfigError(source + ": value of '" + key + "' must be a string, number, boolean or [x,y,z]");
             }
+            if (!given.insert(key).second)
+                throw ConfigError(source + ": '" + key + "' is given twice (nested and dotted); give it once");
             out.emplace_back(key, str);
         }
     };

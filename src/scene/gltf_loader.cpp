@@ -8,6 +8,7 @@
 // check); base-colour images are decoded here with stb_image after their
 // bytes have been validated. Every problem becomes one SceneError sentence
 // that starts with the file path.
+#include "gl/input_files.h"
 #include "scene/gltf_schema.h"
 #include "scene/scene.h"
 
@@ -42,7 +43,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(2000) << 20;  // tinygltf takes 32-bit sizes
 constexpr double kMaxTriangles = 1e8;
 constexpr double kMaxVertices = 3e8;  // 3 per triangle at most, and far below 2^32
 constexpr double kMaxNodeInstances = 1e7;
@@ -54,11 +54,9 @@ constexpr int kMaxImageSide = 16384;
 // still far below FLT_MAX (3.4e38); 1e38 itself overflows when squared.
 constexpr double kMaxCoordinate = 1e15;
 
-// Light colour x intensity and emission: the GPU multiplies them by areas
-// (up to (2e15)^2 would overflow, but RSM texels and LPV cells are bounded by
-// the scene) and by SH / BRDF factors below 4 pi; 1e30 leaves a factor of
-// 3e8 before FLT_MAX.
-constexpr double kMaxRadiometric = 1e30;
+// Light colour x intensity and emission are bounded by kMaxRadiance
+// (scene.h); their products with areas and the settings' multipliers are
+// checked by checkRadiometricRange (render/lights.h) before the first frame.
 
 // A number that the GPU receives as a float: finite and within float range.
 bool floatFinite(double v) { return std::isfinite(v) && std::abs(v) <= double(FLT_MAX); }
@@ -74,55 +72,14 @@ constexpr std::string_view kSupportedRequired[] = {
 std::string str(std::size_t v) { return std::to_string(v); }
 std::string str(int v) { return std::to_string(v); }
 
-// Reads a whole regular file; on failure `why` completes "<path>: ...".
-bool readWholeFile(const std::string& p, std::vector<unsigned char>& out, std::string& why) {
-    std::error_code ec;
-    fs::file_status st = fs::status(p, ec);
-    if (ec || !fs::exists(st)) {
-        why = "file not found";
-        return false;
-    }
-    if (fs::is_directory(st)) {
-        why = "is a directory, not a file";
-        return false;
-    }
-    if (!fs::is_regular_file(st)) {
-        why = "is not a regular file";
-        return false;
-    }
-    std::uintmax_t size = fs::file_size(p, ec);
-    if (ec) {
-        why = "file size cannot be determined";
-        return false;
-    }
-    if (size > kMaxFileBytes) {
-        why = "file is larger than 2000 MiB";
-        return false;
-    }
-    std::ifstream f(p, std::ios::binary);
-    if (!f) {
-        why = "file cannot be opened";
-        return false;
-    }
-    out.resize(std::size_t(size));
-    if (size > 0 && !f.read(reinterpret_cast<char*>(out.data()), std::streamsize(size))) {
-        why = "file could not be read completely";
-        return false;
-    }
-    return true;
-}
-
 // File-system callbacks for tinygltf: no path expansion, no directories, no
 // unbounded reads, no writes.
-bool fsFileExists(const std::string& p, void*) {
-    std::error_code ec;
-    return fs::is_regular_file(p, ec);
-}
+bool fsFileExists(const std::string& p, void*) { return inputFileProblem(p, InputKind::SceneData).empty(); }
 std::string fsExpandFilePath(const std::string& p, void*) { return p; }
 bool fsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& p, void*) {
     std::string why;
-    if (readWholeFile(p, *out, why)) return true;
-    if (err) *err += p + ": " + why + "\n";
+    if (readInputBytes(p, InputKind::SceneData, *out, why)) return true;
+    if (err) *err += escapeControl(p) + ": " + why + "\n";
     return false;
 }
 bool fsWriteWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -185,29 +142,10 @@ int jsonDepth(std::string_view text) {
     return maxDepth;
 }
 
-// Text from the file may be anything: keep valid UTF-8, replace control
-// characters and invalid bytes by '?', so that messages stay one printable line
+// Text from the file may be anything: control characters and invalid bytes
+// are escaped (gl/input_files.h), so that messages stay one printable line
 // (and can be written into JSON results).
-std::string printable(const std::string& s) {
-    std::string out;
-    out.reserve(s.size());
-    std::size_t i = 0;
-    while (i < s.size()) {
-        auto c = static_cast<unsigned char>(s[i]);
-        std::size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
-        bool ok = len > 0 && i + len <= s.size() && (len > 1 || (c >= 0x20 && c != 0x7F));
-        for (std::size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(s[i + k]) >> 6) == 0x2;
-        if (ok && len == 2) ok = c >= 0xC2;  // no overlong forms
-        if (ok) {
-            out.append(s, i, len);
-            i += len;
-        } else {
-            out.push_back('?');
-            ++i;
-        }
-    }
-    return out;
-}
+std::string printable(const std::string& s) { return escapeControl(s); }
 
 // Makes one line out of tinygltf's newline-separated messages.
 std::string oneLine(const std::string& s, std::size_t maxLen = 300) {
@@ -408,13 +346,13 @@ private:
     };
     std::vector<PendingCamera> pendingCameras_;
 
-    [[noreturn]] void fail(const std::string& sentence) const { throw SceneError(path_ + ": " + printable(sentence)); }
-    void warn(const std::string& sentence) { scene_.warnings.push_back(path_ + ": " + printable(sentence)); }
+    [[noreturn]] void fail(const std::string& sentence) const { throw SceneError(printable(path_) + ": " + printable(sentence)); }
+    void warn(const std::string& sentence) { scene_.warnings.push_back(printable(path_) + ": " + printable(sentence)); }
 
     Scene loadImpl() {
         scene_.name = path_;
         std::string why;
-        if (!readWholeFile(path_, file_, why)) fail(why);
+        if (!readInputBytes(path_, InputKind::Scene, file_, why)) fail(why);
         if (file_.empty()) fail("file is empty, not a glTF file");
         baseDir_ = fs::path(path_).parent_path().string();
 
@@ -502,6 +440,8 @@ private:
             }
         }
 
+        checkLightsJson(doc);
+
         if (doc.contains("buffers")) {
             const auto& buffers = doc["buffers"];
             if (!buffers.is_array()) fail("\"buffers\" is not an array");
@@ -515,11 +455,37 @@ private:
                 if (!img.is_object() || !img.contains("uri") || !img["uri"].is_string()) continue;
                 std::string uri = img["uri"].get<std::string>();
                 if (uri.rfind("data:", 0) == 0) continue;
-                if (!fsFileExists(resolve(uri), nullptr))
-                    fail("external image '" + uri + "' (image " + str(i) + ") is missing");
+                if (std::string why = inputFileProblem(resolve(uri), InputKind::SceneData); !why.empty())
+                    fail("external image '" + uri + "' (image " + str(i) + ") " + externalProblem(why));
             }
         }
     }
+
+    // What tinygltf cannot tell apart or reports with its raw text: a range
+    // of 0 (tinygltf's "no range"), a spot light without "spot", a point or
+    // directional light with one (glTF types are exclusive).
+    void checkLightsJson(const nlohmann::json& doc) {
+        if (!doc.contains("extensions") || !doc["extensions"].is_object()) return;
+        const auto& ext = doc["extensions"];
+        if (!ext.contains("KHR_lights_punctual") || !ext["KHR_lights_punctual"].is_object()) return;
+        const auto& kl = ext["KHR_lights_punctual"];
+        if (!kl.contains("lights") || !kl["lights"].is_array()) return;
+        const auto& lights = kl["lights"];
+        for (std::size_t i = 0; i < lights.size(); ++i) {
+            const auto& l = lights[i];
+            if (!l.is_object() || !l.contains("type") || !l["type"].is_string()) continue;
+            const std::string type = l["type"].get<std::string>(), at = "extensions.KHR_lights_punctual.lights[" + str(i) + "]";
+            if (type == "spot" && !l.contains("spot"))
+                fail(at + " is a spot light without its \"spot\" object (glTF requires it, with the cone angles)");
+            if (type != "spot" && l.contains("spot"))
+                warn(at + " is a " + type + " light but has a \"spot\" object, which is ignored");
+            if (l.contains("range") && l["range"].is_number() && l["range"].get<double>() == 0.0 && type != "directional")
+                warn(at + ".range is 0, which glTF does not allow (range must be > 0); the light has no range (infinite)");
+        }
+    }
+
+    // An external file's problem (gl/input_files.h) in the loader's words.
+    static std::string externalProblem(const std::string& why) { return why == "does not exist" ? "is missing" : why; }
 
     // Same joining rule as tinygltf, so that both look at the same file.
     std::string resolve(const std::string& uri) const {
@@ -560,8 +526,9 @@ private:
             return;
         }
         std::string file = resolve(uri);
+        if (std::string why = inputFileProblem(file, InputKind::SceneData); !why.empty())
+            fail("external buffer '" + uri + "' (" + which + ") " + externalProblem(why));
         std::error_code ec;
-        if (!fs::is_regular_file(file, ec)) fail("external buffer '" + uri + "' (" + which + ") is missing");
         std::uintmax_t onDisk = fs::file_size(file, ec);
         if (ec) fail("external buffer '" + uri + "' (" + which + ") cannot be read");
         if (onDisk < declared)
@@ -832,6 +799,11 @@ private:
                                     glm::vec3(0.0f));
             else if (!gm.emissiveFactor.empty())
                 warn(which + " has a malformed emissiveFactor; using black");
+            if (gm.emissiveFactor.size() == 3 &&
+                std::any_of(gm.emissiveFactor.begin(), gm.emissiveFactor.end(), [](double v) { return v < 0.0 || v > 1.0; }))
+                warn(at + ".emissiveFactor [" + num(gm.emissiveFactor[0]) + ", " + num(gm.emissiveFactor[1]) + ", " +
+                     num(gm.emissiveFactor[2]) + "] is outside 0..1 (glTF; brighter emission goes in "
+                     "KHR_materials_emissive_strength): negative components are clamped to 0, the others used as given");
             double strength = 1.0;
             if (auto s = extensionNumber(gm.extensions, "KHR_materials_emissive_strength", "emissiveStrength")) {
                 if (std::isfinite(*s) && *s >= 0.0)
@@ -840,9 +812,9 @@ private:
                     warn(which + " has an invalid emissiveStrength; using 1");
             }
             double brightestEmission = double(std::max({emissive.x, emissive.y, emissive.z})) * strength;
-            if (!(brightestEmission <= kMaxRadiometric))
+            if (!(brightestEmission <= kMaxRadiance))
                 fail(at + ": emissiveFactor x emissiveStrength = " + num(brightestEmission) + " exceeds " +
-                     num(kMaxRadiometric) + " (float overflow on the GPU)");
+                     num(kMaxRadiance) + " (float overflow on the GPU)");
             m.emissive = emissive * float(strength);
             int tex = pbr.baseColorTexture.index;
             if (tex != -1) {
@@ -1241,6 +1213,16 @@ private:
         const std::string& nodeName = model_.nodes[std::size_t(node)].name;
         l.name = printable(!gl.name.empty() ? gl.name : !nodeName.empty() ? nodeName : which);
         checkPlacement(node, world, "light " + str(index));
+        // Lights ignore the node's scale (KHR_lights_punctual); a scale far
+        // outside what a unit change explains is a broken file, not a choice.
+        for (int k = 0; k < 3; ++k) {
+            const double scale = glm::length(glm::dvec3(world[k]));
+            if (!(scale >= 1e-6 && scale <= 1e6)) {
+                warn("nodes[" + str(node) + "] scales light " + str(index) + " by " + num(scale) +
+                     " (outside 1e-6..1e6); lights are not scaled in glTF, so the scale is ignored");
+                break;
+            }
+        }
         // Every radiometric value reaches the GPU as a float, and is multiplied
         // there (colour x intensity x albedo / pi x area in the RSM flux): each
         // factor and the product colour x intensity must be finite floats.
@@ -1250,6 +1232,9 @@ private:
                 if (!floatFinite(gl.color[k]))
                     fail(at + "color[" + str(k) + "]: " + num(gl.color[k]) + " is not representable as a float");
             l.color = glm::max(glm::vec3(float(gl.color[0]), float(gl.color[1]), float(gl.color[2])), glm::vec3(0.0f));
+            if (gl.color[0] < 0.0 || gl.color[1] < 0.0 || gl.color[2] < 0.0)
+                warn(at + "color [" + num(gl.color[0]) + ", " + num(gl.color[1]) + ", " + num(gl.color[2]) +
+                     "] has a negative component (glTF colours are 0..1); clamped to 0");
         } else if (!gl.color.empty()) {
             warn(which + " has a malformed color; using white");
         }
@@ -1260,8 +1245,8 @@ private:
         else
             warn(which + " has a negative intensity; using 1");
         double brightest = double(std::max({l.color.x, l.color.y, l.color.z})) * double(l.intensity);
-        if (!(brightest <= kMaxRadiometric))
-            fail(at + "color x intensity = " + num(brightest) + " exceeds " + num(kMaxRadiometric) +
+        if (!(brightest <= kMaxRadiance))
+            fail(at + "color x intensity = " + num(brightest) + " exceeds " + num(kMaxRadiance) +
                  " (products with areas and albedo on the GPU would overflow float)");
         if (!floatFinite(gl.range)) fail(at + "range: " + num(gl.range) + " is not representable as a float");
         if (gl.range >= 0.0)

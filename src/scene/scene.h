@@ -18,6 +18,13 @@ class SceneError : public std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// Largest radiance, irradiance or intensity a scene may hold, after every
+// multiplier (emissiveStrength, colour x intensity, emissive.scale, sun.scale,
+// Le x area): the passes multiply it by at most 1e8 (1/d^2 with d >= 1e-4 in
+// lib/lights.glsl) before a store, and 1e38 < FLT_MAX (docs/STABILITY.md
+// "Radiometric range").
+inline constexpr double kMaxRadiance = 1e30;
+
 struct Vertex {
     glm::vec3 position;
     glm::vec3 normal;

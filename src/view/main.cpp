@@ -2,6 +2,7 @@
 // docs/viewer.md). Uses app/ (command line, scenes), render/ and view/; never bench/.
 #include "app/cli.h"
 #include "compute/lib/view_shared.h"
+#include "gl/input_files.h"
 #include "gl/program.h"
 #include "gl/window_host.h"
 #include "render/renderer.h"
@@ -41,18 +42,18 @@ int run(int argc, char** argv) {
     }
     std::vector<view::ScriptAction> script;
     if (!cl.script.empty()) {
-        std::ifstream in(cl.script);
-        if (!in) throw ConfigError("--script " + cl.script + ": cannot open the file");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        script = view::parseScript(ss.str(), cl.script);
+        try {
+            script = view::parseScript(readInputFile(cl.script, InputKind::Config), escapeControl(cl.script));
+        } catch (const InputError& e) {
+            throw ConfigError(std::string("--script ") + e.what());
+        }
     }
     const std::string screenshotPath = cl.screenshot;
     bool vsync = cl.vsync;
     const bool automate = cl.framesGiven || !screenshotPath.empty();
 
     Scene scene = loadScenes(cl.run.scenes);
-    for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", w.c_str());
+    for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-view: warning: %s\n", escapeControl(w).c_str());
     auto host = gl::WindowHost::create(cl.run.resolution, "rtgi-view: " + scene.name, cl.debug, vsync && !automate);
     gl::Profiler profiler(host->info().timerQuery);
     Settings settings = settingsFor(scene, cl);
@@ -300,13 +301,13 @@ int main(int argc, char** argv) {
     try {
         return run(argc, argv);
     } catch (const SceneError& e) {
-        std::fprintf(stderr, "rtgi-view: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-view: %s\n", escapeControl(e.what()).c_str());
         return 3;
     } catch (const ConfigError& e) {
-        std::fprintf(stderr, "rtgi-view: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-view: %s\n", escapeControl(e.what()).c_str());
         return 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "rtgi-view: %s\n", e.what());
+        std::fprintf(stderr, "rtgi-view: %s\n", escapeControl(e.what()).c_str());
         return 4;
     }
 }

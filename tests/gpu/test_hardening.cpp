@@ -1,6 +1,7 @@
 // Issue 16 on the GPU tier: the memory estimate against the ledger (the
 // resources a frame really allocated), and rtgi-bench stopping at once with
 // exit 2 for configurations beyond the memory budget.
+#include "bench_runner.h"
 #include "gpu_fixture.h"
 #include "render/memory_budget.h"
 
@@ -53,23 +54,8 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate bounds the l
 }
 
 namespace {
-struct Run {
-    int rc = -1;
-    std::string err;
-    double seconds = 0;
-};
-Run bench(const std::string& args) {
-    fs::path log = fs::temp_directory_path() / ("rtgi-hardening-" + std::to_string(getpid()) + ".log");
-    auto t0 = std::chrono::steady_clock::now();
-    int rc = std::system((std::string(RTGI_BENCH_EXE) + " " + args + " > /dev/null 2> " + log.string()).c_str());
-    Run r;
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.rc = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    std::ifstream in(log);
-    r.err.assign(std::istreambuf_iterator<char>(in), {});
-    fs::remove(log);
-    return r;
-}
+using Run = test::BenchRun;
+Run bench(const std::string& args) { return test::runBench(args, 120); }  // tests/bench_runner.h
 }  // namespace
 
 TEST_CASE("hardening: lpv.grid=512 and --res 16384x16384 stop within 5 s with exit 2 naming the memory and the setting") {
@@ -130,4 +116,28 @@ TEST_CASE("hardening: an unwritable --out or a link at results.json stops before
     CHECK(b.err.find("symbolic link") != std::string::npos);
     CHECK(b.seconds < 5.0);
     fs::remove_all(dir);
+}
+
+TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate counts the RSM of every local light face (issue 28)") {
+    // gallery: spot and point lights only; with the LPV on every face in view
+    // gets its own RSM (lpv.rsm.local*), which the estimate did not count.
+    Scene scene = loadBuiltin("gallery");
+    Settings s;
+    for (auto a : {"lpv=on", "lpv.rsm=64", "shadow.local_size=64"}) applyAssignment(s, a);
+    gl::Profiler prof(info().timerQuery);
+    Renderer r(scene, s, prof);
+    const glm::ivec2 res(48, 32);
+    MemoryEstimate e = estimateFrameMemory(r, res);
+    r.render(makeView(resolveCamera(scene, s), res, nullptr, 0));
+    std::int64_t localLedger = 0, localEstimate = 0;
+    for (auto& [name, bytes] : r.ledger().entries())
+        if (name.rfind("lpv.rsm.local", 0) == 0 || name.rfind("lpv.uniforms.local", 0) == 0) localLedger += bytes;
+    for (auto& item : e.items)
+        if (item.setting.rfind("local lights (", 0) == 0) localEstimate += item.bytes;
+    MESSAGE("gallery: estimate " << e.total() << " bytes (local RSMs " << localEstimate << "), ledger " << r.ledger().total()
+                                 << " (local RSMs " << localLedger << ")");
+    CHECK(localLedger > 0);
+    CHECK(localEstimate >= localLedger);
+    CHECK(e.total() >= r.ledger().total());
+    CHECK(e.total() <= 2 * r.ledger().total());
 }

@@ -274,7 +274,7 @@ bool sharedScenesPresent() {
 
 TEST_CASE("gltf: a missing file is a SceneError") {
     std::string p = (tempDir() / "does-not-exist.gltf").string();
-    expectError(p, "not found");
+    expectError(p, "does not exist");
     expectError(tempDir().string(), "directory");
 }
 

@@ -1,5 +1,6 @@
 #include "render/reference/reference_cache.h"
 
+#include "gl/input_files.h"
 #include "gl/output_files.h"
 #include "render/gpu_scene.h"
 
@@ -106,8 +107,7 @@ std::optional<CachedReference> loadCachedReference(const std::string& dir, const
         CachedReference r;
         r.mean = readPfm(mean.string());
         r.standardError = readPfm(se.string());
-        std::ifstream in(info);
-        r.info = nlohmann::json::parse(in);
+        r.info = nlohmann::json::parse(readInputFile(info.string(), InputKind::Config));
         return r;
     } catch (const std::exception&) {
         return std::nullopt;  // a damaged entry is traced again and overwritten
