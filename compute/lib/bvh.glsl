@@ -3,6 +3,7 @@
 // triangle test is Möller–Trumbore, the same arithmetic as the CPU side.
 #pragma once
 #include "lib/bvh_shared.h"
+#include "lib/visibility_shared.h"  // RTGI_VISIBILITY_SUBPIXEL_BITS
 
 layout(std430, binding = RTGI_SSBO_BVH_NODES) readonly buffer BvhNodeBlock { BvhNode bvhNodes[]; };
 layout(std430, binding = RTGI_SSBO_BVH_TRIS) readonly buffer BvhTriBlock { BvhTriangle bvhTris[]; };
@@ -35,6 +36,30 @@ vec3 offsetRayOrigin(vec3 p, vec3 n, float magnitude) {
     return mix(pi, near0, lessThan(abs(p), vec3(m * (1.0 / 32.0))));
 }
 float maxAbs(vec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
+
+// Origin of the first ray from a G-buffer point p = C + d·r(s), rebuilt from
+// linear depth d on the view ray r through the pixel centre s (depth.glsl;
+// r has unit view-space depth). Two errors put p off the surface:
+// - rounding (the world position, the view transform, the R32F depth, the
+//   reconstruction): relative to max(|C|, d); offsetRayOrigin covers it;
+// - the sample position: the stored depth is that of the surface point
+//   under s + δ, not s. The hardware rasterizer interpolates with the
+//   barycentrics of vertices snapped to 2^-RTGI_VISIBILITY_SUBPIXEL_BITS
+//   pixel (the compute rasterizer's float barycentrics err far less), so
+//   |δx|, |δy| < one grid step. For a locally planar surface of unit normal
+//   n, n·(p − surface) = d·n·(r(s) − r(s + δ)), and r moves by pixelAngle
+//   = 2·tan(fovY/2)/height per pixel across the image plane, so the distance
+//   along n is at most d·pixelAngle·step·(|n_v.x| + |n_v.y|) (n_v: n in
+//   view space). The depth error itself, δ·∂d/∂s, grows without bound at
+//   grazing angles, but only its component along n, ×cos(n, view ray),
+//   matters: the product stays finite, largest (×√2) when n is
+//   perpendicular to the view axis.
+// `viewNormal`: the normal in view space (either sign); `pixelAngle` as above.
+vec3 gbufferRayOrigin(vec3 p, vec3 n, vec3 viewNormal, float d, vec3 cameraPos, float pixelAngle) {
+    const float step = 1.0 / float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS);
+    float lateral = d * pixelAngle * step * (abs(viewNormal.x) + abs(viewNormal.y));
+    return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + lateral * n;
+}
 
 // Rays traced by this invocation; a kernel adds it once to the slot of its
 // dispatch (slot = the dispatch's first sample index), so a progressive

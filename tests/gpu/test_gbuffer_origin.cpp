@@ -1,0 +1,166 @@
+// GPU tier: ray origins of points rebuilt from the G-buffer's linear depth
+// (docs/reference.md, "Ray origins"). Oracles: the analytic plane y = 0
+// intersected in double with each pixel's view ray (the exact surface
+// point), and Lambert's polygon formula for the floor AO beside a cube
+// (unbounded rays: occluded fraction = form factor of the cube's faces).
+#include "gpu_fixture.h"
+
+#include "render/reference/reference_passes.h"
+
+#include <algorithm>
+#include <cmath>
+
+using namespace rtgi;
+using namespace rtgi::test;
+
+namespace {
+
+struct AoImages {
+    FloatImage mean, se, depth, normal;
+};
+
+AoImages renderAo(const Scene& scene, RasterSettings::Path path, glm::ivec2 size, int spp, float radius) {
+    Settings s;
+    s.reference.kind = ReferenceSettings::Kind::Ao;
+    s.reference.spp = spp;
+    s.reference.cacheDir = "off";
+    s.lpv.mode = Toggle::Off;
+    s.raster.path = path;
+    s.ao.radius = radius;
+    gl::Profiler prof(false);
+    auto r = renderFrames(scene, s, size, prof);
+    auto* out = dynamic_cast<ReferenceOutput*>(r->findPass("ref.ao"));
+    REQUIRE(out != nullptr);
+    return {readTexture(out->mean()), readTexture(out->standardError()), readTexture(r->resources().gbuffer.linearDepth),
+            readTexture(r->resources().gbuffer.normal)};
+}
+
+// The pixel's view ray (pixel centre, depth.glsl conventions) in double:
+// origin = camera position, direction with unit view-space depth.
+struct PixelRay {
+    glm::dvec3 origin, dir;
+};
+PixelRay pixelRay(const Camera& cam, glm::ivec2 size, int x, int y) {
+    View v = makeView(cam, size, nullptr, 0);
+    double th = std::tan(0.5 * double(cam.fovY)), aspect = double(size.x) / double(size.y);
+    glm::dvec2 ndc((x + 0.5) / size.x * 2.0 - 1.0, (y + 0.5) / size.y * 2.0 - 1.0);
+    glm::dmat4 inv = glm::inverse(glm::dmat4(v.view));
+    return {glm::dvec3(inv[3]), glm::dmat3(inv) * glm::dvec3(ndc.x * th * aspect, ndc.y * th, -1.0)};
+}
+
+// A floor of n × n quads over [-h, h]^2 at y = 0: many triangles, so the
+// rasterizer's per-vertex rounding takes many different values over the image.
+Scene tessellatedFloor(float h, int n) {
+    Scene s = floorScene(h, glm::vec3(0.5f), false);
+    s.vertices.clear();
+    s.indices.clear();
+    s.draws.clear();
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            float x0 = -h + 2 * h * i / n, x1 = -h + 2 * h * (i + 1) / n;
+            float z0 = -h + 2 * h * j / n, z1 = -h + 2 * h * (j + 1) / n;
+            addQuad(s, {x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0}, {x0, 0, z0}, 0);
+        }
+    return s;
+}
+
+const char* pathName(RasterSettings::Path p) { return p == RasterSettings::Path::Compute ? "compute" : "hardware"; }
+
+}  // namespace
+
+TEST_CASE("G-buffer ray origins: a grazing view of an open plane is unoccluded at every pixel (both raster paths)") {
+    GpuFixture fx;
+    Scene s = tessellatedFloor(40.0f, 16);
+    Camera& cam = s.cameras[0];
+    cam.position = {0.37f, 0.11f, 6.0f};  // 11 cm above the floor: the floor from 1.1° to 30° below the view axis
+    cam.target = {0.0f, 0.11f, -30.0f};
+    cam.near = 0.05f;
+    cam.far = 100.0f;
+    const glm::ivec2 size{96, 72};
+    const double pixelAngle = 2.0 * std::tan(0.5 * double(cam.fovY)) / size.y;
+    for (auto path : {RasterSettings::Path::Hardware, RasterSettings::Path::Compute}) {
+        AoImages r = renderAo(s, path, size, 4, 1e6f);
+        int geometry = 0, occluded = 0;
+        double worst = 0;  // reconstruction error along the normal / (depth · pixel angle)
+        for (int y = 0; y < size.y; ++y)
+            for (int x = 0; x < size.x; ++x) {
+                double d = r.depth.at(x, y, 0);
+                if (!(d > 0)) continue;
+                ++geometry;
+                occluded += r.mean.at(x, y, 0) != 1.0f;
+                PixelRay ray = pixelRay(cam, size, x, y);
+                glm::dvec3 q = ray.origin + d * ray.dir;  // the G-buffer point, in double
+                worst = std::max(worst, std::abs(q.y) / (d * pixelAngle));
+            }
+        MESSAGE(pathName(path) << ": floor pixels " << geometry << ", AO < 1 at " << occluded
+                               << ", worst |y| / (d * pixel angle) = " << worst);
+        CHECK(geometry > size.x * size.y / 3);
+        CHECK(occluded == 0);
+    }
+}
+
+TEST_CASE("G-buffer ray origins: floor AO beside a cube seen at a grazing angle equals Lambert's polygon formula") {
+    // Unbounded rays: a floor point P (normal +y) is occluded by the cube's
+    // faces it sees, and AO = 1 − Σ F(P → face), F = E(le = 1)/π of
+    // polygonIrradiance (gpu_fixture.h). P is the exact surface point: the
+    // pixel's view ray meets y = 0 (double), not the G-buffer point. Before
+    // the G-buffer offset, points rebuilt under the floor returned AO = 0.
+    GpuFixture fx;
+    Scene s = tessellatedFloor(40.0f, 16);
+    s.name = "test:cube-on-floor";
+    const glm::vec3 c[8] = {{-0.5f, 0, -0.5f}, {0.5f, 0, -0.5f}, {0.5f, 0, 0.5f}, {-0.5f, 0, 0.5f},
+                            {-0.5f, 1, -0.5f}, {0.5f, 1, -0.5f}, {0.5f, 1, 0.5f}, {-0.5f, 1, 0.5f}};
+    const int faces[5][4] = {{0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 5, 6, 7}};
+    for (auto& f : faces) addQuad(s, c[f[0]], c[f[1]], c[f[2]], c[f[3]], 0);
+    Camera& cam = s.cameras[0];
+    cam.position = {1.3f, 0.09f, 2.2f};  // 9 cm above the floor, 2.5 m from the cube: the floor at 2°–25°
+    cam.target = {0.0f, 0.09f, 0.0f};
+    cam.fovY = glm::radians(50.0f);
+    cam.near = 0.02f;
+    const glm::ivec2 size{96, 72};
+    const int spp = 64;
+    for (auto path : {RasterSettings::Path::Hardware, RasterSettings::Path::Compute}) {
+        AoImages r = renderAo(s, path, size, spp, 1e6f);
+        int n = 0, outside = 0, zeroPartlyOpen = 0, partly = 0;
+        double sumDiff = 0, sumVar = 0, worst = 0;
+        for (int y = 0; y < size.y; ++y)
+            for (int x = 0; x < size.x; ++x) {
+                double d = r.depth.at(x, y, 0);
+                if (!(d > 0)) continue;
+                PixelRay ray = pixelRay(cam, size, x, y);
+                if (!(ray.dir.y < 0)) continue;
+                double t = -ray.origin.y / ray.dir.y;  // view depth of the floor along this pixel's ray
+                if (std::abs(d - t) > 1e-3 * t) continue;  // the cube, not the floor
+                glm::dvec3 p = ray.origin + t * ray.dir;
+                p.y = 0;
+                double occluded = 0;
+                for (auto& f : faces) {
+                    glm::dvec3 q0(c[f[0]]), q1(c[f[1]]), q2(c[f[2]]), q3(c[f[3]]);
+                    glm::dvec3 centre = 0.25 * (q0 + q1 + q2 + q3), outward = centre - glm::dvec3(0, 0.5, 0);
+                    if (glm::dot(p - centre, outward) > 0)  // a face of the convex cube that P sees
+                        occluded += polygonIrradiance(p, {0, 1, 0}, {q0, q1, q2, q3}, 1.0) / M_PI;
+                }
+                double expect = 1.0 - occluded;
+                double se = std::sqrt(expect * (1.0 - expect) / spp);  // binomial SE of the oracle's AO
+                double got = r.mean.at(x, y, 0), diff = got - expect;
+                ++n;
+                if (std::abs(diff) > 4.0 * se + 1.5 / spp) ++outside;
+                worst = std::max(worst, std::abs(diff) / (se + 1.0 / spp));
+                if (expect > 0.05 && expect < 0.95) {
+                    ++partly;
+                    sumDiff += diff;
+                    sumVar += se * se;
+                    zeroPartlyOpen += got == 0.0f;
+                }
+            }
+        MESSAGE(pathName(path) << ": floor pixels " << n << " (partly open " << partly << "), outside 4 SE " << outside
+                               << ", AO = 0 at partly open " << zeroPartlyOpen << ", mean AO − oracle (partly open) "
+                               << sumDiff / std::max(partly, 1) << " ± " << std::sqrt(sumVar) / std::max(partly, 1)
+                               << ", worst |diff| / (SE + 1/spp) " << worst);
+        REQUIRE(n > size.x * size.y / 4);
+        REQUIRE(partly > 100);
+        CHECK(zeroPartlyOpen == 0);
+        CHECK(outside <= n / 200);
+        CHECK(std::abs(sumDiff / partly) <= 3.0 * std::sqrt(sumVar) / partly + 1e-3);
+    }
+}
