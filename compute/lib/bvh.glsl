@@ -3,7 +3,6 @@
 // triangle test is Möller–Trumbore, the same arithmetic as the CPU side.
 #pragma once
 #include "lib/bvh_shared.h"
-#include "lib/visibility_shared.h"  // RTGI_VISIBILITY_SUBPIXEL_BITS
 
 layout(std430, binding = RTGI_SSBO_BVH_NODES) readonly buffer BvhNodeBlock { BvhNode bvhNodes[]; };
 layout(std430, binding = RTGI_SSBO_BVH_TRIS) readonly buffer BvhTriBlock { BvhTriangle bvhTris[]; };
@@ -37,28 +36,28 @@ vec3 offsetRayOrigin(vec3 p, vec3 n, float magnitude) {
 }
 float maxAbs(vec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
 
-// Origin of the first ray from a G-buffer point p = C + d·r(s), rebuilt from
-// linear depth d on the view ray r through the pixel centre s (depth.glsl;
-// r has unit view-space depth). Two errors put p off the surface:
-// - rounding (the world position, the view transform, the R32F depth, the
-//   reconstruction): relative to max(|C|, d); offsetRayOrigin covers it;
-// - the sample position: the stored depth is that of the surface point
-//   under s + δ, not s. The hardware rasterizer interpolates with the
-//   barycentrics of vertices snapped to 2^-RTGI_VISIBILITY_SUBPIXEL_BITS
-//   pixel (the compute rasterizer's float barycentrics err far less), so
-//   |δx|, |δy| < one grid step. For a locally planar surface of unit normal
-//   n, n·(p − surface) = d·n·(r(s) − r(s + δ)), and r moves by pixelAngle
-//   = 2·tan(fovY/2)/height per pixel across the image plane, so the distance
-//   along n is at most d·pixelAngle·step·(|n_v.x| + |n_v.y|) (n_v: n in
-//   view space). The depth error itself, δ·∂d/∂s, grows without bound at
-//   grazing angles, but only its component along n, ×cos(n, view ray),
-//   matters: the product stays finite, largest (×√2) when n is
-//   perpendicular to the view axis.
-// `viewNormal`: the normal in view space (either sign); `pixelAngle` as above.
-vec3 gbufferRayOrigin(vec3 p, vec3 n, vec3 viewNormal, float d, vec3 cameraPos, float pixelAngle) {
-    const float step = 1.0 / float(1 << RTGI_VISIBILITY_SUBPIXEL_BITS);
-    float lateral = d * pixelAngle * step * (abs(viewNormal.x) + abs(viewNormal.y));
-    return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + lateral * n;
+// Largest distance from c to a point of the scene (the BVH root's box).
+float bvhSceneReach(vec3 c) { return length(max(abs(bvhNodes[0].lo - c), abs(bvhNodes[0].hi - c))); }
+
+// Origin of the first ray from a G-buffer point p = C + d·r (linear depth d
+// on the view ray r through the pixel centre, depth.glsl; C the camera).
+// The stored depth is that of Σ b_k P_k, the triangle's vertices P_k
+// interpolated with float barycentrics (the hardware's perspective-correct
+// interpolation of the world position; visSurface's homogeneous barycentrics
+// from clip-space cross products on the compute path). Rounding the b_k
+// moves that point by ~u·max_k |P_k − C| (u = 2^-24) along the triangle,
+// however far the pixel is from the vertices, and p inherits the depth
+// change, a distance up to the same from the surface along n: for a large
+// floor seen from close by this is far more than ulps of p, C or d (measured
+// on llvmpipe, both raster paths: at most 1.2·u·max_k |P_k − C|; docs/
+// reference.md "Ray origins"). The G-buffer keeps no triangle, so
+// max_k |P_k − C| is bounded by the scene's reach from C, and p moves by
+// 4·u·reach along n (besides offsetRayOrigin for the rounding of the
+// reconstruction itself, relative to max(|C|, d)).
+const float GBUFFER_INTERPOLATION_ULPS = 4.0 * 5.9604645e-8;  // 4 u: 3.5× the measured worst
+vec3 gbufferRayOrigin(vec3 p, vec3 n, float d, vec3 cameraPos) {
+    float interpolation = GBUFFER_INTERPOLATION_ULPS * bvhSceneReach(cameraPos);
+    return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + interpolation * n;
 }
 
 // Rays traced by this invocation; a kernel adds it once to the slot of its
