@@ -36,7 +36,7 @@ struct Hasher {
 std::string referenceCacheKey(const Scene& scene, const Settings& settings, const ReferenceConstants& c,
                               const View& view) {
     Hasher h;
-    h.str("rtgi-reference-v2");  // v2: emitter NEE + MIS, robust ray origins  // bump when the tracer's estimator changes
+    h.str("rtgi-reference-v3");  // v2: emitter NEE + MIS, robust ray origins; v3: G-buffer origins cover the interpolation error  // bump when the tracer's estimator changes
     h.str(scene.name);
     h.vec(scene.vertices);
     h.vec(scene.indices);

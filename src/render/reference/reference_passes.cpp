@@ -44,7 +44,9 @@ ReferenceConstants referenceConstants(const Settings& s, const Aabb&) {
     c.lightSampling = s.reference.lightSampling;
     c.emissionIsDirect = s.light.emissiveLights;
     // Secondary-ray origins: offsetRayOrigin (bvh.glsl) from the point's own
-    // floating-point magnitude, no scene-size constant.
+    // floating-point magnitude; first rays from G-buffer points add 4 ulps of
+    // the scene's reach from the camera (gbufferRayOrigin), read by the shader
+    // from the BVH root: no constant here.
     return c;
 }
 
