@@ -35,7 +35,7 @@ void main() {
         if (dot(nrm, frame.cameraPos.xyz - wp) < 0.0) nrm = -nrm;
         // x1 comes from linear depth: offset for its interpolation and
         // reconstruction error (bvh.glsl gbufferRayOrigin).
-        vec3 origin = gbufferRayOrigin(wp, nrm, d, frame.cameraPos.xyz);
+        vec3 origin = gbufferRayOrigin(wp, nrm, d, frame.cameraPos.xyz, 2.0 * frame.projParams.z / float(frameSize().y));
         visible = 0.0;
         for (uint s = 0u; s < uSamples.y; ++s) {
             Rng rng = rngInit(uvec2(p), uSamples.x + s, uSamples.z);

@@ -63,7 +63,7 @@ void main() {
         s.roughness = rm.x;
         s.metallic = rm.y;
         s.emission = texelFetch(uEmissive, p, 0).rgb;
-        vec3 origin = gbufferRayOrigin(s.position, n, d, frame.cameraPos.xyz);  // x1 from linear depth
+        vec3 origin = gbufferRayOrigin(s.position, n, d, frame.cameraPos.xyz, 2.0 * frame.projParams.z / float(frameSize().y));  // x1 from linear depth
         for (uint k = 0u; k < uSamples.y; ++k) {
             Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
 #ifdef RTGI_REF_FULL
