@@ -57,17 +57,19 @@ float bvhSceneReach(vec3 c) { return length(max(abs(bvhNodes[0].lo - c), abs(bvh
 //   2^-RTGI_VISIBILITY_SUBPIXEL_BITS pixel, so a pixel centre up to
 //   δ = √2·2^-(bits+1) pixel outside a triangle B can show B's plane
 //   extended, where the neighbour A sharing that edge is the visible
-//   surface. In a concave crease B's extension lies under A: its distance
-//   from A's plane is the world length on B of δ (d·pixelAngle·δ/cos θ_B,
-//   θ_B between B's normal and the view ray, capped at cos = 1/8) times
-//   the sine of the crease angle (≤ 1). pixelAngle = 2·tan(fovY/2)/height.
+//   surface. In a concave crease B's extension lies under A, by the world
+//   length on B of δ pixels times the sine of the crease angle:
+//   d·pixelAngle·δ·sin(crease)/cos θ_B (θ_B between B's normal and the
+//   view ray; pixelAngle = 2·tan(fovY/2)/height). p moves by
+//   d·pixelAngle·δ, i.e. sin(crease) ≤ cos θ_B is assumed: sharper creases
+//   seen at grazing angles are not covered (the 1/cos θ_B bound brightens
+//   contact AO for no measured gain).
 // docs/reference.md "Ray origins" has the measurements.
 const float GBUFFER_INTERPOLATION_ULPS = 4.0 * 5.9604645e-8;  // 4 u: 3.5× the measured worst
 vec3 gbufferRayOrigin(vec3 p, vec3 n, float d, vec3 cameraPos, float pixelAngle) {
     float interpolation = GBUFFER_INTERPOLATION_ULPS * bvhSceneReach(cameraPos);
     const float snap = 1.41421356 / float(2 << RTGI_VISIBILITY_SUBPIXEL_BITS);
-    float cosView = max(abs(dot(n, normalize(cameraPos - p))), 0.125);
-    float coverage = d * pixelAngle * snap / cosView;
+    float coverage = d * pixelAngle * snap;
     return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + (interpolation + coverage) * n;
 }
 
