@@ -1,8 +1,10 @@
 // GPU tier: ray origins of points rebuilt from the G-buffer's linear depth
 // (docs/reference.md, "Ray origins"). Oracles: the analytic plane y = 0
 // intersected in double with each pixel's view ray (the exact surface
-// point), and Lambert's polygon formula for the floor AO beside a cube
-// (unbounded rays: occluded fraction = form factor of the cube's faces).
+// point), and Lambert's polygon formula (polygonIrradiance) for the AO of
+// that point beside a cube and in a V-groove (unbounded rays: occluded
+// fraction = form factor of the faces it sees). Each case fails with
+// offsetRayOrigin alone on at least one raster path (docs/reference.md).
 #include "gpu_fixture.h"
 
 #include "render/reference/reference_passes.h"
@@ -17,7 +19,7 @@ using namespace rtgi::test;
 namespace {
 
 struct AoImages {
-    FloatImage mean, se, depth, normal;
+    FloatImage mean, se, depth;
 };
 
 AoImages renderAo(const Scene& scene, RasterSettings::Path path, glm::ivec2 size, int spp, float radius) {
@@ -32,8 +34,7 @@ AoImages renderAo(const Scene& scene, RasterSettings::Path path, glm::ivec2 size
     auto r = renderFrames(scene, s, size, prof);
     auto* out = dynamic_cast<ReferenceOutput*>(r->findPass("ref.ao"));
     REQUIRE(out != nullptr);
-    return {readTexture(out->mean()), readTexture(out->standardError()), readTexture(r->resources().gbuffer.linearDepth),
-            readTexture(r->resources().gbuffer.normal)};
+    return {readTexture(out->mean()), readTexture(out->standardError()), readTexture(r->resources().gbuffer.linearDepth)};
 }
 
 // The pixel's view ray (pixel centre, depth.glsl conventions) in double:
@@ -47,22 +48,6 @@ PixelRay pixelRay(const Camera& cam, glm::ivec2 size, int x, int y) {
     glm::dvec2 ndc((x + 0.5) / size.x * 2.0 - 1.0, (y + 0.5) / size.y * 2.0 - 1.0);
     glm::dmat4 inv = glm::inverse(glm::dmat4(v.view));
     return {glm::dvec3(inv[3]), glm::dmat3(inv) * glm::dvec3(ndc.x * th * aspect, ndc.y * th, -1.0)};
-}
-
-// A floor of n × n quads over [-h, h]^2 at y = 0: many triangles, so the
-// rasterizer's per-vertex rounding takes many different values over the image.
-Scene tessellatedFloor(float h, int n) {
-    Scene s = floorScene(h, glm::vec3(0.5f), false);
-    s.vertices.clear();
-    s.indices.clear();
-    s.draws.clear();
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            float x0 = -h + 2 * h * i / n, x1 = -h + 2 * h * (i + 1) / n;
-            float z0 = -h + 2 * h * j / n, z1 = -h + 2 * h * (j + 1) / n;
-            addQuad(s, {x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0}, {x0, 0, z0}, 0);
-        }
-    return s;
 }
 
 std::string pathName(RasterSettings::Path p) { return p == RasterSettings::Path::Compute ? "compute" : "hardware"; }
@@ -82,7 +67,7 @@ TEST_CASE("G-buffer ray origins: a grazing view of an open plane is unoccluded a
     const double u = std::ldexp(1.0, -24);
     for (float h : {100.0f, 1000.0f})
         for (float height : {0.02f, 0.11f}) {
-            Scene s = tessellatedFloor(h, 1);
+            Scene s = floorScene(h, glm::vec3(0.5f), false);
             Camera& cam = s.cameras[0];
             cam.position = {0.037f, height, 0.3f};
             cam.target = {0.0f, 0.5f * height, -9.7f};
@@ -124,7 +109,7 @@ TEST_CASE("G-buffer ray origins: floor AO beside a cube seen at a grazing angle 
     GpuFixture fx;
     // A 2 km floor of two triangles, the camera 5 cm above it near the world
     // origin, the cube 1–2 m in front.
-    Scene s = tessellatedFloor(1000.0f, 1);
+    Scene s = floorScene(1000.0f, glm::vec3(0.5f), false);
     s.name = "test:cube-on-floor";
     const glm::vec3 c[8] = {{-0.7f, 0, -2.0f}, {0.3f, 0, -2.0f}, {0.3f, 0, -1.0f}, {-0.7f, 0, -1.0f},
                             {-0.7f, 1, -2.0f}, {0.3f, 1, -2.0f}, {0.3f, 1, -1.0f}, {-0.7f, 1, -1.0f}};
