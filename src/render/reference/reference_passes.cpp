@@ -45,8 +45,8 @@ ReferenceConstants referenceConstants(const Settings& s, const Aabb&) {
     c.emissionIsDirect = s.light.emissiveLights;
     // Secondary-ray origins: offsetRayOrigin (bvh.glsl) from the point's own
     // floating-point magnitude; first rays from G-buffer points add 4 ulps of
-    // the scene's reach from the camera (gbufferRayOrigin), read by the shader
-    // from the BVH root: no constant here.
+    // the scene's reach from the camera (the shader reads the BVH root) and
+    // the snapped-coverage term from the projection (gbufferRayOrigin).
     return c;
 }
 
