@@ -3,6 +3,7 @@
 // triangle test is Möller–Trumbore, the same arithmetic as the CPU side.
 #pragma once
 #include "lib/bvh_shared.h"
+#include "lib/visibility_shared.h"  // RTGI_VISIBILITY_SUBPIXEL_BITS
 
 layout(std430, binding = RTGI_SSBO_BVH_NODES) readonly buffer BvhNodeBlock { BvhNode bvhNodes[]; };
 layout(std430, binding = RTGI_SSBO_BVH_TRIS) readonly buffer BvhTriBlock { BvhTriangle bvhTris[]; };
@@ -35,6 +36,42 @@ vec3 offsetRayOrigin(vec3 p, vec3 n, float magnitude) {
     return mix(pi, near0, lessThan(abs(p), vec3(m * (1.0 / 32.0))));
 }
 float maxAbs(vec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
+
+// Largest distance from c to a point of the scene (the BVH root's box).
+float bvhSceneReach(vec3 c) { return length(max(abs(bvhNodes[0].lo - c), abs(bvhNodes[0].hi - c))); }
+
+// Origin of the first ray from a G-buffer point p = C + d·r (linear depth d
+// on the view ray r through the pixel centre, depth.glsl; C the camera),
+// normal n facing the camera. p can lie under the visible surface, by
+// more than ulps of p, C or d (offsetRayOrigin, relative to max(|C|, d)):
+// - interpolation: the stored depth is that of Σ b_k P_k, the triangle's
+//   vertices interpolated with float barycentrics (the hardware's
+//   perspective-correct interpolation; visSurface's homogeneous
+//   barycentrics from clip-space cross products). Rounding the b_k moves
+//   the point by ~u·max_k |P_k − C| (u = 2^-24) along the triangle however
+//   far the pixel is from the vertices, and p inherits the depth change:
+//   measured (llvmpipe, both raster paths) at most 1.2·u·max_k |P_k − C|
+//   from the surface along n. The G-buffer keeps no triangle: max_k
+//   |P_k − C| ≤ the scene's reach from C, and p moves by 4·u·reach.
+// - coverage: both rasterizers test coverage with vertices snapped to
+//   2^-RTGI_VISIBILITY_SUBPIXEL_BITS pixel, so a pixel centre up to
+//   δ = √2·2^-(bits+1) pixel outside a triangle B can show B's plane
+//   extended, where the neighbour A sharing that edge is the visible
+//   surface. In a concave crease B's extension lies under A, by the world
+//   length on B of δ pixels times the sine of the crease angle:
+//   d·pixelAngle·δ·sin(crease)/cos θ_B (θ_B between B's normal and the
+//   view ray; pixelAngle = 2·tan(fovY/2)/height). p moves by
+//   d·pixelAngle·δ, i.e. sin(crease) ≤ cos θ_B is assumed: sharper creases
+//   seen at grazing angles are not covered (the 1/cos θ_B bound brightens
+//   contact AO for no measured gain).
+// docs/reference.md "Ray origins" has the measurements.
+const float GBUFFER_INTERPOLATION_ULPS = 4.0 * 5.9604645e-8;  // 4 u: 3.5× the measured worst
+vec3 gbufferRayOrigin(vec3 p, vec3 n, float d, vec3 cameraPos, float pixelAngle) {
+    float interpolation = GBUFFER_INTERPOLATION_ULPS * bvhSceneReach(cameraPos);
+    const float snap = 1.41421356 / float(2 << RTGI_VISIBILITY_SUBPIXEL_BITS);
+    float coverage = d * pixelAngle * snap;
+    return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + (interpolation + coverage) * n;
+}
 
 // Rays traced by this invocation; a kernel adds it once to the slot of its
 // dispatch (slot = the dispatch's first sample index), so a progressive

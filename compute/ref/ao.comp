@@ -34,9 +34,9 @@ void main() {
         float len = length(nrm);
         nrm = len > 0.0 ? nrm / len : vec3(0.0, 1.0, 0.0);
         if (dot(nrm, frame.cameraPos.xyz - wp) < 0.0) nrm = -nrm;
-        // x1 comes from linear depth: its error is relative to the camera
-        // position and the depth (offset: bvh.glsl offsetRayOrigin).
-        vec3 origin = offsetRayOrigin(wp, nrm, max(maxAbs(frame.cameraPos.xyz), d));
+        // x1 comes from linear depth: offset for its interpolation and
+        // reconstruction error (bvh.glsl gbufferRayOrigin).
+        vec3 origin = gbufferRayOrigin(wp, nrm, d, frame.cameraPos.xyz, 2.0 * frame.projParams.z / float(frameSize().y));
         visible = 0.0;
         for (uint s = 0u; s < uSamples.y; ++s) {
             Rng rng = rngInit(uvec2(p), uSamples.x + s, uSamples.z);

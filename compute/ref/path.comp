@@ -38,10 +38,6 @@ layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // r
 
 layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec4 uSamples;  // first sample index, samples in this dispatch, seed, max bounces
 
-// Reconstruction of x1 from linear depth: its error is relative to the
-// camera position and the depth, so the origin offset scales with them.
-float gbufferMagnitude(float d) { return max(maxAbs(frame.cameraPos.xyz), d); }
-
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, frameSize()))) return;
@@ -70,7 +66,7 @@ void main() {
         s.metallic = rm.y;
         s.emission = texelFetch(uEmissive, p, 0).rgb;
         s.specular = 1.0;
-        vec3 origin = offsetRayOrigin(s.position, n, gbufferMagnitude(d));
+        vec3 origin = gbufferRayOrigin(s.position, n, d, frame.cameraPos.xyz, 2.0 * frame.projParams.z / float(frameSize().y));  // x1 from linear depth
         for (uint k = 0u; k < uSamples.y; ++k) {
             Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
 #ifdef RTGI_REF_FULL

@@ -37,7 +37,7 @@ struct Hasher {
 std::string referenceCacheKey(const Scene& scene, const Settings& settings, const ReferenceConstants& c,
                               const View& view) {
     Hasher h;
-    h.str("rtgi-reference-v3");  // v3: running moments, caustics modes; v2: emitter NEE + MIS  // bump when the estimator changes
+    h.str("rtgi-reference-v4");  // v4: G-buffer origins cover the interpolation error, running moments, caustics modes  // bump when the estimator changes
     h.str(scene.name);
     h.vec(scene.vertices);
     h.vec(scene.indices);

@@ -54,7 +54,9 @@ ReferenceConstants referenceConstants(const Settings& s, const Aabb&) {
     c.causticRoughness = s.reference.causticRoughness;
     c.converging = s.reference.converging();
     // Secondary-ray origins: offsetRayOrigin (bvh.glsl) from the point's own
-    // floating-point magnitude, no scene-size constant.
+    // floating-point magnitude; first rays from G-buffer points add 4 ulps of
+    // the scene's reach from the camera (the shader reads the BVH root) and
+    // the snapped-coverage term from the projection (gbufferRayOrigin).
     return c;
 }
 
