@@ -65,6 +65,7 @@ RTGI_LPV_STRUCT(LpvUniforms) {
     vec4 cascadeParams;   // x: blend width of a cascade border in cells (apply); y, z: self-irradiance of a
                           // lit plane per unit exitance, all steps / near steps; w: lpv.self_correction
     vec4 cascadeOrigin[RTGI_LPV_MAX_CASCADES];  // every cascade: xyz min corner, w cell size (apply weights)
+    ivec4 leak;           // leak remedies (docs/lpv.md, "Leaks"): x lpv.inject_side=front, y lpv.first_step=blocked
 };
 
 #ifndef RTGI_GLSL
@@ -184,6 +185,7 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_TEX_APPLY_NEAR_HI_G     19
 #define RTGI_LPV_TEX_APPLY_NEAR_HI_B     20
 #define RTGI_LPV_TEX_APPLY_NEAR_LAST     21
+#define RTGI_LPV_TEX_APPLY_GEOMETRY      22  // lpv/apply.comp with RTGI_LPV_LOOKUP_GEOMETRY: the cascade's geometry volume
 #define RTGI_LPV_TEX_CUR_HI_R             6  // lpv/temporal.comp (after prev 3-5)
 #define RTGI_LPV_TEX_CUR_HI_G             7
 #define RTGI_LPV_TEX_CUR_HI_B             8

@@ -94,7 +94,10 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
                  sampler3D gvAlbedo) {
     LpvRgb o = LpvRgb(LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
     ivec3 dims = lpv.grid.xyz;
-    bool geometry = iteration >= 2 && (lpv.flags.x != 0 || lpv.flags.y != 0);
+    // lpv.first_step=blocked (docs/lpv.md, "Leaks"): the first step is occluded too; the
+    // injected lobe of a surface points away from it (its back face gets no flux), so the
+    // surface's own blocker only meets the flux crossing it from behind: the leak.
+    bool geometry = (iteration >= 2 || lpv.leak.y != 0) && (lpv.flags.x != 0 || lpv.flags.y != 0);
     for (int a = 0; a < 6; ++a) {
         ivec3 n = c + LPV_AXES[a];
         if (!lpvInside(n, dims)) continue;

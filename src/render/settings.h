@@ -69,6 +69,11 @@ struct LpvSettings {
     enum class Source { Propagated, Probe } source = Source::Propagated;
     int probeDirections = 256;           // lpv.source=probe: traced directions per cell
     int shOrder = 1;                     // SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9)
+    // Leak remedies (issue 22, docs/lpv.md "Leaks").
+    enum class Lookup { Trilinear, Geometry } lookup = Lookup::Trilinear;
+    bool damping = false;                // KD10 derivative damping of the lookup
+    enum class InjectSide { Offset, Front } injectSide = InjectSide::Offset;
+    bool firstStepBlocked = false;       // geometry occlusion also in the first propagation step
 };
 
 struct AoSettings {

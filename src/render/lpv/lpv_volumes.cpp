@@ -160,7 +160,9 @@ void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
     if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z}))
         geometryAccum.clear();
-    geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z});
+    // Linear: lpv.lookup=geometry samples it between corners (the propagation uses texelFetch).
+    if (geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z}))
+        geometry.setSampling(GL_LINEAR, GL_LINEAR);
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
 }
 
@@ -450,6 +452,8 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     const bool cascaded = in.cascades > 1;
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
+    if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
+    if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -473,6 +477,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])
             .texture(RTGI_LPV_TEX_LIGHT_HI_B, (*in.volumeHi)[2])
             .texture(RTGI_LPV_TEX_LIGHT_LAST, (*in.volumeHi)[3]);
+    if (in.geometry) b.texture(RTGI_LPV_TEX_APPLY_GEOMETRY, *in.geometry);
     if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)

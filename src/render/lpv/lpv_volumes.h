@@ -107,6 +107,9 @@ struct ApplyInputs {
     const gl::Texture* brdfLut = nullptr;     // split-sum LUT (SSR family), optional
     const gl::Texture* s3ho = nullptr;        // AO hooks, optional; S3HO wins over bent normals
     const gl::Texture* bentNormal = nullptr;
+    // Leaks (docs/lpv.md, "Leaks"): set: lpv.lookup=geometry with this cascade's geometry volume.
+    const gl::Texture* geometry = nullptr;
+    bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
     gl::Texture* specular = nullptr;
 };
