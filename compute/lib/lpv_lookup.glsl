@@ -29,14 +29,25 @@ float lpvSegmentBlocking(vec4 B, vec3 q, vec3 c) {
     return l > 0.0 ? clamp(shEvaluate(B, d / l), 0.0, 1.0) : 0.0;
 }
 
-// blocked[k] of the 8 stencil cells around q from the geometry volume gv (corner lattice:
-// texel g at cell coordinate g, (X+1, Y+1, Z+1) texels, linear filtering): its blocking SH
-// interpolated at the midpoint of q and the cell centre.
-void lpvGeometryBlocking(sampler3D gv, vec3 q, out float blocked[8]) {
+// Two-sided (lpv.blocking=two-sided): axes = sum of A / s^2 |n| over the blockers (the area
+// projected on the three axis planes); the area projected across the segment's direction w
+// is sum A |n.w| / s^2 <= axes . |w| (|n.w| <= sum_i |n_i| |w_i|; equal for axis-aligned walls).
+float lpvSegmentBlockingTwoSided(vec3 axes, vec3 q, vec3 c) {
+    vec3 d = c - q;
+    float l = length(d);
+    return l > 0.0 ? clamp(dot(axes, abs(d / l)), 0.0, 1.0) : 0.0;
+}
+
+// blocked[k] of the 8 stencil cells around q from the geometry volume (corner lattice: texel
+// g at cell coordinate g, (X+1, Y+1, Z+1) texels, linear filtering): the blocking SH gv, or
+// with twoSided the axis blocking gvAxes, interpolated at the midpoint of q and the cell centre.
+void lpvGeometryBlocking(sampler3D gv, sampler3D gvAxes, bool twoSided, vec3 q, out float blocked[8]) {
     vec3 scale = 1.0 / vec3(textureSize(gv, 0));
     for (int k = 0; k < 8; ++k) {
         vec3 c = lpvStencilCentre(q, k);
-        blocked[k] = lpvSegmentBlocking(texture(gv, (0.5 * (q + c) + 0.5) * scale), q, c);
+        vec3 uvw = (0.5 * (q + c) + 0.5) * scale;
+        blocked[k] = twoSided ? lpvSegmentBlockingTwoSided(texture(gvAxes, uvw).xyz, q, c)
+                              : lpvSegmentBlocking(texture(gv, uvw), q, c);
     }
 }
 

@@ -134,6 +134,7 @@ vec2 lpvCascadeWeights(vec3 world) {
 
 #ifdef RTGI_LPV_LOOKUP_GEOMETRY
 layout(binding = RTGI_LPV_TEX_APPLY_GEOMETRY) uniform sampler3D uGeometry;  // corner lattice, (X+1, Y+1, Z+1)
+layout(binding = RTGI_LPV_TEX_APPLY_GEOMETRY_AXES) uniform sampler3D uGeometryAxes;
 #endif
 
 // Where a lookup reads: the trilinear texture coordinate, or (weighted) the 8 stencil cells
@@ -158,7 +159,7 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
 #ifdef RTGI_LPV_LOOKUP_GEOMETRY
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    lpvGeometryBlocking(uGeometry, q, blocked);
+    lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;

@@ -99,6 +99,8 @@ const char* const kLpvSource[] = {"propagated", "probe"};
 const char* const kLpvLookup[] = {"trilinear", "geometry"};
 const char* const kLpvInjectSide[] = {"offset", "front"};
 const char* const kLpvFirstStep[] = {"free", "blocked"};
+const char* const kLpvBlocking[] = {"oriented", "two-sided"};
+const char* const kLpvReflect[] = {"destination", "source"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
@@ -210,6 +212,13 @@ std::vector<SettingKey> buildKeys() {
             "is on the texel's lit side (front; docs/lpv.md, \"Leaks\")", "offset|front",
             s.lpv.injectSide = parseEnum<LpvSettings::InjectSide>("lpv.inject_side", v, kLpvInjectSide),
             kLpvInjectSide[int(s.lpv.injectSide)]),
+        KEY("lpv.blocking", "geometry volume blocking: oriented (surfaces facing the light, KD10 band-1 SH) or two-sided "
+            "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\")", "oriented|two-sided",
+            s.lpv.blocking = parseEnum<LpvSettings::Blocking>("lpv.blocking", v, kLpvBlocking),
+            kLpvBlocking[int(s.lpv.blocking)]),
+        KEY("lpv.reflect", "lpv.bounce: the reflected flux goes into the cell behind the blocker (destination, seed 3.5.2) "
+            "or back into the cell the light came from (source; docs/lpv.md, \"Leaks\")", "destination|source",
+            s.lpv.reflect = parseEnum<LpvSettings::Reflect>("lpv.reflect", v, kLpvReflect), kLpvReflect[int(s.lpv.reflect)]),
         KEY("lpv.first_step", "occlusion of the first propagation step: free (seed 3.5.1) or blocked by surfaces facing "
             "the flow (docs/lpv.md, \"Leaks\"); needs lpv.occlusion or lpv.bounce", "free|blocked",
             s.lpv.firstStepBlocked = parseEnum<int>("lpv.first_step", v, kLpvFirstStep) != 0,

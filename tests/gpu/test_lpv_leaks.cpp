@@ -62,7 +62,8 @@ struct CpuWeights {
     std::array<double, 8> w{}, blocked{};
     int mode = 2;
 };
-CpuWeights cpuWeights(const std::vector<glm::vec4>& gv, glm::ivec3 corners, glm::dvec3 q, glm::dvec3 x, glm::dvec3 n) {
+CpuWeights cpuWeights(const std::vector<glm::vec4>& gv, const std::vector<glm::vec4>& axes, bool twoSided, glm::ivec3 corners,
+                      glm::dvec3 q, glm::dvec3 x, glm::dvec3 n) {
     CpuWeights r;
     glm::dvec3 base = glm::floor(q - 0.5), f = q - 0.5 - base;
     std::array<double, 8> t{}, front{};
@@ -73,8 +74,14 @@ CpuWeights cpuWeights(const std::vector<glm::vec4>& gv, glm::ivec3 corners, glm:
         t[std::size_t(k)] = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
         glm::dvec3 mid = 0.5 * (q + c);  // corner g sits at cell coordinate g
         glm::dvec3 d = glm::normalize(c - q);
-        auto b = trilinear(gv, corners, mid);
-        double beta = std::clamp(evaluate({b[0], b[1], b[2], b[3]}, d), 0.0, 1.0);
+        double beta;
+        if (twoSided) {  // projected area across d: sum_i axes_i |d_i|
+            auto a = trilinear(axes, corners, mid);
+            beta = std::clamp(a[0] * std::abs(d.x) + a[1] * std::abs(d.y) + a[2] * std::abs(d.z), 0.0, 1.0);
+        } else {  // oriented: B(d), surfaces facing the light that arrives from the cell
+            auto b = trilinear(gv, corners, mid);
+            beta = std::clamp(evaluate({b[0], b[1], b[2], b[3]}, d), 0.0, 1.0);
+        }
         r.blocked[std::size_t(k)] = beta;
         front[std::size_t(k)] = glm::dot(c - x, n) > 0 ? t[std::size_t(k)] : 0.0;
         r.w[std::size_t(k)] = front[std::size_t(k)] * (1 - beta);
@@ -97,11 +104,13 @@ struct Case { vec4 q; vec4 x; vec4 n; };
 layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
 layout(std430, binding = 1) writeonly buffer Out { vec4 results[]; };  // 5 per case
 layout(binding = 0) uniform sampler3D uGeometry;
+layout(binding = 1) uniform sampler3D uGeometryAxes;
+layout(location = 0) uniform int uTwoSided;
 void main() {
     uint i = gl_GlobalInvocationID.x;
     Case c = cases[i];
     float blocked[8], w[8];
-    lpvGeometryBlocking(uGeometry, c.q.xyz, blocked);
+    lpvGeometryBlocking(uGeometry, uGeometryAxes, uTwoSided != 0, c.q.xyz, blocked);
     int mode = lpvGeometryWeights(c.q.xyz, c.x.xyz, c.n.xyz, blocked, w);
     results[5u * i] = vec4(w[0], w[1], w[2], w[3]);
     results[5u * i + 1u] = vec4(w[4], w[5], w[6], w[7]);
@@ -141,7 +150,7 @@ TEST_CASE("LPV leaks: geometry-aware lookup weights match a CPU double implement
     // normals; q = x + n / 2 as the apply does (half a cell along the normal).
     const glm::vec3 normals[] = {{0, 1, 0}, {1, 0, 0}, glm::normalize(glm::vec3(1, 1, 0.3f)), glm::normalize(glm::vec3(-0.4f, 1, -0.5f)), {0, 0, 1}};
     const glm::vec3 points[] = {{1.4f, 0.6f, 1.0f}, {1.05f, 0.9f, 0.7f}, {1.8f, 0.55f, 1.3f}, {1.25f, 0.8f, 0.6f}};
-    for (int vol = 0; vol < 2; ++vol)
+    for (int vol = 0; vol < 3; ++vol)
         for (auto n : normals)
             for (auto x : points) {
                 cases.push_back({glm::vec4(x + 0.5f * n, 0), glm::vec4(x, 0), glm::vec4(n, 0)});
@@ -150,26 +159,34 @@ TEST_CASE("LPV leaks: geometry-aware lookup weights match a CPU double implement
     gl::MemoryLedger ledger;
     gl::ProgramCache cache;
     const gl::Program& p = cache.computeFromSource("test/lpv_lookup.comp", kLookupSource);
-    std::vector<std::vector<glm::vec4>> volumes = {makeVolume(1.0, 0.0), makeVolume(0.0, 8.0)};
+    // Volume 2: lpv.blocking=two-sided, the same both-sided wall as axis blocking: a |n_x| = 2.
+    std::vector<std::vector<glm::vec4>> volumes = {makeVolume(1.0, 0.0), makeVolume(0.0, 8.0), std::vector<glm::vec4>(27, glm::vec4(0))};
+    std::vector<glm::vec4> axes(27, glm::vec4(0));
+    for (int z = 0; z < 3; ++z)
+        for (int y = 0; y < 3; ++y) axes[std::size_t(1 + 3 * (y + 3 * z))] = glm::vec4(2, 0, 0, 0);
     int behindZero = 0, plainWouldRead = 0;
-    for (int vol = 0; vol < 2; ++vol) {
+    for (int vol = 0; vol < 3; ++vol) {
+        const bool twoSided = vol == 2;
         std::vector<LookupCase> cs;
         for (std::size_t i = 0; i < cases.size(); ++i)
             if (volumeOf[i] == vol) cs.push_back(cases[i]);
         gl::Texture gv = volume3d(ledger, "test.geometry", corners, volumes[std::size_t(vol)]);
+        gl::Texture gvAxes = volume3d(ledger, "test.geometry_axes", corners, twoSided ? axes : std::vector<glm::vec4>(27, glm::vec4(0)));
         gl::Buffer bc(ledger, "test.cases", std::int64_t(cs.size() * sizeof(LookupCase)), cs.data());
         gl::Buffer out(ledger, "test.out", std::int64_t(cs.size() * 5 * sizeof(glm::vec4)));
         glUseProgram(p.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bc.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
         glBindTextureUnit(0, gv.id());
+        glBindTextureUnit(1, gvAxes.id());
+        p.set(0, twoSided ? 1 : 0);
         gl::dispatch(p, int(cs.size()));
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         std::vector<glm::vec4> r(cs.size() * 5);
         out.download(r.data(), std::int64_t(r.size() * sizeof(glm::vec4)));
         for (std::size_t i = 0; i < cs.size(); ++i) {
             glm::dvec3 q(cs[i].q), x(cs[i].x), n(cs[i].n);
-            CpuWeights cpu = cpuWeights(volumes[std::size_t(vol)], corners, q, x, n);
+            CpuWeights cpu = cpuWeights(volumes[std::size_t(vol)], axes, twoSided, corners, q, x, n);
             double sum = 0;
             glm::dvec3 base = glm::floor(q - 0.5);
             for (int k = 0; k < 8; ++k) {
@@ -331,12 +348,16 @@ TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of t
         return inside / outside;
     };
     if (std::getenv("RTGI_LEAK_EXPLORE")) {
-        for (int m = 0; m < 16; ++m) {
+        for (int m = 0; m < 32; ++m) {
+            if ((m & 4) != 0) continue;  // inject_side: no effect on axis-aligned walls
             Settings e;
             e.lpv.lookup = (m & 1) ? LpvSettings::Lookup::Geometry : LpvSettings::Lookup::Trilinear;
             e.lpv.damping = (m & 2) != 0;
             e.lpv.injectSide = (m & 4) ? LpvSettings::InjectSide::Front : LpvSettings::InjectSide::Offset;
             e.lpv.firstStepBlocked = (m & 8) != 0;
+            e.lpv.blocking = (m & 16) ? LpvSettings::Blocking::TwoSided : LpvSettings::Blocking::Oriented;
+            e.lpv.injectSide = LpvSettings::InjectSide::Offset;
+            e.lpv.reflect = LpvSettings::Reflect::Destination;
             MESSAGE("combo " << m << " ratio " << run(e));
         }
     }
@@ -350,6 +371,8 @@ TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of t
     plain.lpv.damping = false;
     plain.lpv.injectSide = LpvSettings::InjectSide::Offset;
     plain.lpv.firstStepBlocked = false;
+    plain.lpv.blocking = LpvSettings::Blocking::Oriented;
+    plain.lpv.reflect = LpvSettings::Reflect::Destination;
     double leak = run(plain);
     MESSAGE("inside / outside without the remedies: " << leak);
     CHECK(leak > 0.01);

@@ -562,6 +562,7 @@ public:
             in.geometry = ctx.settings.lpv.lookup == LpvSettings::Lookup::Geometry && geometryNeeded(ctx.settings)
                               ? &c.volumes.geometry
                               : nullptr;
+            in.geometryAxes = in.geometry ? &c.volumes.geometryAxes : nullptr;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }

@@ -164,6 +164,8 @@ void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     if (geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z}))
         geometry.setSampling(GL_LINEAR, GL_LINEAR);
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
+    if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
+        geometryAxes.setSampling(GL_LINEAR, GL_LINEAR);
 }
 
 namespace {
@@ -301,6 +303,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glBindImageTexture(RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_ALBEDO, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_AXES, v.geometryAxes.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
@@ -357,6 +360,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         // Rebound every iteration: the near part's mix and the band-2 sum use units of their own.
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
         if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
@@ -394,6 +398,7 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
     glBindVertexArray(v.emptyVao.id());
     glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
     glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
         int dst = 1 - src;
@@ -477,7 +482,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])
             .texture(RTGI_LPV_TEX_LIGHT_HI_B, (*in.volumeHi)[2])
             .texture(RTGI_LPV_TEX_LIGHT_LAST, (*in.volumeHi)[3]);
-    if (in.geometry) b.texture(RTGI_LPV_TEX_APPLY_GEOMETRY, *in.geometry);
+    if (in.geometry) b.texture(RTGI_LPV_TEX_APPLY_GEOMETRY, *in.geometry).texture(RTGI_LPV_TEX_APPLY_GEOMETRY_AXES, in.geometryAxes);
     if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)
