@@ -74,7 +74,7 @@ struct LpvSettings {
     bool damping = true;                 // KD10 derivative damping of the lookup
     enum class InjectSide { Offset, Front } injectSide = InjectSide::Front;
     bool firstStepBlocked = true;        // geometry occlusion also in the first propagation step
-    enum class Blocking { Oriented, TwoSided } blocking = Blocking::TwoSided;
+    enum class Blocking { Oriented, TwoSided } blocking = Blocking::Oriented;
     enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
 };
 
