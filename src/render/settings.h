@@ -71,7 +71,7 @@ struct LpvSettings {
     int shOrder = 1;                     // SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9)
     // Leak remedies (issue 22, docs/lpv.md "Leaks"; defaults chosen there on the worst view's gain).
     enum class Lookup { Trilinear, Geometry } lookup = Lookup::Geometry;
-    bool damping = true;                 // KD10 derivative damping of the lookup
+    bool damping = false;                // KD10 derivative damping of the lookup (darkens cornell's far half: docs/lpv.md)
     enum class InjectSide { Offset, Front } injectSide = InjectSide::Front;
     bool firstStepBlocked = true;        // geometry occlusion also in the first propagation step
     enum class Blocking { Oriented, TwoSided } blocking = Blocking::Oriented;
