@@ -21,7 +21,8 @@
 #define RTGI_UBO_LPV 1              // LpvUniforms
 #define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
 #define RTGI_LPV_MAX_CASCADES 6      // lpv.cascades range 1..6
-#define RTGI_LPV_GV_CHANNELS 8      // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A)
+#define RTGI_LPV_GV_CHANNELS 11     // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A),
+                                    // sum(A / s^2 |n|) (xyz: two-sided axis blocking, docs/lpv.md "Leaks")
 // Cascades (near.comp, apply.comp with RTGI_LPV_CASCADED): texture units, image units, uniform locations.
 #define RTGI_LPV_TEX_SOURCE_R 0
 #define RTGI_LPV_TEX_SOURCE_G 1
@@ -65,6 +66,8 @@ RTGI_LPV_STRUCT(LpvUniforms) {
     vec4 cascadeParams;   // x: blend width of a cascade border in cells (apply); y, z: self-irradiance of a
                           // lit plane per unit exitance, all steps / near steps; w: lpv.self_correction
     vec4 cascadeOrigin[RTGI_LPV_MAX_CASCADES];  // every cascade: xyz min corner, w cell size (apply weights)
+    ivec4 leak;           // leak remedies (docs/lpv.md, "Leaks"): x lpv.inject_side=front, y lpv.first_step=blocked,
+                          // z lpv.blocking=two-sided, w lpv.reflect=source
 };
 
 #ifndef RTGI_GLSL
@@ -184,6 +187,10 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_TEX_APPLY_NEAR_HI_G     19
 #define RTGI_LPV_TEX_APPLY_NEAR_HI_B     20
 #define RTGI_LPV_TEX_APPLY_NEAR_LAST     21
+#define RTGI_LPV_TEX_APPLY_GEOMETRY      22  // lpv/apply.comp with RTGI_LPV_LOOKUP_GEOMETRY: the cascade's geometry volume
+#define RTGI_LPV_TEX_APPLY_GEOMETRY_AXES 23  // and its two-sided axis blocking
+#define RTGI_LPV_TEX_GEOMETRY_AXES        9  // lpv/propagate.comp lpv/propagate_raster.frag (after band 2's 5-8)
+#define RTGI_LPV_IMG_GEOMETRY_AXES        3  // lpv/pack.comp (RTGI_LPV_PACK_GEOMETRY)
 #define RTGI_LPV_TEX_CUR_HI_R             6  // lpv/temporal.comp (after prev 3-5)
 #define RTGI_LPV_TEX_CUR_HI_G             7
 #define RTGI_LPV_TEX_CUR_HI_B             8

@@ -6,6 +6,9 @@
 // Specular (RTGI_LPV_SPECULAR): 3 samples along R (seed listing 8), each the
 // radiance arriving from R, averaged, times the split-sum term (F0 A + B)
 // when a BRDF LUT exists (RTGI_LPV_BRDF_LUT), else times F0.
+// Leaks (docs/lpv.md, "Leaks"): RTGI_LPV_LOOKUP_GEOMETRY weights the 8 cells of the diffuse
+// lookup by side and geometry-volume blocking (lib/lpv_lookup.glsl); RTGI_LPV_DAMPING damps
+// it by the irradiance one cell behind the surface.
 // Hooks: RTGI_LPV_BENT_NORMAL looks up along the AO pass's bent normal;
 // RTGI_LPV_S3HO integrates against the SH visibility instead of the cosine.
 // lpv.sh_order=2 (RTGI_LPV_SH2): the volumes hold bands 0-2 (mat3, lib/sh.glsl);
@@ -15,6 +18,7 @@
 #include "lib/lpv_shared.h"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
+#include "lib/lpv_lookup.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
 
@@ -128,21 +132,65 @@ vec2 lpvCascadeWeights(vec3 world) {
 }
 #endif
 
-// Trilinear lookup; outside the grid there is no LPV light. Cascade i > 0:
+#ifdef RTGI_LPV_LOOKUP_GEOMETRY
+layout(binding = RTGI_LPV_TEX_APPLY_GEOMETRY) uniform sampler3D uGeometry;  // corner lattice, (X+1, Y+1, Z+1)
+layout(binding = RTGI_LPV_TEX_APPLY_GEOMETRY_AXES) uniform sampler3D uGeometryAxes;
+#endif
+
+// Where a lookup reads: the trilinear texture coordinate, or (weighted) the 8 stencil cells
+// from `base` with weights w (lib/lpv_lookup.glsl).
+struct LpvLookup {
+    vec3 uvw;
+    bool weighted;
+    ivec3 base;
+    float w[8];
+};
+
+LpvLookup lpvPlainLookup(vec3 world) {
+    LpvLookup l;
+    l.uvw = lpvCellCoord(world) / vec3(lpv.grid.xyz);
+    l.weighted = false;
+    return l;
+}
+
+// The diffuse lookup at `world` for the surface point wp with normal n.
+LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
+    LpvLookup l = lpvPlainLookup(world);
+#ifdef RTGI_LPV_LOOKUP_GEOMETRY
+    vec3 q = lpvCellCoord(world);
+    float blocked[8];
+    lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, blocked);
+    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
+    l.base = lpvStencilBase(q);
+    l.weighted = true;
+#endif
+    return l;
+}
+
+vec4 lpvFetch(sampler3D t, LpvLookup l) {
+    if (!l.weighted) return texture(t, l.uvw);
+    vec4 sum = vec4(0.0);
+    ivec3 top = lpv.grid.xyz - 1;  // clamp to the border cells, as the sampler's CLAMP_TO_EDGE does
+    for (int k = 0; k < 8; ++k)
+        if (l.w[k] > 0.0) sum += l.w[k] * texelFetch(t, clamp(l.base + lpvStencilOffset(k), ivec3(0), top), 0);
+    return sum;
+}
+
+// Trilinear (or weighted) lookup; outside the grid there is no LPV light. Cascade i > 0:
 // u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md).
-bool lpvSample(vec3 world, out LpvSh r, out LpvSh g, out LpvSh b) {
-    vec3 uvw = lpvCellCoord(world) / vec3(lpv.grid.xyz);
+bool lpvSample(vec3 world, LpvLookup lk, out LpvSh r, out LpvSh g, out LpvSh b) {
+    vec3 uvw = lk.uvw;
     r = g = b = LpvSh(0.0);
     if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return false;
 #ifdef RTGI_LPV_SH2
-    vec4 last = texture(uLightLast, uvw);
-    r = shFromParts(texture(uLightR, uvw), texture(uLightHiR, uvw), last.r);
-    g = shFromParts(texture(uLightG, uvw), texture(uLightHiG, uvw), last.g);
-    b = shFromParts(texture(uLightB, uvw), texture(uLightHiB, uvw), last.b);
+    vec4 last = lpvFetch(uLightLast, lk);
+    r = shFromParts(lpvFetch(uLightR, lk), lpvFetch(uLightHiR, lk), last.r);
+    g = shFromParts(lpvFetch(uLightG, lk), lpvFetch(uLightHiG, lk), last.g);
+    b = shFromParts(lpvFetch(uLightB, lk), lpvFetch(uLightHiB, lk), last.b);
 #else
-    r = texture(uLightR, uvw);
-    g = texture(uLightG, uvw);
-    b = texture(uLightB, uvw);
+    r = lpvFetch(uLightR, lk);
+    g = lpvFetch(uLightG, lk);
+    b = lpvFetch(uLightB, lk);
 #endif
 #ifdef RTGI_LPV_CASCADED
     vec2 w = lpvCascadeWeights(world);
@@ -152,12 +200,12 @@ bool lpvSample(vec3 world, out LpvSh r, out LpvSh g, out LpvSh b) {
         b *= w.x;
     } else {
 #ifdef RTGI_LPV_SH2
-        vec4 nl = texture(uNearLast, uvw);
-        mat3 nr = shFromParts(texture(uNearR, uvw), texture(uNearHiR, uvw), nl.r);
-        mat3 ng = shFromParts(texture(uNearG, uvw), texture(uNearHiG, uvw), nl.g);
-        mat3 nb = shFromParts(texture(uNearB, uvw), texture(uNearHiB, uvw), nl.b);
+        vec4 nl = lpvFetch(uNearLast, lk);
+        mat3 nr = shFromParts(lpvFetch(uNearR, lk), lpvFetch(uNearHiR, lk), nl.r);
+        mat3 ng = shFromParts(lpvFetch(uNearG, lk), lpvFetch(uNearHiG, lk), nl.g);
+        mat3 nb = shFromParts(lpvFetch(uNearB, lk), lpvFetch(uNearHiB, lk), nl.b);
 #else
-        vec4 nr = texture(uNearR, uvw), ng = texture(uNearG, uvw), nb = texture(uNearB, uvw);
+        vec4 nr = lpvFetch(uNearR, lk), ng = lpvFetch(uNearG, lk), nb = lpvFetch(uNearB, lk);
 #endif
         r = w.x * nr + w.y * (r - nr);
         g = w.x * ng + w.y * (g - ng);
@@ -196,7 +244,8 @@ void main() {
 #endif
         LpvSh r, g, b;
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
-        if (lpvSample(wp + 0.5 * lpvCellSize() * n, r, g, b)) {
+        vec3 lookupAt = wp + 0.5 * lpvCellSize() * n;
+        if (lpvSample(lookupAt, lpvSurfaceLookup(lookupAt, wp, n), r, g, b)) {
 #ifdef RTGI_LPV_S3HO
             // S3HO is band 1: the band-2 part of the light has no visibility to meet.
             vec4 w = shRotate(directionalAt(uv), mat3(frame.invView));
@@ -208,6 +257,18 @@ void main() {
 #else
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));
+#endif
+#ifdef RTGI_LPV_DAMPING
+            // The same irradiance one cell further back (half a cell behind the surface), plain trilinear.
+            {
+                LpvSh rb, gb, bb;
+                vec3 behind = wp - 0.5 * lpvCellSize() * n;
+                if (lpvSample(behind, lpvPlainLookup(behind), rb, gb, bb)) {
+                    vec3 eb = vec3(shCosineIntegral(shMirror(rb), lookupN), shCosineIntegral(shMirror(gb), lookupN),
+                                   shCosineIntegral(shMirror(bb), lookupN));
+                    e *= lpvDamping(e, eb);
+                }
+            }
 #endif
             vec3 eSelf = vec3(0.0);
 #ifdef RTGI_LPV_SELF
@@ -236,7 +297,8 @@ void main() {
         vec3 R = reflect(-v, n);
         vec3 sum = vec3(0.0);
         for (int i = 1; i <= 3; ++i) {
-            if (lpvSample(wp + R * (float(i) * lpvCellSize()), r, g, b))
+            vec3 at = wp + R * (float(i) * lpvCellSize());
+            if (lpvSample(at, lpvPlainLookup(at), r, g, b))
                 sum += max(vec3(shEvaluate(r, -R), shEvaluate(g, -R), shEvaluate(b, -R)), vec3(0.0));
         }
         vec3 f0 = specularF0(albedo, rm.y);

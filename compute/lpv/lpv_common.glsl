@@ -37,8 +37,18 @@ vec3 rsmWorldPosition(ivec2 texel, float depth) {
 
 // Cell receiving a surface point's light: moved half a cell along its normal
 // so a surface lights the cell in front of it, not itself (seed 3.3, SPEC 3.3).
+// lpv.inject_side=front (docs/lpv.md, "Leaks"): the half-cell offset puts the cell centre on
+// the texel's lit side for axis-aligned normals only (centre - p = n/2 + e, |e_i| <= 1/2, so
+// n.(centre - p) >= 1/2 - |n|_1 / 2 < 0 is possible for oblique n); a centre behind the
+// surface's plane is moved one cell along the normal's dominant axis, which makes n.(centre - p)
+// grow by |n|_max >= 1/sqrt(3) >= the deficit (|n|_1 - 1)/2 <= (sqrt(3) - 1)/2.
 bool lpvInjectionCell(vec3 p, vec3 n, out ivec3 cell) {
     vec3 q = lpvCellCoord(p + 0.5 * lpvCellSize() * n);
+    if (lpv.leak.x != 0 && dot(floor(q) + 0.5 - lpvCellCoord(p), n) <= 0.0) {
+        vec3 a = abs(n);
+        vec3 axis = a.x >= a.y && a.x >= a.z ? vec3(1.0, 0.0, 0.0) : a.y >= a.z ? vec3(0.0, 1.0, 0.0) : vec3(0.0, 0.0, 1.0);
+        q += axis * sign(dot(axis, n));
+    }
     cell = ivec3(floor(q));
     // floor() of huge/NaN coordinates is undefined as int: test in float first.
     return all(greaterThanEqual(q, vec3(0.0))) && all(lessThan(q, vec3(lpv.grid.xyz))) && lpvInside(cell, lpv.grid.xyz);

@@ -14,6 +14,7 @@ layout(binding = RTGI_LPV_TEX_SRC_G) uniform sampler3D uSrcG;
 layout(binding = RTGI_LPV_TEX_SRC_B) uniform sampler3D uSrcB;
 layout(binding = RTGI_LPV_TEX_GEOMETRY) uniform sampler3D uGeometry;
 layout(binding = RTGI_LPV_TEX_GEOMETRY_ALBEDO) uniform sampler3D uGeometryAlbedo;
+layout(binding = RTGI_LPV_TEX_GEOMETRY_AXES) uniform sampler3D uGeometryAxes;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_R) uniform writeonly image3D uDstR;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_G) uniform writeonly image3D uDstG;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_B) uniform writeonly image3D uDstB;
@@ -43,7 +44,7 @@ layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);
     if (!lpvInside(c, lpv.grid.xyz)) return;
-    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo);
+    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo, uGeometryAxes);
     v.r = lpvStorable(v.r);
     v.g = lpvStorable(v.g);
     v.b = lpvStorable(v.b);

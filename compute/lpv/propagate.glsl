@@ -50,20 +50,23 @@ float lpvConservingScale(LpvSh I) {
     return q > 0.0 ? target / q : 0.0;
 }
 
-// Blocking SH and mean albedo at the face between cell c and its neighbour
-// c + o: the mean of the 4 corner-lattice texels spanning that face.
-vec4 lpvFaceBlocking(sampler3D gv, sampler3D gvAlbedo, ivec3 c, ivec3 o, out vec3 albedo) {
+// Blocking SH, mean albedo and two-sided axis blocking at the face between cell c and its
+// neighbour c + o: the mean of the 4 corner-lattice texels spanning that face.
+vec4 lpvFaceBlocking(sampler3D gv, sampler3D gvAlbedo, sampler3D gvAxes, ivec3 c, ivec3 o, out vec3 albedo,
+                     out vec3 axes) {
     ivec3 base = c + max(o, ivec3(0));
     ivec3 u = o.x != 0 ? ivec3(0, 1, 0) : ivec3(1, 0, 0);
     ivec3 v = o.z != 0 ? ivec3(0, 1, 0) : ivec3(0, 0, 1);
     vec4 sum = vec4(0.0);
-    albedo = vec3(0.0);
+    albedo = axes = vec3(0.0);
     for (int i = 0; i < 4; ++i) {
         ivec3 g = base + ((i & 1) != 0 ? u : ivec3(0)) + ((i & 2) != 0 ? v : ivec3(0));
         sum += texelFetch(gv, g, 0);
         albedo += texelFetch(gvAlbedo, g, 0).rgb;
+        if (lpv.leak.z != 0) axes += texelFetch(gvAxes, g, 0).xyz;
     }
     albedo *= 0.25;
+    axes *= 0.25;
     return 0.25 * sum;
 }
 
@@ -87,14 +90,41 @@ float lpvPropagateFaces(LpvSh I, vec3 d, float transmit, inout LpvSh dst) {
     return total;
 }
 
+// Flux that source intensity I (flow direction d) sends through the 5 exit faces of the
+// destination one cell ahead (the quadrature of lpvPropagateFaces, nothing re-emitted).
+float lpvFacesFlux(LpvSh I, vec3 d) {
+    float total = RTGI_LPV_FRONT_SOLID_ANGLE * max(0.0, shEvaluate(I, d));
+    for (int t = 0; t < 6; ++t) {
+        vec3 nf = vec3(LPV_AXES[t]);
+        if (dot(nf, d) != 0.0) continue;
+        total += RTGI_LPV_SIDE_SOLID_ANGLE * max(0.0, shEvaluate(I, RTGI_LPV_SIDE_DIR_T * nf + RTGI_LPV_SIDE_DIR_D * d));
+    }
+    return total;
+}
+
 // Iteration `iteration` (1-based) for destination cell c; src is volume k-1.
 // Occlusion (and the bounce, which needs the blocked part) from iteration 2
 // on (seed 3.5.1): the first step would let geometry occlude its own light.
 LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler3D srcB, sampler3D gv,
-                 sampler3D gvAlbedo) {
+                 sampler3D gvAlbedo, sampler3D gvAxes) {
     LpvRgb o = LpvRgb(LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
     ivec3 dims = lpv.grid.xyz;
-    bool geometry = iteration >= 2 && (lpv.flags.x != 0 || lpv.flags.y != 0);
+    // lpv.reflect=source (docs/lpv.md, "Leaks"): the bounce of c's own flux off the blocker at
+    // each of its faces returns into c, the side the light came from (not into the cell
+    // behind the blocker, which for a thin wall is the other room).
+    bool reflectToSource = lpv.leak.w != 0;
+#ifdef RTGI_LPV_SH2
+    LpvSh own[3] = LpvSh[3](lpvSource9(texelFetch(srcR, c, 0), 0, c), lpvSource9(texelFetch(srcG, c, 0), 1, c),
+                            lpvSource9(texelFetch(srcB, c, 0), 2, c));
+#else
+    LpvSh own[3] = LpvSh[3](texelFetch(srcR, c, 0), texelFetch(srcG, c, 0), texelFetch(srcB, c, 0));
+#endif
+    if (reflectToSource && lpv.flags.z != 0)
+        for (int ch = 0; ch < 3; ++ch) own[ch] *= lpvConservingScale(own[ch]);
+    // lpv.first_step=blocked (docs/lpv.md, "Leaks"): the first step is occluded too; the
+    // injected lobe of a surface points away from it (its back face gets no flux), so the
+    // surface's own blocker only meets the flux crossing it from behind: the leak.
+    bool geometry = (iteration >= 2 || lpv.leak.y != 0) && (lpv.flags.x != 0 || lpv.flags.y != 0);
     for (int a = 0; a < 6; ++a) {
         ivec3 n = c + LPV_AXES[a];
         if (!lpvInside(n, dims)) continue;
@@ -106,15 +136,21 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
         vec4 I[3] = vec4[3](texelFetch(srcR, n, 0), texelFetch(srcG, n, 0), texelFetch(srcB, n, 0));
 #endif
         float transmit = 1.0;
-        vec3 reflected = vec3(0.0);
+        vec3 reflected = vec3(0.0), reflectedOwn = vec3(0.0);
         if (geometry) {
-            vec3 albedo;
+            vec3 albedo, axes;
             // The blocking potential stays band 1 for either order (docs/lpv.md).
-            vec4 B = lpvFaceBlocking(gv, gvAlbedo, c, LPV_AXES[a], albedo);
-            // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)).
-            float blocked = clamp(shEvaluate(B, -d), 0.0, 1.0);
+            vec4 B = lpvFaceBlocking(gv, gvAlbedo, gvAxes, c, LPV_AXES[a], albedo, axes);
+            // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)); lpv.blocking=two-sided
+            // (docs/lpv.md, "Leaks"): the area projected on the face, whichever side faces the light.
+            float blocked = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, -d), 0.0, 1.0);
             transmit = 1.0 - blocked;
-            if (lpv.flags.y != 0) reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
+            if (lpv.flags.y != 0 && !reflectToSource) reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
+            if (lpv.flags.y != 0 && reflectToSource) {
+                // c's own flux towards n (flow -d) meets the blocker of the same face from c's side.
+                float blockedOut = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, d), 0.0, 1.0);
+                reflectedOwn = blockedOut * albedo;
+            }
         }
         LpvSh acc[3] = LpvSh[3](LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
         for (int ch = 0; ch < 3; ++ch) {
@@ -122,6 +158,7 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
             float total = lpvPropagateFaces(I[ch] * scale, d, transmit, acc[ch]);
             // The reflected part leaves the blocking surface back towards the source.
             acc[ch] += (reflected[ch] * total * INV_PI) * lpvLobe(-d);
+            if (reflectedOwn[ch] > 0.0) acc[ch] += (reflectedOwn[ch] * lpvFacesFlux(own[ch], -d) * INV_PI) * lpvLobe(d);
         }
         o.r += acc[0];
         o.g += acc[1];

@@ -9,6 +9,7 @@ layout(binding = RTGI_LPV_TEX_SRC_G) uniform sampler3D uSrcG;
 layout(binding = RTGI_LPV_TEX_SRC_B) uniform sampler3D uSrcB;
 layout(binding = RTGI_LPV_TEX_GEOMETRY) uniform sampler3D uGeometry;
 layout(binding = RTGI_LPV_TEX_GEOMETRY_ALBEDO) uniform sampler3D uGeometryAlbedo;
+layout(binding = RTGI_LPV_TEX_GEOMETRY_AXES) uniform sampler3D uGeometryAxes;
 layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 
 layout(location = RTGI_LPV_OUT_R) out vec4 outR;
@@ -20,7 +21,7 @@ layout(location = RTGI_LPV_OUT_ACCUM_B) out vec4 outAccumB;
 
 void main() {
     ivec3 c = ivec3(ivec2(gl_FragCoord.xy), gl_Layer);
-    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo);
+    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo, uGeometryAxes);
     outR = outAccumR = lpvStorable(v.r);
     outG = outAccumG = lpvStorable(v.g);
     outB = outAccumB = lpvStorable(v.b);

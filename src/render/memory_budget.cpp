@@ -105,8 +105,8 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         // src/render/lpv/lpv_volumes.cpp: inject 3 x R32F x 4 (fp32 accumulation),
         // two propagation steps and the accumulation (3 channels each), the
         // temporal history (two, when lpv.temporal > 0); geometry volume
-        // (grid + 1)^3: 8 R32F accumulation channels, the SH in the volume
-        // format, albedo RGBA16F.
+        // (grid + 1)^3: 11 R32F accumulation channels, the SH in the volume
+        // format, albedo and two-sided axis blocking RGBA16F.
         // Per cascade (lpv.cascades, compute path; the raster path has one volume); cascades
         // i > 0 keep a near part (3 channels). lpv.sh_order=2 adds per volume 4 more textures
         // (coefficients 4-7 of r, g, b and 8 of r, g, b) and the fp32 accumulation of
@@ -114,7 +114,7 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         const int cascades = s.lpv.path == LpvSettings::Path::Raster ? 1 : s.lpv.cascades;
         const double volumeTextures = s.lpv.shOrder == 2 ? 7.0 : 3.0;
         const double injectBytes = s.lpv.shOrder == 2 ? 108.0 : 48.0;
-        double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * (32.0 + fmt + 8.0)) +
+        double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * (44.0 + fmt + 16.0)) +
                      (cascades - 1) * cells * volumeTextures * fmt;
         // Temporal: two histories per cascade, and two of the near part for cascades i > 0.
         if (s.lpv.temporal > 0.0f) lpv += (2.0 * cascades - 1.0) * cells * 2.0 * volumeTextures * fmt;

@@ -97,6 +97,11 @@ const char* const kRasterPath[] = {"hardware", "compute", "auto"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
 const char* const kLpvReemit[] = {"face", "flow"};
 const char* const kLpvSource[] = {"propagated", "probe"};
+const char* const kLpvLookup[] = {"trilinear", "geometry"};
+const char* const kLpvInjectSide[] = {"offset", "front"};
+const char* const kLpvFirstStep[] = {"free", "blocked"};
+const char* const kLpvBlocking[] = {"oriented", "two-sided"};
+const char* const kLpvReflect[] = {"destination", "source"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
@@ -199,6 +204,27 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.reemit", "side faces re-emit around their normal (face, KD10) or their flux direction (flow)",
             "face|flow", s.lpv.reemit = parseEnum<LpvSettings::Reemit>("lpv.reemit", v, kLpvReemit),
             kLpvReemit[int(s.lpv.reemit)]),
+        KEY("lpv.lookup", "apply: plain trilinear lookup, or geometry-aware (cells behind the surface or blocked by the "
+            "geometry volume get weight 0, renormalized; docs/lpv.md, \"Leaks\")", "trilinear|geometry",
+            s.lpv.lookup = parseEnum<LpvSettings::Lookup>("lpv.lookup", v, kLpvLookup), kLpvLookup[int(s.lpv.lookup)]),
+        KEY("lpv.damping", "apply: damp light that is brighter one cell behind the surface than in front of it "
+            "(KD10 derivative damping; docs/lpv.md, \"Leaks\")", "on|off",
+            s.lpv.damping = parseBool("lpv.damping", v), onOff(s.lpv.damping)),
+        KEY("lpv.inject_side", "injection cell: half a cell along the normal (offset), or also moved until its centre "
+            "is on the texel's lit side (front; docs/lpv.md, \"Leaks\")", "offset|front",
+            s.lpv.injectSide = parseEnum<LpvSettings::InjectSide>("lpv.inject_side", v, kLpvInjectSide),
+            kLpvInjectSide[int(s.lpv.injectSide)]),
+        KEY("lpv.blocking", "geometry volume blocking: oriented (surfaces facing the light, KD10 band-1 SH) or two-sided "
+            "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\")", "oriented|two-sided",
+            s.lpv.blocking = parseEnum<LpvSettings::Blocking>("lpv.blocking", v, kLpvBlocking),
+            kLpvBlocking[int(s.lpv.blocking)]),
+        KEY("lpv.reflect", "lpv.bounce: the reflected flux goes into the cell behind the blocker (destination, seed 3.5.2) "
+            "or back into the cell the light came from (source; docs/lpv.md, \"Leaks\")", "destination|source",
+            s.lpv.reflect = parseEnum<LpvSettings::Reflect>("lpv.reflect", v, kLpvReflect), kLpvReflect[int(s.lpv.reflect)]),
+        KEY("lpv.first_step", "occlusion of the first propagation step: free (seed 3.5.1) or blocked by surfaces facing "
+            "the flow (docs/lpv.md, \"Leaks\"); needs lpv.occlusion or lpv.bounce", "free|blocked",
+            s.lpv.firstStepBlocked = parseEnum<int>("lpv.first_step", v, kLpvFirstStep) != 0,
+            kLpvFirstStep[s.lpv.firstStepBlocked ? 1 : 0]),
         KEY("lpv.self_correction", "subtract the volume's self-illumination of sunlit surfaces (derived, docs/lpv.md)",
             "on|off", s.lpv.selfCorrection = parseBool("lpv.self_correction", v), onOff(s.lpv.selfCorrection)),
         KEY("lpv.cascades", "nested volumes, each cascade's cells twice the previous (compute path)", "1..6",

@@ -69,6 +69,13 @@ struct LpvSettings {
     enum class Source { Propagated, Probe } source = Source::Propagated;
     int probeDirections = 256;           // lpv.source=probe: traced directions per cell
     int shOrder = 1;                     // SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9)
+    // Leak remedies (issue 22, docs/lpv.md "Leaks"; defaults chosen there on the worst view's gain).
+    enum class Lookup { Trilinear, Geometry } lookup = Lookup::Geometry;
+    bool damping = false;                // KD10 derivative damping of the lookup (darkens cornell's far half: docs/lpv.md)
+    enum class InjectSide { Offset, Front } injectSide = InjectSide::Front;
+    bool firstStepBlocked = true;        // geometry occlusion also in the first propagation step
+    enum class Blocking { Oriented, TwoSided } blocking = Blocking::Oriented;
+    enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
 };
 
 struct AoSettings {

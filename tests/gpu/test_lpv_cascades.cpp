@@ -367,6 +367,11 @@ TEST_CASE("LPV cascades: the apply's blend of near and far parts equals the docu
             in.placement = pl[std::size_t(i)];
             in.cascade = i;
             in.cascades = pl;
+            // The CPU double oracle is the seed's scheme: the leak remedies (docs/lpv.md, "Leaks") are off.
+            s.lpv.injectSide = LpvSettings::InjectSide::Offset;
+            s.lpv.firstStepBlocked = false;
+            s.lpv.blocking = LpvSettings::Blocking::Oriented;
+            s.lpv.reflect = LpvSettings::Reflect::Destination;
             gpu::LpvUniforms u = lpv::makeUniforms(s.lpv, in);
             ubos.emplace_back(ledger, "t.lpv.uniforms", sizeof(u), &u);
         }

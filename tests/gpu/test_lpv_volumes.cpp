@@ -163,6 +163,12 @@ struct GpuLpv {
         settings.energyConserving = o.conserving;
         settings.reemit = o.flow ? LpvSettings::Reemit::Flow : LpvSettings::Reemit::Face;
         settings.format = format == GL_RGBA32F ? LpvSettings::Format::Rgba32f : LpvSettings::Format::Rgba16f;
+        // The CPU double oracles here implement the seed's injection and propagation: the leak
+        // remedies (docs/lpv.md, "Leaks") are off.
+        settings.injectSide = LpvSettings::InjectSide::Offset;
+        settings.firstStepBlocked = false;
+        settings.blocking = LpvSettings::Blocking::Oriented;
+        settings.reflect = LpvSettings::Reflect::Destination;
         lpv::UniformInputs in;
         in.placement.grid = grid;
         in.placement.cell = cell;

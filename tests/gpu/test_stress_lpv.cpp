@@ -61,6 +61,11 @@ struct Lpv {
         s.occlusion = occlusion;
         s.bounce = bounce;
         s.format = format == GL_RGBA32F ? LpvSettings::Format::Rgba32f : LpvSettings::Format::Rgba16f;
+        // The seed's scheme (first step unoccluded, bounce into the destination): docs/lpv.md, "Leaks".
+        s.injectSide = LpvSettings::InjectSide::Offset;
+        s.firstStepBlocked = false;
+        s.blocking = LpvSettings::Blocking::Oriented;
+        s.reflect = LpvSettings::Reflect::Destination;
         lpv::UniformInputs in;
         in.placement.grid = grid;
         in.placement.cell = 1.0f;

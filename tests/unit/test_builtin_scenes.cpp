@@ -69,8 +69,8 @@ std::string oneMaterial(const std::string& objects) {
 TEST_CASE("the built-in scenes are the documented set") {
     auto names = builtinSceneNames();
     std::set<std::string> got(names.begin(), names.end());
-    std::set<std::string> expected{"atrium", "box-on-plane", "corner", "cornell", "gallery", "plane", "restaurant",
-                                   "sphere-on-plane"};
+    std::set<std::string> expected{"atrium", "box-on-plane", "corner", "cornell", "gallery", "leak", "leak-door", "plane",
+                                   "restaurant", "sphere-on-plane"};
     CHECK(got == expected);
 }
 

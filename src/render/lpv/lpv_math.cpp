@@ -209,6 +209,8 @@ gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in) {
                                                              s.energyConserving, s.shOrder)
                                        : glm::dvec2(0.0);
     u.cascadeParams = glm::vec4(kCascadeBlendCells, float(self.x), float(self.y), s.selfCorrection ? 1.0f : 0.0f);
+    u.leak = glm::ivec4(s.injectSide == LpvSettings::InjectSide::Front, s.firstStepBlocked,
+                        s.blocking == LpvSettings::Blocking::TwoSided, s.reflect == LpvSettings::Reflect::Source);
     for (int i = 0; i < RTGI_LPV_MAX_CASCADES; ++i) {
         const Placement& p = in.cascades.empty() ? in.placement : in.cascades[std::size_t(std::min(i, count - 1))];
         u.cascadeOrigin[i] = glm::vec4(p.origin, p.cell);

@@ -12,7 +12,7 @@
 #include <vector>
 
 namespace rtgi::gpu {
-static_assert(sizeof(LpvUniforms) == 2 * 64 + (8 + RTGI_LPV_MAX_CASCADES) * 16, "LpvUniforms must match std140 layout");
+static_assert(sizeof(LpvUniforms) == 2 * 64 + (9 + RTGI_LPV_MAX_CASCADES) * 16, "LpvUniforms must match std140 layout");
 }
 
 namespace rtgi::lpv {

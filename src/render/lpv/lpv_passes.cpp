@@ -557,6 +557,13 @@ public:
                          : nullptr;
             in.sumE = &st.sumE;
             in.sumS = &st.sumS;
+            // The geometry volume exists only with occlusion or bounce: without it lpv.lookup=geometry
+            // is the plain trilinear lookup (docs/lpv.md, "Leaks"). It also applies to lpv.source=probe.
+            in.geometry = ctx.settings.lpv.lookup == LpvSettings::Lookup::Geometry && geometryNeeded(ctx.settings)
+                              ? &c.volumes.geometry
+                              : nullptr;
+            in.geometryAxes = in.geometry ? &c.volumes.geometryAxes : nullptr;
+            in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }
     }

@@ -160,8 +160,12 @@ void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
     if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z}))
         geometryAccum.clear();
-    geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z});
+    // Linear: lpv.lookup=geometry samples it between corners (the propagation uses texelFetch).
+    if (geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z}))
+        geometry.setSampling(GL_LINEAR, GL_LINEAR);
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
+    if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
+        geometryAxes.setSampling(GL_LINEAR, GL_LINEAR);
 }
 
 namespace {
@@ -299,6 +303,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glBindImageTexture(RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_ALBEDO, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_AXES, v.geometryAxes.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
@@ -355,6 +360,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         // Rebound every iteration: the near part's mix and the band-2 sum use units of their own.
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
         if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
@@ -392,6 +398,7 @@ int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& 
     glBindVertexArray(v.emptyVao.id());
     glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
     glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
     int src = 0;
     for (int k = 1; k <= iterations; ++k) {
         int dst = 1 - src;
@@ -450,6 +457,8 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     const bool cascaded = in.cascades > 1;
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
+    if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
+    if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -473,6 +482,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])
             .texture(RTGI_LPV_TEX_LIGHT_HI_B, (*in.volumeHi)[2])
             .texture(RTGI_LPV_TEX_LIGHT_LAST, (*in.volumeHi)[3]);
+    if (in.geometry) b.texture(RTGI_LPV_TEX_APPLY_GEOMETRY, *in.geometry).texture(RTGI_LPV_TEX_APPLY_GEOMETRY_AXES, in.geometryAxes);
     if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)

@@ -33,6 +33,7 @@ struct Volumes {
     gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A); zero between frames
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
+    gl::Texture geometryAxes;    // RGBA16F: sum(A / s^2 |n|) (xyz), two-sided axis blocking (docs/lpv.md, "Leaks")
     std::array<Rgb, 2> history;  // temporal blend targets (format)
     std::array<Rgb, 2> nearHistory;  // cascades i > 0: the near part's temporal blend targets (format)
     // lpv.sh_order=2 only (empty otherwise): the band-2 parts of inject, step, accum, near.
@@ -107,6 +108,10 @@ struct ApplyInputs {
     const gl::Texture* brdfLut = nullptr;     // split-sum LUT (SSR family), optional
     const gl::Texture* s3ho = nullptr;        // AO hooks, optional; S3HO wins over bent normals
     const gl::Texture* bentNormal = nullptr;
+    // Leaks (docs/lpv.md, "Leaks"): set: lpv.lookup=geometry with this cascade's geometry volume.
+    const gl::Texture* geometry = nullptr;
+    const gl::Texture* geometryAxes = nullptr;  // set with `geometry`: lpv.blocking=two-sided segments
+    bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
     gl::Texture* specular = nullptr;
 };

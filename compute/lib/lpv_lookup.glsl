@@ -1,0 +1,91 @@
+// Leak remedies of the LPV lookup (issue 22; derivations in docs/lpv.md, "Leaks"), pure
+// functions of cell coordinates (cell i spans [i, i + 1), its centre is i + 1/2):
+// - geometry-aware trilinear weights: each of the 8 cells of the trilinear stencil keeps its
+//   trilinear weight only if its centre lies in front of the shaded surface's tangent plane,
+//   times the transmission 1 - beta of the geometry volume between the lookup point and the
+//   cell centre ([Kir18]: geometry in the trilinear interpolation), renormalized;
+// - derivative damping ([KD10], seed 000 §7): irradiance that is larger one cell behind the
+//   surface than in front of it came through the surface, scaled by front / back.
+#pragma once
+#include "lib/sh.glsl"
+
+// Stencil of the trilinear lookup at q: cell k (k = 0..7, bit 0 x, bit 1 y, bit 2 z) is
+// lpvStencilBase(q) + lpvStencilOffset(k).
+ivec3 lpvStencilBase(vec3 q) { return ivec3(floor(q - 0.5)); }
+ivec3 lpvStencilOffset(int k) { return ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1); }
+vec3 lpvStencilCentre(vec3 q, int k) { return vec3(lpvStencilBase(q) + lpvStencilOffset(k)) + 0.5; }
+float lpvTrilinearWeight(vec3 q, int k) {
+    vec3 f = (q - 0.5) - floor(q - 0.5);
+    vec3 w = mix(1.0 - f, f, vec3(lpvStencilOffset(k)));
+    return w.x * w.y * w.z;
+}
+
+// Blocking of the light that reaches the lookup point q from the cell centre c: B is the
+// geometry volume's blocking SH at their midpoint; as in the propagation (SPEC 3.5, blocked =
+// B(-d) with d the flow direction c -> q), surfaces facing the incoming light block it.
+float lpvSegmentBlocking(vec4 B, vec3 q, vec3 c) {
+    vec3 d = c - q;
+    float l = length(d);
+    return l > 0.0 ? clamp(shEvaluate(B, d / l), 0.0, 1.0) : 0.0;
+}
+
+// Two-sided (lpv.blocking=two-sided): axes = sum of A / s^2 |n| over the blockers (the area
+// projected on the three axis planes); the area projected across the segment's direction w
+// is sum A |n.w| / s^2 <= axes . |w| (|n.w| <= sum_i |n_i| |w_i|; equal for axis-aligned walls).
+float lpvSegmentBlockingTwoSided(vec3 axes, vec3 q, vec3 c) {
+    vec3 d = c - q;
+    float l = length(d);
+    return l > 0.0 ? clamp(dot(axes, abs(d / l)), 0.0, 1.0) : 0.0;
+}
+
+// blocked[k] of the 8 stencil cells around q from the geometry volume (corner lattice: texel
+// g at cell coordinate g, (X+1, Y+1, Z+1) texels, linear filtering): the blocking SH gv, or
+// with twoSided the axis blocking gvAxes, interpolated at the midpoint of q and the cell centre.
+void lpvGeometryBlocking(sampler3D gv, sampler3D gvAxes, bool twoSided, vec3 q, out float blocked[8]) {
+    vec3 scale = 1.0 / vec3(textureSize(gv, 0));
+    for (int k = 0; k < 8; ++k) {
+        vec3 c = lpvStencilCentre(q, k);
+        vec3 uvw = (0.5 * (q + c) + 0.5) * scale;
+        blocked[k] = twoSided ? lpvSegmentBlockingTwoSided(texture(gvAxes, uvw).xyz, q, c)
+                              : lpvSegmentBlocking(texture(gv, uvw), q, c);
+    }
+}
+
+// Weights of the 8 stencil cells at lookup point q for a surface point x with normal n
+// (all in cell coordinates), blocked[k] from lpvSegmentBlocking. w_k = t_k [n.(c_k - x) > 0]
+// (1 - blocked_k), divided by their sum. Fallbacks when the sum vanishes (every front cell
+// fully blocked): the front-side weights t_k [n.(c_k - x) > 0] alone, and if those vanish too
+// (impossible when q = x + n/2: the stencil cell farthest along n lies in front) the plain
+// trilinear weights. Returns 2, 1 or 0: which of the three was used.
+int lpvGeometryWeights(vec3 q, vec3 x, vec3 n, float blocked[8], out float w[8]) {
+    float sum = 0.0, sumFront = 0.0;
+    float front[8];
+    for (int k = 0; k < 8; ++k) {
+        float t = lpvTrilinearWeight(q, k);
+        front[k] = dot(lpvStencilCentre(q, k) - x, n) > 0.0 ? t : 0.0;
+        w[k] = front[k] * (1.0 - clamp(blocked[k], 0.0, 1.0));
+        sum += w[k];
+        sumFront += front[k];
+    }
+    int mode = 2;
+    if (!(sum > 1e-6)) {
+        mode = sumFront > 0.0 ? 1 : 0;
+        sum = 0.0;
+        for (int k = 0; k < 8; ++k) {
+            w[k] = mode == 1 ? front[k] : lpvTrilinearWeight(q, k);
+            sum += w[k];
+        }
+    }
+    for (int k = 0; k < 8; ++k) w[k] /= sum;
+    return mode;
+}
+
+// Derivative damping of one channel's irradiance: `front` at the lookup point (half a cell in
+// front of the surface), `back` one cell further back (half a cell behind it). Light arriving
+// at the front face cannot have been brighter behind the surface unless it passed through it:
+// the lookup is scaled by front / back where back > front (1 for a field without a gradient
+// along n, or one falling off behind the surface).
+float lpvDamping(float front, float back) { return back > front && back > 0.0 ? max(front, 0.0) / back : 1.0; }
+vec3 lpvDamping(vec3 front, vec3 back) {
+    return vec3(lpvDamping(front.x, back.x), lpvDamping(front.y, back.y), lpvDamping(front.z, back.z));
+}

@@ -1,0 +1,386 @@
+// LPV light leaks through thin walls (issue 22; docs/lpv.md, "Leaks"):
+// - the closed room of builtin:leak, whose exact interior light is 0, against the LPV's light
+//   on the sunlit outside wall, with the default remedies;
+// - the geometry-aware lookup weights (compute/lib/lpv_lookup.glsl) on a hand-built geometry
+//   volume with a wall, against a CPU double implementation of the documented weights;
+// - the derivative damping on a uniform and a stepped SH field, against a CPU double one.
+#include "gpu_fixture.h"
+
+#include "gl/program.h"
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+using namespace rtgi;
+using namespace rtgi::test;
+
+namespace {
+
+const double kPi = 3.14159265358979323846;
+
+// Band-1 SH of the documented convention (docs/lpv.md "Conventions"), written out here in
+// double from the definitions, not taken from the code.
+std::array<double, 4> basis(glm::dvec3 d) {
+    const double y00 = 0.5 / std::sqrt(kPi), y1 = std::sqrt(3.0) / (2.0 * std::sqrt(kPi));
+    return {y00, -y1 * d.y, y1 * d.z, -y1 * d.x};
+}
+std::array<double, 4> cosLobe(glm::dvec3 n) {
+    const double c0 = std::sqrt(kPi) / 2.0, c1 = std::sqrt(kPi / 3.0);
+    return {c0, -c1 * n.y, c1 * n.z, -c1 * n.x};
+}
+double evaluate(const std::array<double, 4>& c, glm::dvec3 d) {
+    auto b = basis(d);
+    return c[0] * b[0] + c[1] * b[1] + c[2] * b[2] + c[3] * b[3];
+}
+
+// Trilinear interpolation of a (w, h, d) field of vec4 texels at texel-space point t (texel i
+// centred at i; clamped to the edge, as GL_CLAMP_TO_EDGE).
+std::array<double, 4> trilinear(const std::vector<glm::vec4>& f, glm::ivec3 size, glm::dvec3 t) {
+    glm::dvec3 b = glm::floor(t), fr = t - b;
+    std::array<double, 4> out{0, 0, 0, 0};
+    for (int k = 0; k < 8; ++k) {
+        glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        glm::ivec3 g = glm::clamp(glm::ivec3(b) + o, glm::ivec3(0), size - 1);
+        double w = (o.x ? fr.x : 1 - fr.x) * (o.y ? fr.y : 1 - fr.y) * (o.z ? fr.z : 1 - fr.z);
+        const glm::vec4& v = f[std::size_t(g.x + size.x * (g.y + size.y * g.z))];
+        for (int c = 0; c < 4; ++c) out[std::size_t(c)] += w * double(v[c]);
+    }
+    return out;
+}
+
+gl::Texture volume3d(gl::MemoryLedger& ledger, const char* label, glm::ivec3 size, const std::vector<glm::vec4>& data) {
+    gl::Texture t(ledger, label, {GL_TEXTURE_3D, GL_RGBA32F, size.x, size.y, size.z});
+    t.setSampling(GL_LINEAR, GL_LINEAR);
+    glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z, GL_RGBA, GL_FLOAT, data.data());
+    return t;
+}
+
+// Documented weights (docs/lpv.md, "Leaks"), in double: stencil of q, front test against the
+// surface point x with normal n, blocking from the corner lattice at the midpoints.
+struct CpuWeights {
+    std::array<double, 8> w{}, blocked{};
+    int mode = 2;
+};
+CpuWeights cpuWeights(const std::vector<glm::vec4>& gv, const std::vector<glm::vec4>& axes, bool twoSided, glm::ivec3 corners,
+                      glm::dvec3 q, glm::dvec3 x, glm::dvec3 n) {
+    CpuWeights r;
+    glm::dvec3 base = glm::floor(q - 0.5), f = q - 0.5 - base;
+    std::array<double, 8> t{}, front{};
+    double sum = 0, sumFront = 0;
+    for (int k = 0; k < 8; ++k) {
+        glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+        glm::dvec3 c = base + glm::dvec3(o) + 0.5;
+        t[std::size_t(k)] = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
+        glm::dvec3 mid = 0.5 * (q + c);  // corner g sits at cell coordinate g
+        glm::dvec3 d = glm::normalize(c - q);
+        double beta;
+        if (twoSided) {  // projected area across d: sum_i axes_i |d_i|
+            auto a = trilinear(axes, corners, mid);
+            beta = std::clamp(a[0] * std::abs(d.x) + a[1] * std::abs(d.y) + a[2] * std::abs(d.z), 0.0, 1.0);
+        } else {  // oriented: B(d), surfaces facing the light that arrives from the cell
+            auto b = trilinear(gv, corners, mid);
+            beta = std::clamp(evaluate({b[0], b[1], b[2], b[3]}, d), 0.0, 1.0);
+        }
+        r.blocked[std::size_t(k)] = beta;
+        front[std::size_t(k)] = glm::dot(c - x, n) > 0 ? t[std::size_t(k)] : 0.0;
+        r.w[std::size_t(k)] = front[std::size_t(k)] * (1 - beta);
+        sum += r.w[std::size_t(k)];
+        sumFront += front[std::size_t(k)];
+    }
+    if (!(sum > 1e-6)) {
+        r.mode = sumFront > 0 ? 1 : 0;
+        sum = 0;
+        for (int k = 0; k < 8; ++k) sum += (r.w[std::size_t(k)] = r.mode == 1 ? front[std::size_t(k)] : t[std::size_t(k)]);
+    }
+    for (auto& w : r.w) w /= sum;
+    return r;
+}
+
+const char* kLookupSource = R"(
+#include "lib/lpv_lookup.glsl"
+layout(local_size_x = 1) in;
+struct Case { vec4 q; vec4 x; vec4 n; };
+layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 results[]; };  // 5 per case
+layout(binding = 0) uniform sampler3D uGeometry;
+layout(binding = 1) uniform sampler3D uGeometryAxes;
+layout(location = 0) uniform int uTwoSided;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    Case c = cases[i];
+    float blocked[8], w[8];
+    lpvGeometryBlocking(uGeometry, uGeometryAxes, uTwoSided != 0, c.q.xyz, blocked);
+    int mode = lpvGeometryWeights(c.q.xyz, c.x.xyz, c.n.xyz, blocked, w);
+    results[5u * i] = vec4(w[0], w[1], w[2], w[3]);
+    results[5u * i + 1u] = vec4(w[4], w[5], w[6], w[7]);
+    results[5u * i + 2u] = vec4(blocked[0], blocked[1], blocked[2], blocked[3]);
+    results[5u * i + 3u] = vec4(blocked[4], blocked[5], blocked[6], blocked[7]);
+    results[5u * i + 4u] = vec4(float(mode), 0.0, 0.0, 0.0);
+}
+)";
+
+struct LookupCase {
+    glm::vec4 q, x, n;
+};
+
+}  // namespace
+
+TEST_CASE("LPV leaks: geometry-aware lookup weights match a CPU double implementation on a walled 2x2x2 volume") {
+    GpuFixture gpu;
+    // 2x2x2 cells, corner lattice 3x3x3. A wall in the corner plane x = 1 (between the cells
+    // x = 0 and x = 1), seen from both sides as by the RSM and the G-buffer: blocking SH
+    // a (cosLobe(+x) + cosLobe(-x)) with a = A / s^2 = 2 per corner (a wall filling the corner's
+    // dual cell, counted by both sources) plus, for the opaque one-sided test below, a * cosLobe(-x).
+    const glm::ivec3 corners(3);
+    auto makeVolume = [&](double aBoth, double aFacing) {
+        std::vector<glm::vec4> gv(27, glm::vec4(0));
+        auto lp = cosLobe({1, 0, 0}), lm = cosLobe({-1, 0, 0});
+        for (int z = 0; z < 3; ++z)
+            for (int y = 0; y < 3; ++y) {
+                glm::vec4 v;
+                for (int c = 0; c < 4; ++c) v[c] = float(aBoth * (lp[std::size_t(c)] + lm[std::size_t(c)]) + aFacing * lm[std::size_t(c)]);
+                gv[std::size_t(1 + 3 * (y + 3 * z))] = v;
+            }
+        return gv;
+    };
+    std::vector<LookupCase> cases;
+    std::vector<int> volumeOf;
+    // Receivers on the x > 1 side of the wall: floors (+y), the wall's own face (+x) and oblique
+    // normals; q = x + n / 2 as the apply does (half a cell along the normal).
+    const glm::vec3 normals[] = {{0, 1, 0}, {1, 0, 0}, glm::normalize(glm::vec3(1, 1, 0.3f)), glm::normalize(glm::vec3(-0.4f, 1, -0.5f)), {0, 0, 1}};
+    const glm::vec3 points[] = {{1.4f, 0.6f, 1.0f}, {1.05f, 0.9f, 0.7f}, {1.8f, 0.55f, 1.3f}, {1.25f, 0.8f, 0.6f}};
+    for (int vol = 0; vol < 3; ++vol)
+        for (auto n : normals)
+            for (auto x : points) {
+                cases.push_back({glm::vec4(x + 0.5f * n, 0), glm::vec4(x, 0), glm::vec4(n, 0)});
+                volumeOf.push_back(vol);
+            }
+    gl::MemoryLedger ledger;
+    gl::ProgramCache cache;
+    const gl::Program& p = cache.computeFromSource("test/lpv_lookup.comp", kLookupSource);
+    // Volume 2: lpv.blocking=two-sided, the same both-sided wall as axis blocking: a |n_x| = 2.
+    std::vector<std::vector<glm::vec4>> volumes = {makeVolume(1.0, 0.0), makeVolume(0.0, 8.0), std::vector<glm::vec4>(27, glm::vec4(0))};
+    std::vector<glm::vec4> axes(27, glm::vec4(0));
+    for (int z = 0; z < 3; ++z)
+        for (int y = 0; y < 3; ++y) axes[std::size_t(1 + 3 * (y + 3 * z))] = glm::vec4(2, 0, 0, 0);
+    int behindZero = 0, plainWouldRead = 0;
+    for (int vol = 0; vol < 3; ++vol) {
+        const bool twoSided = vol == 2;
+        std::vector<LookupCase> cs;
+        for (std::size_t i = 0; i < cases.size(); ++i)
+            if (volumeOf[i] == vol) cs.push_back(cases[i]);
+        gl::Texture gv = volume3d(ledger, "test.geometry", corners, volumes[std::size_t(vol)]);
+        gl::Texture gvAxes = volume3d(ledger, "test.geometry_axes", corners, twoSided ? axes : std::vector<glm::vec4>(27, glm::vec4(0)));
+        gl::Buffer bc(ledger, "test.cases", std::int64_t(cs.size() * sizeof(LookupCase)), cs.data());
+        gl::Buffer out(ledger, "test.out", std::int64_t(cs.size() * 5 * sizeof(glm::vec4)));
+        glUseProgram(p.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bc.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+        glBindTextureUnit(0, gv.id());
+        glBindTextureUnit(1, gvAxes.id());
+        p.set(0, twoSided ? 1 : 0);
+        gl::dispatch(p, int(cs.size()));
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<glm::vec4> r(cs.size() * 5);
+        out.download(r.data(), std::int64_t(r.size() * sizeof(glm::vec4)));
+        for (std::size_t i = 0; i < cs.size(); ++i) {
+            glm::dvec3 q(cs[i].q), x(cs[i].x), n(cs[i].n);
+            CpuWeights cpu = cpuWeights(volumes[std::size_t(vol)], axes, twoSided, corners, q, x, n);
+            double sum = 0;
+            glm::dvec3 base = glm::floor(q - 0.5);
+            for (int k = 0; k < 8; ++k) {
+                double w = r[5 * i + std::size_t(k / 4)][k % 4], b = r[5 * i + 2 + std::size_t(k / 4)][k % 4];
+                sum += w;
+                // GL_LINEAR filters with reduced-precision weights (8 fractional bits on many
+                // GPUs, llvmpipe included): 1/256 of the blocking, passed on to the weights.
+                CHECK(b == doctest::Approx(cpu.blocked[std::size_t(k)]).scale(1).epsilon(0.01));
+                CHECK(w == doctest::Approx(cpu.w[std::size_t(k)]).epsilon(0.01).scale(1));
+                glm::dvec3 c = base + glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1) + 0.5;
+                // The cells behind the wall (x < 1) hold the outside's light: behind the opaque
+                // wall (volume 1) every one the plain trilinear lookup would read from the
+                // receiver's front side gets weight 0.
+                double t = (k & 1) ? q.x - 0.5 - base.x : 1 - (q.x - 0.5 - base.x);
+                if (vol == 1 && c.x < 1.0 && glm::dot(c - x, n) > 0 && t > 0 && cpu.mode == 2) {
+                    ++plainWouldRead;
+                    CHECK(cpu.blocked[std::size_t(k)] == 1.0);
+                    CHECK(w == 0.0f);
+                    behindZero += w == 0.0f;
+                }
+            }
+            CHECK(int(r[5 * i + 4].x) == cpu.mode);
+            CHECK(sum == doctest::Approx(1.0).epsilon(1e-5));
+        }
+    }
+    MESSAGE(plainWouldRead << " stencil cells behind the opaque wall in front of their receiver (read by the plain "
+                           << "trilinear lookup), " << behindZero << " of them at weight 0");
+    CHECK(plainWouldRead >= 10);
+}
+
+namespace {
+
+const char* kDampingSource = R"(
+#include "lib/lpv_lookup.glsl"
+layout(local_size_x = 1) in;
+struct Case { vec4 x; vec4 n; };
+layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 results[]; };  // front E, back E, factor
+layout(binding = 0) uniform sampler3D uLight;  // one channel's SH, 4^3 cells, cell i centred at i + 1/2
+float irradiance(vec3 cellCoord, vec3 n) {
+    return shCosineIntegral(shMirror(texture(uLight, cellCoord / vec3(textureSize(uLight, 0)))), n);
+}
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    vec3 x = cases[i].x.xyz, n = cases[i].n.xyz;
+    float front = irradiance(x + 0.5 * n, n), back = irradiance(x - 0.5 * n, n);
+    results[i] = vec4(front, back, lpvDamping(front, back), front * lpvDamping(front, back));
+}
+)";
+
+struct DampCase {
+    glm::vec4 x, n;
+};
+
+}  // namespace
+
+TEST_CASE("LPV leaks: derivative damping leaves a uniform field unchanged and damps a field stepping across a wall") {
+    GpuFixture gpu;
+    const glm::ivec3 size(4);
+    // Light flowing towards -x (arriving at a surface facing +x), as the outside of a sunlit
+    // wall at x = 2 sends it: I = k cosLobe(-x). Uniform: k everywhere; stepped: k behind the
+    // wall (cells x < 2), k / 10 in front of it.
+    auto field = [&](double behind, double front) {
+        std::vector<glm::vec4> f(64);
+        auto l = cosLobe({-1, 0, 0});
+        for (int z = 0; z < 4; ++z)
+            for (int y = 0; y < 4; ++y)
+                for (int x = 0; x < 4; ++x) {
+                    double k = x < 2 ? behind : front;
+                    f[std::size_t(x + 4 * (y + 4 * z))] = glm::vec4(float(k * l[0]), float(k * l[1]), float(k * l[2]), float(k * l[3]));
+                }
+        return f;
+    };
+    std::vector<DampCase> cs;
+    for (float px : {2.02f, 2.2f, 2.45f})
+        for (glm::vec3 n : {glm::vec3(1, 0, 0), glm::normalize(glm::vec3(1, 0.3f, -0.2f))})
+            cs.push_back({glm::vec4(px, 1.7f, 2.1f, 0), glm::vec4(n, 0)});
+    gl::MemoryLedger ledger;
+    gl::ProgramCache cache;
+    const gl::Program& p = cache.computeFromSource("test/lpv_damping.comp", kDampingSource);
+    int damped = 0;
+    for (int stepped = 0; stepped < 2; ++stepped) {
+        std::vector<glm::vec4> f = stepped ? field(1.0, 0.1) : field(1.0, 1.0);
+        gl::Texture light = volume3d(ledger, "test.light", size, f);
+        gl::Buffer bc(ledger, "test.cases", std::int64_t(cs.size() * sizeof(DampCase)), cs.data());
+        gl::Buffer out(ledger, "test.out", std::int64_t(cs.size() * sizeof(glm::vec4)));
+        glUseProgram(p.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bc.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+        glBindTextureUnit(0, light.id());
+        gl::dispatch(p, int(cs.size()));
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        std::vector<glm::vec4> r(cs.size());
+        out.download(r.data(), std::int64_t(r.size() * sizeof(glm::vec4)));
+        for (std::size_t i = 0; i < cs.size(); ++i) {
+            glm::dvec3 x(cs[i].x), n(cs[i].n);
+            // E = <mirror(I), cosLobe(n)>, the documented irradiance, at x + n/2 and x - n/2
+            // (texel-space: cell i at i + 1/2, so texel coordinate = cell coordinate - 1/2).
+            auto E = [&](glm::dvec3 at) {
+                auto I = trilinear(f, size, at - 0.5);
+                auto lobe = cosLobe(n);
+                return I[0] * lobe[0] - I[1] * lobe[1] - I[2] * lobe[2] - I[3] * lobe[3];
+            };
+            double front = E(x + 0.5 * n), back = E(x - 0.5 * n);
+            double factor = back > front && back > 0 ? std::max(front, 0.0) / back : 1.0;
+            CHECK(r[i].x == doctest::Approx(front).epsilon(0.01));
+            CHECK(r[i].y == doctest::Approx(back).epsilon(0.01));
+            CHECK(r[i].z == doctest::Approx(factor).epsilon(0.02));
+            if (!stepped) {
+                // No derivative: unchanged (up to the float rounding of two equal filtered fetches).
+                CHECK(r[i].z == doctest::Approx(1.0).epsilon(1e-5));
+                CHECK(r[i].w == doctest::Approx(r[i].x).epsilon(1e-5));
+            } else if (factor < 0.9) {
+                ++damped;
+            }
+        }
+    }
+    CHECK(damped >= 3);  // the receivers within half a cell of the wall read the step
+}
+
+TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of the outside wall's LPV light (two-sided blocking, damping)") {
+    // builtin:leak: a closed box of 0.1 m walls (less than a cell), sunlit outside. The exact
+    // indirect light inside is 0 (nothing enters); the LPV's is leakage. Its mean over the
+    // interior surfaces seen from inside must stay below 1 % of the mean LPV indirect light on
+    // the sunlit outside walls (x = 2.1 and z = 2.1 faces, lit by the ground's bounce).
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene scene = loadBuiltin("leak");
+    const glm::ivec2 size(64, 40);
+    auto meanIndirect = [&](const Settings& s, const std::string& view, auto&& keep) {
+        auto run = renderFrames(scene, s, size, prof);
+        FloatImage img = readTexture(run->resources().indirectDiffuse);
+        FloatImage depth = readTexture(run->resources().gbuffer.linearDepth);
+        double sum = 0;
+        int n = 0;
+        for (int y = 0; y < size.y; ++y)
+            for (int x = 0; x < size.x; ++x) {
+                if (!(depth.at(x, y, 0) > 0)) continue;
+                glm::dvec3 p = worldPosition(scene, s, size, depth, x, y);
+                if (!keep(p)) continue;
+                sum += (img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3.0;
+                ++n;
+            }
+        MESSAGE(view << ": " << n << " pixels, mean LPV indirect " << (n ? sum / n : 0.0));
+        REQUIRE(n > 100);
+        return sum / n;
+    };
+    auto run = [&](Settings s) {
+        s.lpv.mode = Toggle::On;
+        s.ao.variant = AoSettings::Variant::Off;  // the LPV's own lookup, no bent normals
+        s.camera.view = "outside";
+        double outside = meanIndirect(s, "outside", [](glm::dvec3 p) {
+            return (std::abs(p.x - 2.1) < 1e-2 || std::abs(p.z - 2.1) < 1e-2) && p.y > 0.1 && p.y < 2.5;
+        });
+        s.camera.view = "inside";
+        double inside = meanIndirect(s, "inside", [](glm::dvec3 p) {
+            return std::abs(p.x) < 2.0 && std::abs(p.z) < 2.0 && p.y >= -1e-3 && p.y <= 2.5 + 1e-3;
+        });
+        return inside / outside;
+    };
+    if (std::getenv("RTGI_LEAK_EXPLORE")) {
+        for (int m = 0; m < 32; ++m) {
+            if ((m & 4) != 0) continue;  // inject_side: no effect on axis-aligned walls
+            Settings e;
+            e.lpv.lookup = (m & 1) ? LpvSettings::Lookup::Geometry : LpvSettings::Lookup::Trilinear;
+            e.lpv.damping = (m & 2) != 0;
+            e.lpv.injectSide = (m & 4) ? LpvSettings::InjectSide::Front : LpvSettings::InjectSide::Offset;
+            e.lpv.firstStepBlocked = (m & 8) != 0;
+            e.lpv.blocking = (m & 16) ? LpvSettings::Blocking::TwoSided : LpvSettings::Blocking::Oriented;
+            e.lpv.injectSide = LpvSettings::InjectSide::Offset;
+            e.lpv.reflect = LpvSettings::Reflect::Destination;
+            MESSAGE("combo " << m << " ratio " << run(e));
+        }
+    }
+    // The defaults (oriented blocking and no damping, chosen on the restaurant, the dragon and
+    // cornell, docs/lpv.md "Leaks") leak a few per cent here; with two-sided blocking and the
+    // derivative damping on top the room stays dark.
+    Settings defaults;
+    MESSAGE("inside / outside LPV indirect with the defaults: " << run(defaults));
+    Settings leakProof;
+    leakProof.lpv.blocking = LpvSettings::Blocking::TwoSided;
+    leakProof.lpv.damping = true;
+    double ratio = run(leakProof);
+    MESSAGE("inside / outside LPV indirect with the defaults + lpv.blocking=two-sided lpv.damping=on: " << ratio);
+    CHECK(ratio < 0.01);
+    // Positive control: the seed's scheme without the remedies leaks visibly into the same room.
+    Settings plain;
+    plain.lpv.lookup = LpvSettings::Lookup::Trilinear;
+    plain.lpv.damping = false;
+    plain.lpv.injectSide = LpvSettings::InjectSide::Offset;
+    plain.lpv.firstStepBlocked = false;
+    plain.lpv.blocking = LpvSettings::Blocking::Oriented;
+    plain.lpv.reflect = LpvSettings::Reflect::Destination;
+    double leak = run(plain);
+    MESSAGE("inside / outside without the remedies: " << leak);
+    CHECK(leak > 0.01);
+}
