@@ -50,9 +50,11 @@ float bvhSceneReach(vec3 c) { return length(max(abs(bvhNodes[0].lo - c), abs(bvh
 //   barycentrics from clip-space cross products). Rounding the b_k moves
 //   the point by ~u·max_k |P_k − C| (u = 2^-24) along the triangle however
 //   far the pixel is from the vertices, and p inherits the depth change:
-//   measured (llvmpipe, both raster paths) at most 1.2·u·max_k |P_k − C|
-//   from the surface along n. The G-buffer keeps no triangle: max_k
-//   |P_k − C| ≤ the scene's reach from C, and p moves by 4·u·reach.
+//   measured at most 1.2·u·max_k |P_k − C| from the surface along n on
+//   llvmpipe (both raster paths) and on NVIDIA's compute path, but 13.4·u
+//   on NVIDIA's hardware rasterizer (H200, driver 580: its interpolation
+//   is coarser). The G-buffer keeps no triangle: max_k |P_k − C| ≤ the
+//   scene's reach from C, and p moves by 16·u·reach.
 // - coverage: both rasterizers test coverage with vertices snapped to
 //   2^-RTGI_VISIBILITY_SUBPIXEL_BITS pixel, so a pixel centre up to
 //   δ = √2·2^-(bits+1) pixel outside a triangle B can show B's plane
@@ -65,7 +67,7 @@ float bvhSceneReach(vec3 c) { return length(max(abs(bvhNodes[0].lo - c), abs(bvh
 //   seen at grazing angles are not covered (the 1/cos θ_B bound brightens
 //   contact AO for no measured gain).
 // docs/reference.md "Ray origins" has the measurements.
-const float GBUFFER_INTERPOLATION_ULPS = 4.0 * 5.9604645e-8;  // 4 u: 3.5× the measured worst
+const float GBUFFER_INTERPOLATION_ULPS = 16.0 * 5.9604645e-8;  // 16 u: the worst measured, 13.4 u (NVIDIA hardware path)
 vec3 gbufferRayOrigin(vec3 p, vec3 n, float d, vec3 cameraPos, float pixelAngle) {
     float interpolation = GBUFFER_INTERPOLATION_ULPS * bvhSceneReach(cameraPos);
     const float snap = 1.41421356 / float(2 << RTGI_VISIBILITY_SUBPIXEL_BITS);

@@ -94,8 +94,11 @@ TEST_CASE("G-buffer ray origins: a grazing view of an open plane is unoccluded a
                                     << " u·reach");
                 CHECK(geometry > size.x * size.y / 3);
                 CHECK(occluded == 0);
-                // The error model of gbufferRayOrigin (offset 4 u·reach): measured at most 1.2 u·reach.
-                CHECK(worst <= 2.0);
+                // The error model of gbufferRayOrigin: the point is within its
+                // offset, 16 u·reach, of the surface (measured: 1.2 u·reach on
+                // llvmpipe and NVIDIA's compute path, 13.4 on NVIDIA's hardware
+                // rasterizer, H200).
+                CHECK(worst <= 16.0);
             }
         }
 }
