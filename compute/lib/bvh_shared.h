@@ -58,13 +58,13 @@ RTGI_BVH_STRUCT(BvhTriangle) {
 #define RTGI_REF_TEX_MATERIAL          4  // ref/path.comp
 #define RTGI_REF_TEX_EMISSIVE          5  // ref/path.comp
 // image units
-#define RTGI_REF_IMG_ACCUM    0  // ref/ao.comp ref/path.comp ref/resolve.comp
-#define RTGI_REF_IMG_ACCUM_SQ 1  // ref/ao.comp ref/path.comp ref/resolve.comp
+#define RTGI_REF_IMG_ACCUM    0  // ref/ao.comp ref/path.comp ref/resolve.comp ref/moments_test.comp
+#define RTGI_REF_IMG_ACCUM_SQ 1  // ref/ao.comp ref/path.comp ref/resolve.comp ref/moments_test.comp
 #define RTGI_REF_IMG_MEAN     2  // ref/resolve.comp
 #define RTGI_REF_IMG_STD_ERR  3  // ref/resolve.comp
 #define RTGI_REF_IMG_LDR      4  // ref/resolve.comp
 // uniform locations
-#define RTGI_REF_LOC_SAMPLES 0  // ref/ao.comp ref/path.comp
+#define RTGI_REF_LOC_SAMPLES 0  // ref/ao.comp ref/path.comp ref/moments_test.comp (first sample, count, edge)
 #define RTGI_REF_LOC_RAY     1  // ref/ao.comp: maximum ray length
 #define RTGI_REF_LOC_EMITTERS 2 // ref/path.comp: emitter count, total emissive area
 #define RTGI_REF_LOC_COUNT   0  // ref/trace_test.comp

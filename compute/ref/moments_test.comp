@@ -2,13 +2,14 @@
 // feeds lib/moments.glsl, as ref/path.comp does, a fixed sample stream that
 // is stiff for fp32: x_k(p) = 1000 + ((7919·k + 31·p.x + 17·p.y) mod 101)/128
 // (exact in fp32: a variance of ~0.05 under a mean of ~1000).
+#include "lib/bvh_shared.h"
 #include "lib/moments.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(rgba32f, binding = 0) uniform image2D uAccum;    // mean (rgb), n (a)
-layout(rgba32f, binding = 1) uniform image2D uAccumSq;  // M2 (rgb)
-layout(location = 0) uniform uvec3 uBatch;               // first sample index, samples, image edge
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM) uniform image2D uAccum;    // mean (rgb), n (a)
+layout(rgba32f, binding = RTGI_REF_IMG_ACCUM_SQ) uniform image2D uAccumSq;  // M2 (rgb)
+layout(location = RTGI_REF_LOC_SAMPLES) uniform uvec3 uBatch;  // first sample index, samples, image edge
 
 void main() {
     uvec2 p = gl_GlobalInvocationID.xy;

@@ -6,8 +6,10 @@
 
 #include "bench/reference_compare.h"
 #include "gl/program.h"
+#include "render/gpu_types.h"
 #include "render/reference/metrics.h"
 #include "render/reference/reference_passes.h"
+#include "scene/bvh.h"
 
 #include <filesystem>
 
@@ -75,13 +77,13 @@ TEST_CASE("Reference moments: fp32 running mean and variance equal a CPU double 
     accumSq.clear();
     gl::ProgramCache programs;
     const gl::Program& prog = programs.compute("ref/moments_test.comp");
-    glBindImageTexture(0, accum.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glBindImageTexture(1, accumSq.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(RTGI_REF_IMG_ACCUM, accum.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(RTGI_REF_IMG_ACCUM_SQ, accumSq.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     // Batches of uneven sizes, as a converging reference plans them.
     const std::vector<unsigned> batches = {1, 3, 4, 16, 7, 32, 64, 100, 173, 200};
     unsigned first = 0;
     for (unsigned b : batches) {
-        glProgramUniform3ui(prog.id(), 0, first, b, unsigned(edge));
+        glProgramUniform3ui(prog.id(), RTGI_REF_LOC_SAMPLES, first, b, unsigned(edge));
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // producer: the previous batch
         glUseProgram(prog.id());
         glDispatchCompute(2, 2, 1);

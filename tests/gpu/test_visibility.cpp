@@ -523,10 +523,10 @@ TieBounds tieBounds() {
     return TieBounds{std::ldexp(1.0, -std::min(8, std::max(1, int(bits))))};
 }
 
-void compareWithHardware(const Scene& scene, glm::ivec2 size) {
+void compareWithHardware(const Scene& scene, glm::ivec2 size, bool lpv = true) {
     Settings hw = smallLpvSettings();
     hw.raster.path = RasterSettings::Path::Hardware;  // not auto: the device's default is compute
-    hw.lpv.mode = Toggle::Auto;
+    hw.lpv.mode = lpv ? Toggle::Auto : Toggle::Off;
     // The default 32^3 grid: on a tiny grid the LPV's cell assignment turns
     // fp32-level RSM depth differences into whole-cell changes (Cornell box
     // at 8^3: RMSE 2e-3 with identical RSM texels; 4e-4 at 32^3).
@@ -752,7 +752,16 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: fill-rule ties match the hardware ras
 TEST_CASE_FIXTURE(GpuFixture, "visibility: compute and hardware paths agree on every built-in scene") {
     for (const std::string& name : builtinSceneNames()) {
         Scene s = loadSceneSpec("builtin:" + name);
-        compareWithHardware(s, {96, 64});
+        // The leak scenes' walls are thinner than an LPV cell: the geometry
+        // volume of a 0.1 m wall turns the two paths' tie pixels along it into
+        // different blocking, and the LPV's light differs by more than the
+        // rasterizers do (final-image RMSE 1.0e-3 / 5.5e-3 on the H200 with
+        // the LPV, 8e-6 without; docs/lpv.md, "Leaks"). They run without the
+        // LPV here: G-buffer, shadow maps and final image are compared, the
+        // RSMs by every other scene.
+        const bool thinWalls = name.rfind("leak", 0) == 0;
+        if (thinWalls) MESSAGE("builtin:" << name << ": final image compared with lpv=off (walls thinner than a cell)");
+        compareWithHardware(s, {96, 64}, !thinWalls);
     }
 }
 
