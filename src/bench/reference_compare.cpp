@@ -146,7 +146,8 @@ double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mas
 // is reused, else a matching one is traced (into `matching`).
 nlohmann::json matchingBounceError(const Renderer& run, const Settings& rs, const FloatImage& test, const FloatImage& mean,
                                    const FloatImage& se, const std::vector<std::uint8_t>& mask,
-                                   const std::vector<std::uint8_t>& interior, const View& v, FloatImage& matching) {
+                                   const std::vector<std::uint8_t>& interior, const View& v, FloatImage& matching,
+                                   FloatImage& matchingSe) {
     using K = ReferenceSettings::Kind;
     const int channels = 3;
     Settings ms = referenceRunSettings(run.settings(), K::Indirect);
@@ -157,7 +158,7 @@ nlohmann::json matchingBounceError(const Renderer& run, const Settings& rs, cons
     const bool same = rs.reference.kind == K::Indirect && ms.reference.bounces == rs.reference.bounces &&
                       ms.reference.specular == rs.reference.specular;
     matching = mean;
-    FloatImage matchingSe = se;
+    matchingSe = se;
     nlohmann::json matchingInfo;
     if (!same) {
         gl::Profiler profiler(false);
@@ -259,8 +260,8 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     // same reference when the settings already match, else a second one.
     if (kind == K::Indirect && lpvActive(run.scene(), run.settings())) {
         const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
-        FloatImage matching;
-        nlohmann::json mb = matchingBounceError(run, rs, test, mean, se, mask, interior, v, matching);
+        FloatImage matching, matchingSe;
+        nlohmann::json mb = matchingBounceError(run, rs, test, mean, se, mask, interior, v, matching, matchingSe);
         const double mpeak = mb["peak"].get<double>();
         const nlohmann::json in = mb["interior"];
         e["matching_bounce"] = mb;
@@ -271,12 +272,21 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
             FloatImage probe = lpv::renderProbeIndirect(run, v);
             nlohmann::json lookup = metricsJson(compareImages(probe, matching, channels, mpeak, mask), true);
             addSkill(lookup, probe, matching, channels, mpeak, mask);
+            addUncertainty(lookup, probe, matching, matchingSe, channels, mask);
+            const FlipResult lookupFlip = flipOf(probe, matching, channels, mask);
+            lookup["flip"] = flipJson(lookupFlip, channels);
             lookup.erase("ssim");
             nlohmann::json lin = metricsJson(compareImages(probe, matching, channels, mpeak, interior), true);
             addSkill(lin, probe, matching, channels, mpeak, interior);
+            addUncertainty(lin, probe, matching, matchingSe, channels, interior);
+            lin["flip"] = {{"mean", flipMean(lookupFlip.errorMap, interior)}};
             lin.erase("ssim");
             lookup["interior"] = lin;
+            // The propagated against the probe volume: both are estimates
+            // without a per-pixel standard error, so no debiasing or interval.
             nlohmann::json prop = metricsJson(compareImages(test, probe, channels, mpeak, mask), true);
+            prop["flip"] = flipJson(flipOf(test, probe, channels, mask), channels);
+            prop["uncertainty"] = "none: the probe volume has no per-pixel standard error";
             prop.erase("ssim");
             prop["rmse_delta"] = mb["rmse"].get<double>() - lookup["rmse"].get<double>();
             prop["interior"] = {{"rmse", compareImages(test, probe, channels, mpeak, interior).rmse},
@@ -288,9 +298,9 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
     // Issue 22: with a full reference, also the LPV's indirect term against
     // the matching-bounce reference (the suite's skill column).
     if (kind == K::Full && lpvActive(run.scene(), run.settings()) && res.indirectDiffuse) {
-        FloatImage matching;
+        FloatImage matching, matchingSe;
         e["matching_bounce"] = matchingBounceError(run, rs, readTexture(res.indirectDiffuse), mean, se, mask,
-                                                   depthInteriorMask(depth, 0.1), v, matching);
+                                                   depthInteriorMask(depth, 0.1), v, matching, matchingSe);
     }
     // Issue 22: does the technique help? The same frame composed without its
     // contribution, against the same reference: gain = 1 − rmse / rmse_without

@@ -209,6 +209,11 @@ TEST_CASE("Errors with their uncertainty: two references with different seeds gi
     // The plain RMSEs are inflated by the noise; the debiased ones are not.
     CHECK(e1["rmse"].get<double>() >= d1);
     CHECK(e1["interior"].contains("rmse_ci95"));
+    // FLIP beside it (HDR-FLIP of the image, the interior's mean from the same map).
+    CHECK(e1["flip"]["kind"] == "hdr");
+    CHECK(e1["flip"]["mean"].get<double>() > 0.0);
+    CHECK(e1["flip"]["mean"].get<double>() < 1.0);
+    CHECK(e1["interior"]["flip"]["mean"].get<double>() > 0.0);
 }
 
 TEST_CASE("Caustic paths: regularized stays within its documented bias of a long unregularized run, off does not") {
