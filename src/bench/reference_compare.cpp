@@ -139,6 +139,27 @@ double peakLuminance(const FloatImage& ref, const std::vector<std::uint8_t>& mas
     return std::max(peak, 1e-6);
 }
 
+// One error object of an indirect image against a reference with its
+// standard error (no SSIM): metrics, skill, uncertainty and FLIP over `mask`,
+// and the same (FLIP from the same map) over `interior`.
+nlohmann::json indirectErrorJson(const FloatImage& test, const FloatImage& ref, const FloatImage& se, double peak,
+                                 const std::vector<std::uint8_t>& mask, const std::vector<std::uint8_t>& interior) {
+    const int channels = 3;
+    nlohmann::json j = metricsJson(compareImages(test, ref, channels, peak, mask), true);
+    addSkill(j, test, ref, channels, peak, mask);
+    addUncertainty(j, test, ref, se, channels, mask);
+    const FlipResult flip = flipOf(test, ref, channels, mask);
+    j["flip"] = flipJson(flip, channels);
+    j.erase("ssim");
+    nlohmann::json in = metricsJson(compareImages(test, ref, channels, peak, interior), true);
+    addSkill(in, test, ref, channels, peak, interior);
+    addUncertainty(in, test, ref, se, channels, interior);
+    in["flip"] = {{"mean", flipMean(flip.errorMap, interior)}};
+    in.erase("ssim");
+    j["interior"] = in;
+    return j;
+}
+
 // Issue 12: an LPV run's indirect light `test` against the path tracer with
 // the light transport the LPV models (one bounce, two with lpv.bounce=on,
 // Lambert only). `rs`: the settings of the reference already traced
@@ -175,18 +196,7 @@ nlohmann::json matchingBounceError(const Renderer& run, const Settings& rs, cons
         if (!mout->convergenceInfo().is_null()) matchingInfo["convergence"] = mout->convergenceInfo();
     }
     double mpeak = peakLuminance(matching, mask);
-    nlohmann::json mb = metricsJson(compareImages(test, matching, channels, mpeak, mask), true);
-    addSkill(mb, test, matching, channels, mpeak, mask);
-    addUncertainty(mb, test, matching, matchingSe, channels, mask);
-    const FlipResult flip = flipOf(test, matching, channels, mask);
-    mb["flip"] = flipJson(flip, channels);
-    mb.erase("ssim");
-    nlohmann::json in = metricsJson(compareImages(test, matching, channels, mpeak, interior), true);
-    addSkill(in, test, matching, channels, mpeak, interior);
-    addUncertainty(in, test, matching, matchingSe, channels, interior);
-    in["flip"] = {{"mean", flipMean(flip.errorMap, interior)}};
-    in.erase("ssim");
-    mb["interior"] = in;
+    nlohmann::json mb = indirectErrorJson(test, matching, matchingSe, mpeak, mask, interior);
     mb["bounces"] = ms.reference.bounces;
     mb["specular"] = false;
     mb["same_as_reference"] = same;
@@ -270,18 +280,8 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         // = what the propagation adds.
         if (run.settings().lpv.source == LpvSettings::Source::Propagated) {
             FloatImage probe = lpv::renderProbeIndirect(run, v);
-            nlohmann::json lookup = metricsJson(compareImages(probe, matching, channels, mpeak, mask), true);
-            addSkill(lookup, probe, matching, channels, mpeak, mask);
-            addUncertainty(lookup, probe, matching, matchingSe, channels, mask);
-            const FlipResult lookupFlip = flipOf(probe, matching, channels, mask);
-            lookup["flip"] = flipJson(lookupFlip, channels);
-            lookup.erase("ssim");
-            nlohmann::json lin = metricsJson(compareImages(probe, matching, channels, mpeak, interior), true);
-            addSkill(lin, probe, matching, channels, mpeak, interior);
-            addUncertainty(lin, probe, matching, matchingSe, channels, interior);
-            lin["flip"] = {{"mean", flipMean(lookupFlip.errorMap, interior)}};
-            lin.erase("ssim");
-            lookup["interior"] = lin;
+            nlohmann::json lookup = indirectErrorJson(probe, matching, matchingSe, mpeak, mask, interior);
+            const nlohmann::json lin = lookup["interior"];
             // The propagated against the probe volume: both are estimates
             // without a per-pixel standard error, so no debiasing or interval.
             nlohmann::json prop = metricsJson(compareImages(test, probe, channels, mpeak, mask), true);

@@ -58,6 +58,17 @@ inline Scene floorScene(float h, glm::vec3 albedo, bool withSun, glm::vec3 towar
     return s;
 }
 
+// Floor [-2,2]^2 at y = 0 and a wall at z = -1, x in [-2,2], y in [0, 1.5],
+// facing +z: AO partly occluded near the wall (reference tests).
+inline Scene floorAndWallScene() {
+    Scene s = floorScene(2.0f, glm::vec3(0.5f), false);
+    s.name = "test:corner";
+    addQuad(s, {-2, 0, -1}, {2, 0, -1}, {2, 1.5f, -1}, {-2, 1.5f, -1}, 0);
+    s.cameras[0].position = {0.3f, 1.2f, 1.5f};
+    s.cameras[0].target = {0, 0, -0.6f};
+    return s;
+}
+
 // Renders `frames` frames of scene with settings at size; returns the renderer.
 inline std::unique_ptr<Renderer> renderFrames(const Scene& scene, const Settings& settings, glm::ivec2 size,
                                               gl::Profiler& profiler, int frames = 1, bool check = false) {

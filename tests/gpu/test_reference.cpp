@@ -47,14 +47,6 @@ RefResult renderReference(const Scene& scene, const Settings& s) {
 
 // Floor [-2,2]^2 at y = 0 and a wall at z = -1, x in [-2,2], y in [0, 1.5], facing +z.
 constexpr double kWallZ = -1.0, kWallW = 2.0, kWallH = 1.5;
-Scene cornerScene() {
-    Scene s = floorScene(2.0f, glm::vec3(0.5f), false);
-    s.name = "test:corner";
-    addQuad(s, {-2, 0, -1}, {2, 0, -1}, {2, 1.5f, -1}, {-2, 1.5f, -1}, 0);
-    s.cameras[0].position = {0.3f, 1.2f, 1.5f};
-    s.cameras[0].target = {0, 0, -0.6f};
-    return s;
-}
 
 // AO = (1/π)∫ cos θ V dω over the hemisphere of a floor point; with the
 // Malley map (u1 = sin²θ, u2 = φ/2π) the integrand is V on the unit square:
@@ -159,7 +151,7 @@ TEST_CASE("Reference AO: floor beside a wall equals quadrature over the same geo
     CHECK(aoQuadrature({0, 0, kWallZ + 1e-4}, 1e30, 1e5, 1e5) == doctest::Approx(0.5).epsilon(0.01));
 
     GpuFixture fx;
-    Scene s = cornerScene();
+    Scene s = floorAndWallScene();
     for (double length : {1e6, 0.5}) {
         Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 64);
         st.ao.radius = float(length);
@@ -248,7 +240,7 @@ TEST_CASE("Reference path tracer: furnace box returns Le/(1-a) (full) and a·Le/
 
 TEST_CASE("Reference: same seed gives the same bits, another seed other bits; SE falls as 1/sqrt(N)") {
     GpuFixture fx;
-    Scene s = cornerScene();
+    Scene s = floorAndWallScene();
     Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 16);
     st.ao.radius = 1.0f;
     RefResult a = renderReference(s, st), b = renderReference(s, st);
@@ -276,7 +268,7 @@ TEST_CASE("Reference: same seed gives the same bits, another seed other bits; SE
 
 TEST_CASE("Reference cache: a second renderer loads the stored reference") {
     GpuFixture fx;
-    Scene s = cornerScene();
+    Scene s = floorAndWallScene();
     Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 8);
     std::filesystem::path dir = std::filesystem::temp_directory_path() / "rtgi-test-ref-cache";
     std::filesystem::remove_all(dir);
@@ -368,9 +360,9 @@ TEST_CASE("Reference path tracer: a square emitter over a Lambert floor equals t
 }
 
 namespace {
-// cornerScene moved by t and scaled by k (cameras too).
+// floorAndWallScene moved by t and scaled by k (cameras too).
 Scene movedCorner(glm::vec3 t, float k) {
-    Scene s = scaledScene(cornerScene(), k);
+    Scene s = scaledScene(floorAndWallScene(), k);
     for (auto& v : s.vertices) v.position += t;
     for (auto& c : s.cameras) {
         c.position += t;
@@ -447,7 +439,7 @@ TEST_CASE("Reference: progressive mode (rtgi-view's live comparison) converges t
     // pure function of pixel, i and seed); only the float summation order of
     // the accumulation differs (4 samples a frame vs 16 a dispatch).
     GpuFixture fx;
-    Scene s = cornerScene();
+    Scene s = floorAndWallScene();
     Settings st = referenceSettings(ReferenceSettings::Kind::Ao, 16);
     st.ao.radius = 1.0f;
     RefResult all = renderReference(s, st);

@@ -17,15 +17,6 @@ using namespace rtgi;
 using namespace rtgi::test;
 
 namespace {
-// The corner of test_reference.cpp: a floor and a wall, AO partly occluded.
-Scene cornerScene() {
-    Scene s = floorScene(2.0f, glm::vec3(0.5f), false);
-    s.name = "test:corner";
-    addQuad(s, {-2, 0, -1}, {2, 0, -1}, {2, 1.5f, -1}, {-2, 1.5f, -1}, 0);
-    s.cameras[0].position = {0.3f, 1.2f, 1.5f};
-    s.cameras[0].target = {0, 0, -0.6f};
-    return s;
-}
 
 Settings aoReference(int spp) {
     Settings s;
@@ -44,7 +35,7 @@ struct Converged {
     nlohmann::json info;
 };
 Converged convergeCorner(const Settings& st, glm::ivec2 size) {
-    Scene s = cornerScene();
+    Scene s = floorAndWallScene();
     gl::Profiler prof(false);
     Renderer r(s, st, prof);
     auto* out = dynamic_cast<ReferenceOutput*>(r.findPass("ref.ao"));
@@ -157,7 +148,7 @@ TEST_CASE("Converging reference: stops at the absolute target, records it, and r
     // only the fp32 merge order differs.
     Settings fixed = aoReference(sppB);
     gl::Profiler prof(false);
-    Scene s = cornerScene();
+    Scene s = floorAndWallScene();
     auto r = renderFrames(s, fixed, size, prof);
     auto* out = dynamic_cast<ReferenceOutput*>(r->findPass("ref.ao"));
     REQUIRE(out != nullptr);
