@@ -102,6 +102,16 @@ float lpvFacesFlux(LpvSh I, vec3 d) {
     return total;
 }
 
+// The r, g, b SH of source cell p (band 2: the 9 coefficients, lpvSource9).
+void lpvFetchSource(ivec3 p, sampler3D srcR, sampler3D srcG, sampler3D srcB, out LpvSh sh[3]) {
+#ifdef RTGI_LPV_SH2
+    sh = LpvSh[3](lpvSource9(texelFetch(srcR, p, 0), 0, p), lpvSource9(texelFetch(srcG, p, 0), 1, p),
+                  lpvSource9(texelFetch(srcB, p, 0), 2, p));
+#else
+    sh = LpvSh[3](texelFetch(srcR, p, 0), texelFetch(srcG, p, 0), texelFetch(srcB, p, 0));
+#endif
+}
+
 // Iteration `iteration` (1-based) for destination cell c; src is volume k-1.
 // Occlusion (and the bounce, which needs the blocked part) from iteration 2
 // on (seed 3.5.1): the first step would let geometry occlude its own light.
@@ -113,12 +123,8 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
     // each of its faces returns into c, the side the light came from (not into the cell
     // behind the blocker, which for a thin wall is the other room).
     bool reflectToSource = lpv.leak.w != 0;
-#ifdef RTGI_LPV_SH2
-    LpvSh own[3] = LpvSh[3](lpvSource9(texelFetch(srcR, c, 0), 0, c), lpvSource9(texelFetch(srcG, c, 0), 1, c),
-                            lpvSource9(texelFetch(srcB, c, 0), 2, c));
-#else
-    LpvSh own[3] = LpvSh[3](texelFetch(srcR, c, 0), texelFetch(srcG, c, 0), texelFetch(srcB, c, 0));
-#endif
+    LpvSh own[3];
+    lpvFetchSource(c, srcR, srcG, srcB, own);
     if (reflectToSource && lpv.flags.z != 0)
         for (int ch = 0; ch < 3; ++ch) own[ch] *= lpvConservingScale(own[ch]);
     // lpv.first_step=blocked (docs/lpv.md, "Leaks"): the first step is occluded too; the
@@ -129,12 +135,8 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
         ivec3 n = c + LPV_AXES[a];
         if (!lpvInside(n, dims)) continue;
         vec3 d = -vec3(LPV_AXES[a]);  // flow from the neighbour into c
-#ifdef RTGI_LPV_SH2
-        mat3 I[3] = mat3[3](lpvSource9(texelFetch(srcR, n, 0), 0, n), lpvSource9(texelFetch(srcG, n, 0), 1, n),
-                            lpvSource9(texelFetch(srcB, n, 0), 2, n));
-#else
-        vec4 I[3] = vec4[3](texelFetch(srcR, n, 0), texelFetch(srcG, n, 0), texelFetch(srcB, n, 0));
-#endif
+        LpvSh I[3];
+        lpvFetchSource(n, srcR, srcG, srcB, I);
         float transmit = 1.0;
         vec3 reflected = vec3(0.0), reflectedOwn = vec3(0.0);
         if (geometry) {
