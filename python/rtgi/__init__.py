@@ -14,9 +14,32 @@ import json as _json
 import os as _os
 import sys as _sys
 
+_SYSTEM_PYTHON = "/usr/bin/python3"
+
+
+def _reexec_under_system_python():
+    """`python3 -c ...` or `python3 script.py` under an interpreter without NumPy
+    (a pyenv or venv python first on PATH): run the same command again under
+    Debian's interpreter, which has python3-numpy, as benchmarks/report.py
+    does. Never in an interactive session or a notebook kernel, never twice,
+    and not with RTGI_NO_REEXEC set."""
+    argv = getattr(_sys, "orig_argv", None)
+    if (not argv or _os.environ.get("RTGI_NO_REEXEC") or _sys.flags.interactive or "ipykernel" in _sys.modules
+            or hasattr(_sys, "ps1") or not _os.path.exists(_SYSTEM_PYTHON)
+            or _os.path.realpath(_sys.executable) == _os.path.realpath(_SYSTEM_PYTHON)):
+        return
+    if len(argv) < 2 or argv[1] == "-" or (argv[1] not in ("-c", "-m") and not _os.path.isfile(argv[1])):
+        return  # stdin or the REPL: nothing to run again
+    _os.environ["RTGI_NO_REEXEC"] = "1"
+    _sys.stdout.flush()
+    _sys.stderr.flush()
+    _os.execv(_SYSTEM_PYTHON, [_SYSTEM_PYTHON] + list(argv[1:]))
+
+
 try:
     import numpy as _np
 except ImportError as _e:  # pragma: no cover - depends on the interpreter
+    _reexec_under_system_python()
     raise ImportError(
         "rtgi needs NumPy, which this interpreter (%s) lacks: run it with the interpreter rtgi was built for "
         "(Debian's /usr/bin/python3 with python3-numpy by default; docs/python.md) or install numpy"
