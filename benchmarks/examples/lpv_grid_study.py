@@ -105,7 +105,10 @@ def main():
         a.set_ylabel("RMSE of the indirect light (debiased)")
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
-    fig.suptitle("%s %s, lpv.grid sweep on %s" % (args.scene, args.res, ", ".join(sorted(devices))), fontsize=9)
+    device = ", ".join(sorted(devices))
+    if "llvmpipe" in device:
+        device += " (CPU rasterizer: the times are no performance numbers)"
+    fig.suptitle("%s %s, lpv.grid sweep on %s" % (args.scene, args.res, device), fontsize=9)
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     fig.savefig(args.out, dpi=120)
