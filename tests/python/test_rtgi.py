@@ -304,3 +304,46 @@ def test_sweep_yields_the_rows_of_cli_sweep(tmp_path):
     with pytest.raises(ValueError) as e:
         list(rtgi.sweep(tmp_path / "bad.json"))
     assert str(e.value) == sentence
+
+
+# --------------------------------------------------------------------------
+# Reference and GL errors.
+
+def test_reference_equals_bench_reference_files(tmp_path):
+    """r.reference() traces what --reference traces (same settings, same seed:
+    the same bits, without the cache), and render(reference=True) gives
+    --reference's error."""
+    sets = {"ao": "gtao", "reference.cache": "off", "reference.spp": 16}
+    out = tmp_path / "bench"
+    bench("--scene", SCENE, "--res", "%dx%d" % RES, "--frames", "1", "--warmup", "0", "--reference",
+          *[a for k, v in sets.items() for a in ("--set", "%s=%s" % (k, v))], "--out", str(out))
+    cli = json.loads((out / "results.json").read_text())
+    assert cli["error"]["kind"] == "ao"
+    with rtgi.Renderer(scenes=[SCENE], resolution=RES, settings=sets) as r:
+        ref = r.reference(kind="ao", spp=16)
+        assert ref.image.shape == (RES[1], RES[0], 1) and ref.info["spp"] == 16
+        assert same_bits(ref.image, read_pfm(out / "reference.pfm")[..., :1].copy())
+        assert same_bits(ref.stderr, read_pfm(out / "reference.stderr.pfm")[..., :1].copy())
+        res = r.render(frames=1, warmup=0, reference=True)
+    for k in ("rmse", "mae", "ssim", "rmse_debiased", "skill"):
+        assert res.error[k] == cli["error"][k], k
+    assert res.error["rmse"] > 0
+
+
+def test_shader_error_raises_gl_error_and_the_interpreter_goes_on(tmp_path, monkeypatch):
+    broken = tmp_path / "data" / "compute" / "post"
+    broken.mkdir(parents=True)
+    (broken / "compose.comp").write_text("#version 450 core\nthis is not glsl;\n")
+    monkeypatch.setenv("RTGI_DATA_DIR", str(tmp_path / "data"))
+    rc, _, err = bench("--scene", SCENE, "--res", "16x16", "--frames", "1", "--warmup", "0", "--no-images",
+                       "--out", str(tmp_path / "out"), check=False)
+    assert rc == 4
+    sentence = err.strip().splitlines()[0][len("rtgi-bench: "):]
+    with pytest.raises(RuntimeError) as e:
+        with rtgi.Renderer(scenes=[SCENE], resolution=(16, 16)) as r:
+            r.render(frames=1, warmup=0)
+    assert isinstance(e.value, rtgi.GLError) and str(e.value) == sentence
+    assert rtgi._rtgi.context_users() == 0
+    monkeypatch.delenv("RTGI_DATA_DIR")
+    with rtgi.Renderer(scenes=[SCENE], resolution=(16, 16)) as r:  # the process renders on
+        assert r.render(frames=1, warmup=0).images["hdr"].shape == (16, 16, 3)
