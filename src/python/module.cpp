@@ -143,9 +143,8 @@ class PyRenderer {
 public:
     PyRenderer(const std::vector<std::string>& scenes, int width, int height, const Assignments& assignments,
                int device, const std::string& maxMemory, bool debug) {
-        if (width < 1 || height < 1 || width > 16384 || height > 16384)
-            throw ConfigError("--res '" + std::to_string(width) + "x" + std::to_string(height) +
-                              "': expected an integer in 1..16384");
+        for (int v : {width, height})  // the CLI's toInt("--res", ...) sentence
+            if (v < 1 || v > 16384) throw ConfigError("--res '" + std::to_string(v) + "': expected an integer in 1..16384");
         CommandLine cl;  // the CLI's checks of the same options
         cl.run.scenes = scenes;
         cl.scenesGiven = true;
@@ -180,7 +179,15 @@ public:
         all.insert(all.end(), more.begin(), more.end());
         const Settings s = settingsWith(all);
         checkRadiometricRange(*scene_, s);
-        renderer_->configure(s);
+        try {
+            renderer_->configure(s);
+        } catch (...) {
+            // Its state after a throw inside configure() is not trusted (as
+            // in a sweep): a fresh renderer with the settings it had.
+            renderer_.reset();
+            renderer_ = std::make_unique<Renderer>(*scene_, settingsWith(assignments_), *profiler_);
+            throw;
+        }
         assignments_ = std::move(all);
     }
     std::string settingsJson() const {
