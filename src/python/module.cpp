@@ -262,7 +262,9 @@ private:
     Settings settingsWith(const Assignments& a) const {
         Settings probe;
         for (auto& [k, v] : a) applySetting(probe, k, v);
-        return effectiveSettings(scene_->suggestedSettings, a, scene_->name);
+        Settings s = effectiveSettings(scene_->suggestedSettings, a, scene_->name);
+        (void)resolveCamera(*scene_, s);  // an unknown view: the run's sentence, at set() rather than at render()
+        return s;
     }
 
     RunOptions opts_;

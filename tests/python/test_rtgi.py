@@ -119,6 +119,27 @@ def test_settings_camera_and_views_follow_the_cli(tmp_path):
     assert res.json["config"] == json.loads((out / "results.json").read_text())["config"]
 
 
+def test_named_views_are_the_views_file(tmp_path):
+    src = os.environ.get("RTGI_SOURCE_DIR", ".")
+    with open(os.path.join(src, "benchmarks", "views", "atrium.json")) as f:
+        views = json.load(f)["views"]
+    with rtgi.Renderer(scenes=["builtin:atrium"], resolution=(16, 16)) as r:
+        assert sorted(r.views) == sorted(views)
+        for name, v in views.items():
+            r.view = name
+            cam = r.camera
+            assert r.view == name
+            assert cam["position"] == pytest.approx(v["position"]) and cam["target"] == pytest.approx(v["target"])
+            assert cam["fov"] == pytest.approx(v["fov"])
+        # rtgi-bench says so when it renders; the module already at set().
+        rc, sentence = bench_error("--scene", "builtin:atrium", "--set", "view=no-such-view", "--res", "8x8",
+                                   "--frames", "1", "--warmup", "0", "--no-images", "--out", str(tmp_path))
+        assert rc == 2
+        with pytest.raises(ValueError) as e:
+            r.view = "no-such-view"
+        assert str(e.value) == sentence and r.view == name
+
+
 # --------------------------------------------------------------------------
 # Errors: Python exceptions with the CLI's sentences; the interpreter lives on.
 
