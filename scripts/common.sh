@@ -5,7 +5,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PACKAGES=(cmake g++ ninja-build pkg-config python3 python3-glad libglfw3-dev libglm-dev libtinygltf-dev libstb-dev
           nlohmann-json3-dev libegl-dev libegl1 libegl-mesa0 libgl1-mesa-dri doctest-dev xvfb xauth
-          python3-matplotlib python3-numpy libtinyexr-dev zlib1g-dev libimgui-dev)
+          python3-matplotlib python3-numpy libtinyexr-dev zlib1g-dev libimgui-dev
+          pybind11-dev python3-dev python3-pytest)
 
 install_missing_packages() {
     local missing=()

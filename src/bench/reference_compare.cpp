@@ -207,6 +207,30 @@ nlohmann::json matchingBounceError(const Renderer& run, const Settings& rs, cons
 
 }  // namespace
 
+ReferenceTrace::ReferenceTrace(const Renderer& run, ReferenceSettings::Kind kind, const Assignments& overrides)
+    : kind_(kind), settings_(referenceRunSettings(run.settings(), kind)) {
+    for (auto& [k, v] : overrides) applySetting(settings_, k, v);
+    renderer_ = std::make_unique<Renderer>(run.scene(), settings_, profiler_);
+    out_ = dynamic_cast<ReferenceOutput*>(renderer_->findPass(passName()));
+    if (!out_) throw ConfigError("--reference: the reference pass did not run");
+}
+
+const char* ReferenceTrace::passName() const { return kind_ == ReferenceSettings::Kind::Ao ? "ref.ao" : "ref.path"; }
+
+nlohmann::json ReferenceTrace::info(const FloatImage& se, int channels, const std::vector<std::uint8_t>& mask) const {
+    nlohmann::json refInfo = referenceSettingsJson(referenceConstants(settings_, renderer_->scene().bounds()));
+    for (auto& [k, val] : renderer_->findPass(passName())->stats()) refInfo[k] = val;
+    refInfo["spp"] = out_->samplesDone();  // a converging reference's spp is what it took
+    // The reference's own noise on the RMSE's scale: RMS of the per-pixel
+    // standard error over the compared pixels and channels (docs/reference.md).
+    refInfo["mean_stderr"] = rmsStandardError(se, channels, mask);
+    if (!out_->convergenceInfo().is_null()) refInfo["convergence"] = out_->convergenceInfo();
+    refInfo["from_cache"] = out_->fromCache();
+    refInfo["cache_key"] = out_->cacheKey();
+    refInfo["cache_dir"] = settings_.reference.cacheDir;
+    return refInfo;
+}
+
 nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::ivec2 resolution,
                                     const std::string& outDir, bool writeImages, ReferenceSettings::Kind requested,
                                     int framesRendered) {
@@ -226,13 +250,12 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
 
     // The reference renderer: the same scene, camera and lights, with the
     // real-time techniques off (they would only cost time).
-    Settings rs = referenceRunSettings(run.settings(), kind);
-    gl::Profiler profiler(false);
-    Renderer ref(run.scene(), rs, profiler);
+    ReferenceTrace trace(run, kind);
+    const Settings& rs = trace.settings();
+    Renderer& ref = trace.renderer();
+    ReferenceOutput* out = &trace.output();
+    const char* passName = trace.passName();
     View v = makeView(camera, resolution, nullptr, 0);
-    const char* passName = kind == K::Ao ? "ref.ao" : "ref.path";
-    auto* out = dynamic_cast<ReferenceOutput*>(ref.findPass(passName));
-    if (!out) throw ConfigError("--reference: the reference pass did not run");
     convergeAgainst(*out, rs, test, channels, mask);
     ref.render(v);
     FloatImage mean = readTexture(out->mean()), se = readTexture(out->standardError());
@@ -352,13 +375,7 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         g.erase("ssim");
         e["glossy"] = g;
     }
-    nlohmann::json refInfo = referenceSettingsJson(referenceConstants(rs, run.scene().bounds()));
-    for (auto& [k, val] : ref.findPass(passName)->stats()) refInfo[k] = val;
-    refInfo["spp"] = out->samplesDone();  // a converging reference's spp is what it took
-    // The reference's own noise on the RMSE's scale: RMS of the per-pixel
-    // standard error over the compared pixels and channels (docs/reference.md).
-    refInfo["mean_stderr"] = rmsStandardError(se, channels, mask);
-    if (!out->convergenceInfo().is_null()) refInfo["convergence"] = out->convergenceInfo();
+    nlohmann::json refInfo = trace.info(se, channels, mask);
     // The reference's noise as a fraction of the (debiased) error: above 0.2
     // the error says more about the reference than about the frame.
     {
@@ -371,9 +388,6 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
                          "measures the reference: set reference.target_noise=0.2 or raise reference.spp\n",
                          noise, ratio, deb);
     }
-    refInfo["from_cache"] = out->fromCache();
-    refInfo["cache_key"] = out->cacheKey();
-    refInfo["cache_dir"] = rs.reference.cacheDir;
     e["reference"] = refInfo;
 
     if (writeImages) {
@@ -413,28 +427,28 @@ CompareOptions::Quantity parseCompareQuantity(const std::string& s) {
     throw ConfigError("--quantity '" + s + "': expected auto|ao|ldr|radiance");
 }
 
-nlohmann::json compareImageFiles(const std::string& image, const std::string& reference, const CompareOptions& opts) {
+CompareResult compareImageData(const FloatImage& t, const FloatImage& r, const CompareData& d,
+                               const CompareOptions& opts) {
     using Q = CompareOptions::Quantity;
-    FloatImage t = readImageFile(image), r = readImageFile(reference);
     if (t.width != r.width || t.height != r.height)
-        throw ConfigError(image + " is " + std::to_string(t.width) + "x" + std::to_string(t.height) + " but " +
-                          reference + " is " + std::to_string(r.width) + "x" + std::to_string(r.height));
+        throw ConfigError(d.imageName + " is " + std::to_string(t.width) + "x" + std::to_string(t.height) + " but " +
+                          d.referenceName + " is " + std::to_string(r.width) + "x" + std::to_string(r.height));
     Q q = opts.quantity;
-    if (q == Q::Auto) q = isHdrImageFile(reference) ? Q::Radiance : Q::Ldr;
+    if (q == Q::Auto) q = d.referenceHdr ? Q::Radiance : Q::Ldr;
     const int channels = q == Q::Ao ? 1 : 3;
     const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
 
-    // Which pixels: a mask file, the reference's background value, or all.
+    // Which pixels: a mask image, the reference's background value, or all.
     std::vector<std::uint8_t> mask;
     std::string maskDesc = "all pixels";
-    if (!opts.maskFile.empty()) {
-        FloatImage m = readImageFile(opts.maskFile);
+    if (d.mask) {
+        const FloatImage& m = *d.mask;
         if (m.width != r.width || m.height != r.height)
-            throw ConfigError("--mask " + opts.maskFile + ": " + std::to_string(m.width) + "x" +
+            throw ConfigError("--mask " + d.maskName + ": " + std::to_string(m.width) + "x" +
                               std::to_string(m.height) + " does not match the images' size");
         mask.resize(n);
         for (std::size_t i = 0; i < n; ++i) mask[i] = m.data[i * std::size_t(m.channels)] > 0.5f ? 1 : 0;
-        maskDesc = "mask " + opts.maskFile + " (channel 0 > 0.5)";
+        maskDesc = "mask " + d.maskName + " (channel 0 > 0.5)";
     } else if (opts.background) {
         mask.resize(n);
         const double bg = *opts.background;
@@ -444,18 +458,20 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
                 isBg &= std::abs(double(r.data[i * std::size_t(r.channels) + std::size_t(c)]) - bg) <= 1e-6;
             mask[i] = isBg ? 0 : 1;
         }
-        std::ostringstream d;
-        d << "pixels whose reference is not the background value " << bg;
-        maskDesc = d.str();
+        std::ostringstream desc;
+        desc << "pixels whose reference is not the background value " << bg;
+        maskDesc = desc.str();
     }
     std::size_t compared = mask.empty() ? n : std::size_t(std::count(mask.begin(), mask.end(), 1));
     if (compared == 0) throw ConfigError("--compare: the mask leaves no pixel to compare (" + maskDesc + ")");
 
     double peak = q == Q::Radiance ? peakLuminance(r, mask) : 1.0;
     ErrorMetrics m = compareImages(t, r, channels, peak, mask);
-    nlohmann::json j = metricsJson(m, q == Q::Radiance);
-    j["image"] = image;
-    j["reference"] = reference;
+    CompareResult out;
+    nlohmann::json& j = out.json;
+    j = metricsJson(m, q == Q::Radiance);
+    j["image"] = d.imageName;
+    j["reference"] = d.referenceName;
     j["version"] = versionString();
     j["compared"] = {{"quantity", toString(q)},
                      {"quantity_from", opts.quantity == Q::Auto ? "reference file type" : "--quantity"},
@@ -464,12 +480,11 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
                      {"compared_pixels", compared},
                      {"total_pixels", n}};
     j["peak"] = peak;
-    double heatMax = errorQuantile(t, r, channels, 0.99);
-    j["heatmap_max"] = heatMax;
+    out.heatmapMax = errorQuantile(t, r, channels, 0.99);
+    j["heatmap_max"] = out.heatmapMax;
     // FLIP: HDR-FLIP of radiance; LDR-FLIP of ldr images (PNG values are
     // sRGB-encoded display values: decoded to linear first, as FLIP's sRGB
     // input; PFM/EXR values are taken as linear) and of AO (grey).
-    FlipResult flip;
     if (q == Q::Ldr) {
         auto linear = [](FloatImage img, bool encoded) {
             if (!encoded) return img;
@@ -480,16 +495,34 @@ nlohmann::json compareImageFiles(const std::string& image, const std::string& re
             }
             return img;
         };
-        flip = ldrFlip(linear(t, !isHdrImageFile(image)), linear(r, !isHdrImageFile(reference)), {}, mask);
+        out.flip = ldrFlip(linear(t, !d.imageHdr), linear(r, !d.referenceHdr), {}, mask);
     } else {
-        flip = flipOf(t, r, channels, mask);
+        out.flip = flipOf(t, r, channels, mask);
     }
-    j["flip"] = flipJson(flip, q == Q::Radiance ? 3 : 1);
+    j["flip"] = flipJson(out.flip, q == Q::Radiance ? 3 : 1);
+    out.channels = channels;
+    return out;
+}
+
+nlohmann::json compareImageFiles(const std::string& image, const std::string& reference, const CompareOptions& opts) {
+    FloatImage t = readImageFile(image), r = readImageFile(reference);
+    CompareData d;
+    d.imageName = image;
+    d.referenceName = reference;
+    d.imageHdr = isHdrImageFile(image);
+    d.referenceHdr = isHdrImageFile(reference);
+    FloatImage m;
+    if (!opts.maskFile.empty()) {
+        m = readImageFile(opts.maskFile);
+        d.mask = &m;
+        d.maskName = opts.maskFile;
+    }
+    CompareResult c = compareImageData(t, r, d, opts);
     std::filesystem::create_directories(opts.outDir);
-    writePng(opts.outDir + "/error.heatmap.png", errorHeatmap(t, r, channels, heatMax));
-    writePng(opts.outDir + "/error.flip.png", flipErrorColorMap(flip.errorMap), 1.0f, false);
-    writeFileAtomic(opts.outDir + "/compare.json", j.dump(2) + "\n");
-    return j;
+    writePng(opts.outDir + "/error.heatmap.png", errorHeatmap(t, r, c.channels, c.heatmapMax));
+    writePng(opts.outDir + "/error.flip.png", flipErrorColorMap(c.flip.errorMap), 1.0f, false);
+    writeFileAtomic(opts.outDir + "/compare.json", c.json.dump(2) + "\n");
+    return c.json;
 }
 
 }  // namespace rtgi

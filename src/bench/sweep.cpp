@@ -73,18 +73,93 @@ bool buildHasReference() {
 
 }  // namespace
 
+SweepSpec readSweepFile(const std::string& path) {
+    std::string text;
+    try {
+        text = readInputFile(path, InputKind::Config);  // gl/input_files.h: no FIFOs, bounded
+    } catch (const InputError& e) {
+        throw ConfigError(std::string("--sweep ") + e.what());
+    }
+    return parseSweep(text, escapeControl(path));
+}
+
+SweepRunner::SweepRunner(const gl::ContextInfo& info, const RunOptions& base)
+    : info_(info), base_(base), haveReference_(buildHasReference()) {}
+
+SweepRunner::~SweepRunner() = default;
+
+nlohmann::json SweepRunner::run(const SweepSpec& spec, const SweepConfig& c, const std::string& shard,
+                                const std::string& imageDir) {
+    using Clock = std::chrono::steady_clock;
+    auto t0 = Clock::now();
+    nlohmann::json line;
+    std::string retry;
+    try {
+        std::string sceneKey;
+        for (auto& s : c.scenes) sceneKey += s + "\n";
+        if (sceneKey != loadedScene_ || !scene_) {
+            std::vector<std::string> paths;
+            for (auto& s : c.scenes) paths.push_back(expandScenePath(s));
+            renderer_.reset();
+            loadedScene_.clear();
+            scene_ = std::make_unique<Scene>(loadScenes(paths));
+            for (auto& w : scene_->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
+        }
+        Settings settings = effectiveSettings(scene_->suggestedSettings, c.assignments, scene_->name);
+        // A configuration with a reference is timed without it (the
+        // reference passes would run inside the measured frames) and then
+        // compared with it, as `--reference` does; the kind follows from
+        // what the configuration produces (AO, indirect light, image).
+        const ReferenceSettings::Kind requested = settings.reference.kind;
+        bool compare = requested != ReferenceSettings::Kind::Off;
+        settings.reference.kind = ReferenceSettings::Kind::Off;
+        if (compare && !haveReference_) {
+            // Time the techniques now; the errors come when the reference
+            // lands (resume re-runs lines marked "retry").
+            compare = false;
+            retry = "this build has no reference passes: no error values";
+        }
+        if (sceneKey != loadedScene_ || !renderer_) {
+            if (!profiler_) profiler_ = std::make_unique<gl::Profiler>(info_.timerQuery);
+            renderer_ = std::make_unique<Renderer>(*scene_, settings, *profiler_);
+            loadedScene_ = sceneKey;
+        } else {
+            renderer_->configure(settings);
+        }
+        RunOptions opts = base_;
+        opts.resolution = c.resolution;
+        opts.frames = c.frames;
+        opts.warmup = c.warmup;
+        opts.writeImages = spec.images && base_.writeImages;  // the file asks for images, --no-images wins
+        opts.outDir = imageDir;
+        opts.check = spec.check || base_.check;
+        opts.quiet = true;
+        opts.reference = compare;
+        opts.referenceKind = requested;  // e.g. full-frame asks for "full", not the AO the frame also makes
+        line = runBenchmark(info_, *renderer_, opts);
+    } catch (const std::exception& e) {
+        // A configuration the build cannot run (a technique not landed, a
+        // scene missing on this machine) is recorded and the sweep goes on;
+        // resume retries it.
+        line = nlohmann::json::object();
+        line["failed"] = e.what();
+        renderer_.reset();  // its state after a throw inside configure() is not trusted
+        loadedScene_.clear();
+    }
+    line["sweep"] = c.describe();
+    line["sweep"]["name"] = spec.name;
+    line["sweep"]["shard"] = shard;
+    line["wall_s"] = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (!retry.empty()) line["retry"] = retry;
+    return line;
+}
+
 int runSweepCommand(const CommandLine& cl) {
     // A sweep file is self-contained: its id scheme only sees what the file
     // says, so command-line settings would silently change resumed results.
     if (!cl.assignments.empty() || describe(cl.settings) != describe(Settings{}))
         throw ConfigError("--sweep: --set/--config do not apply to sweeps; put the keys in the sweep file's \"base\"");
-    std::string text;
-    try {
-        text = readInputFile(cl.sweep, InputKind::Config);  // gl/input_files.h: no FIFOs, bounded
-    } catch (const InputError& e) {
-        throw ConfigError(std::string("--sweep ") + e.what());
-    }
-    SweepSpec spec = parseSweep(text, escapeControl(cl.sweep));
+    SweepSpec spec = readSweepFile(cl.sweep);
     std::vector<SweepConfig> mine = shardOf(spec.configs, cl.shardIndex, cl.shardCount);
 
     const std::string dir = cl.run.outDir;
@@ -114,83 +189,20 @@ int runSweepCommand(const CommandLine& cl) {
     std::ofstream csv(csvPath, std::ios::app);
     if (!jsonl || !csv) throw OutputError(dir + ": results.jsonl or results.csv cannot be opened for appending");
 
-    // One renderer per scene: consecutive configurations of the same scene
-    // (the expansion keeps scenes outermost) only reconfigure it, so the GPU
-    // scene and the compiled programs are reused.
-    std::unique_ptr<gl::Profiler> profiler;
-    std::unique_ptr<Renderer> renderer;
-    std::string loadedScene;
-    std::unique_ptr<Scene> scene;
-
-    const bool haveReference = buildHasReference();
+    SweepRunner runner(ctx->info(), cl.run);
+    const std::string shard = std::to_string(cl.shardIndex) + "/" + std::to_string(cl.shardCount);
     using Clock = std::chrono::steady_clock;
     auto start = Clock::now();
     int failures = 0;
     for (std::size_t k = 0; k < todo.size(); ++k) {
         const SweepConfig& c = todo[k];
-        auto t0 = Clock::now();
-        nlohmann::json line;
-        std::string retry;
-        try {
-            std::string sceneKey;
-            for (auto& s : c.scenes) sceneKey += s + "\n";
-            if (sceneKey != loadedScene || !scene) {
-                std::vector<std::string> paths;
-                for (auto& s : c.scenes) paths.push_back(expandScenePath(s));
-                renderer.reset();
-                loadedScene.clear();
-                scene = std::make_unique<Scene>(loadScenes(paths));
-                for (auto& w : scene->warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
-            }
-            Settings settings = effectiveSettings(scene->suggestedSettings, c.assignments, scene->name);
-            // A configuration with a reference is timed without it (the
-            // reference passes would run inside the measured frames) and then
-            // compared with it, as `--reference` does; the kind follows from
-            // what the configuration produces (AO, indirect light, image).
-            const ReferenceSettings::Kind requested = settings.reference.kind;
-            bool compare = requested != ReferenceSettings::Kind::Off;
-            settings.reference.kind = ReferenceSettings::Kind::Off;
-            if (compare && !haveReference) {
-                // Time the techniques now; the errors come when the reference
-                // lands (resume re-runs lines marked "retry").
-                compare = false;
-                retry = "this build has no reference passes: no error values";
-            }
-            if (sceneKey != loadedScene || !renderer) {
-                if (!profiler) profiler = std::make_unique<gl::Profiler>(ctx->info().timerQuery);
-                renderer = std::make_unique<Renderer>(*scene, settings, *profiler);
-                loadedScene = sceneKey;
-            } else {
-                renderer->configure(settings);
-            }
-            RunOptions opts = cl.run;
-            opts.resolution = c.resolution;
-            opts.frames = c.frames;
-            opts.warmup = c.warmup;
-            opts.writeImages = spec.images && cl.run.writeImages;  // the file asks for images, --no-images wins
-            opts.outDir = dir + "/images/" + c.id;
-            opts.check = spec.check || cl.run.check;
-            opts.quiet = true;
-            opts.reference = compare;
-            opts.referenceKind = requested;  // e.g. full-frame asks for "full", not the AO the frame also makes
-            line = runBenchmark(ctx->info(), *renderer, opts);
-        } catch (const std::exception& e) {
-            // A configuration the build cannot run (a technique not landed, a
-            // scene missing on this machine) is recorded and the sweep goes on;
-            // resume retries it.
-            line = nlohmann::json::object();
-            line["failed"] = e.what();
-            renderer.reset();  // its state after a throw inside configure() is not trusted
-            loadedScene.clear();
+        nlohmann::json line = runner.run(spec, c, shard, dir + "/images/" + c.id);
+        if (line.contains("failed")) {
             ++failures;
-            std::fprintf(stderr, "rtgi-bench: %s: %s\n", escapeControl(c.label()).c_str(), escapeControl(e.what()).c_str());
+            std::fprintf(stderr, "rtgi-bench: %s: %s\n", escapeControl(c.label()).c_str(),
+                         escapeControl(line["failed"].get<std::string>()).c_str());
         }
-        double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-        line["sweep"] = c.describe();
-        line["sweep"]["name"] = spec.name;
-        line["sweep"]["shard"] = std::to_string(cl.shardIndex) + "/" + std::to_string(cl.shardCount);
-        line["wall_s"] = wall;
-        if (!retry.empty()) line["retry"] = retry;
+        const double wall = line["wall_s"].get<double>();
         jsonl << line.dump() << "\n";
         jsonl.flush();
         for (auto& row : sweepCsvRows(line)) csv << row << "\n";
