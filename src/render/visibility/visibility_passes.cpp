@@ -112,6 +112,8 @@ public:
             target_.resetDepthTargets();
         }
         int n = ctx.settings.light.shadowSize;
+        if (shadowMapCurrent(ctx, 1)) return;
+        ++redraws_;
         VisibilityOptions o = visibilityOptions(ctx.settings);
         o.depthBias = true;
         rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, ctx.res.shadowViewProj, {n, n}, target_, o);
@@ -123,11 +125,14 @@ public:
     }
     std::vector<std::pair<std::string, double>> stats() override {
         target_.checkOverflow(name());
-        return counterStats(target_);
+        auto st = counterStats(target_);
+        st.emplace_back("redraws", double(redraws_));  // the other frames reused the map (shadow.cache)
+        return st;
     }
 
 private:
     VisibilityTarget target_{"shadow.raster"};
+    int redraws_ = 0;
     unsigned epoch_ = 0;  // FrameResources::allocationEpoch the compare mode and copy FBO were set for
 };
 
