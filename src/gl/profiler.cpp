@@ -8,6 +8,7 @@
 namespace rtgi::gl {
 
 Profiler* Profiler::active_ = nullptr;
+bool Profiler::perDispatch_ = false;
 
 TimingStats computeStats(std::vector<double> v) {
     TimingStats s;
@@ -180,6 +181,18 @@ void Profiler::noteDispatch() {
     if (!active_ || active_->open_.empty()) return;
     FrameSlot& s = active_->ring_[std::size_t(active_->current_)];
     s.records[std::size_t(active_->open_.back())].dispatches++;
+}
+
+std::optional<Profiler::Scope> Profiler::dispatchScope(const std::string& program) {
+    if (!perDispatch_ || !active_ || active_->open_.empty()) return std::nullopt;
+    const FrameSlot& s = active_->ring_[std::size_t(active_->current_)];
+    std::string outer = s.records[std::size_t(active_->open_.back())].name;
+    std::string path = program.substr(0, program.find(' '));  // the name without its defines
+    std::string shader = path.substr(path.find_last_of('/') + 1);
+    std::optional<Scope> scope;
+    scope.emplace(active_, (outer + "/" + shader.substr(0, shader.find('.'))).c_str());
+    noteDispatch();
+    return scope;
 }
 
 std::vector<Profiler::PassTiming> Profiler::results() const {

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,8 @@ public:
         ~Scope();
         Scope(const Scope&) = delete;
         Scope& operator=(const Scope&) = delete;
+        Scope(Scope&& o) noexcept : p_(o.p_), index_(o.index_) { o.p_ = nullptr; }
+        Scope& operator=(Scope&&) = delete;
 
     private:
         Profiler* p_;
@@ -53,6 +56,11 @@ public:
 
     // Counts a dispatch/draw in the innermost open scope (called by dispatch()).
     static void noteDispatch();
+    // profile.dispatches=on: every dispatch() gets its own nested scope
+    // "<pass>/<program>" (sub-step timings; a timestamp pair per dispatch).
+    static void setPerDispatch(bool on) { perDispatch_ = on; }
+    // The nested scope of one dispatch when per-dispatch timing is on, else none.
+    static std::optional<Scope> dispatchScope(const std::string& program);
 
     struct PassTiming {
         std::string name;
@@ -98,6 +106,7 @@ private:
     std::map<std::string, double> latest_;
     int measuredFrames_ = 0;
     static Profiler* active_;
+    static bool perDispatch_;
 };
 
 }  // namespace rtgi::gl

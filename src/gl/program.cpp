@@ -207,6 +207,7 @@ void dispatch(const Program& p, int x, int y, int z) {
     Profiler::noteDispatch();
     if (x <= 0 || y <= 0 || z <= 0) return;
     glm::ivec3 l = p.localSize();
+    auto scope = Profiler::dispatchScope(p.name());
     glUseProgram(p.id());
     glDispatchCompute(groupCount(x, l.x), groupCount(y, l.y), groupCount(z, l.z));
 }

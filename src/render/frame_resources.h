@@ -8,6 +8,7 @@
 #include "gl/resources.h"
 #include "render/gpu_types.h"
 
+#include <cstdint>
 #include <glm/glm.hpp>
 
 #include <vector>
@@ -81,6 +82,16 @@ struct FrameResources {
     GBuffer gbuffer;
     gl::Texture shadowMap;
     glm::mat4 shadowViewProj{1.0f};
+    // What the sun's shadow map holds (shadow.cache): the map is redrawn only
+    // when the key of this frame differs (render/passes/core_passes.h).
+    struct ShadowKey {
+        glm::mat4 viewProj{0.0f};
+        int size = 0;
+        std::uint64_t geometryRevision = ~std::uint64_t(0);
+        unsigned allocationEpoch = ~0u;
+        int writer = -1;  // which pass drew it (hardware or compute rasterizer)
+        bool operator==(const ShadowKey&) const = default;
+    } shadowKey;
     gl::Texture direct, indirectDiffuse, specular, ao, bentNormal, s3ho, specularOcclusion, brdfLut;
     gl::Texture hdr, ldr, history, diffuseHistory;
     gl::Texture localShadowMaps;

@@ -8,6 +8,7 @@
 #include "render/settings.h"
 #include "scene/scene.h"
 
+#include <cstdint>
 #include <optional>
 
 namespace rtgi {
@@ -48,6 +49,10 @@ public:
     int indexCount() const { return indexCount_; }
     int punctualLightCount() const { return lightCount_; }
     int materialCount() const { return materialCount_; }
+    // Changes whenever the geometry the light views see changes (cached
+    // shadow maps compare it; render/passes/core_passes.h shadowMapCurrent).
+    std::uint64_t geometryRevision() const { return geometryRevision_; }
+    void bumpGeometryRevision() { ++geometryRevision_; }
     // Binds materials, lights and the texture array at their shared bindings.
     void bindTables() const;
 
@@ -56,6 +61,7 @@ private:
     gl::Buffer vbo_, ibo_, materials_, lights_;
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
+    std::uint64_t geometryRevision_ = 0;
 };
 
 }  // namespace rtgi

@@ -154,12 +154,15 @@ void Renderer::uploadFrameUniforms(const View& v) {
     frameUbo_.upload(&u, sizeof(u));
 }
 
+void Renderer::geometryChanged() { gpuScene_->bumpGeometryRevision(); }
+
 void Renderer::render(const View& view) {
     allocateShared(view);
     for (int i = 0; i < R::count; ++i) previousValid_[i] = writtenLastFrame_[i] && !view.cut;
     uploadFrameUniforms(view);
     FrameContext ctx{programs_, ledger_, profiler_, scene_, *gpuScene_, settings_, res_, view, frameUbo_.id(),
                      &plan_, 0, previousValid_};
+    gl::Profiler::setPerDispatch(settings_.post.profileDispatches);
     profiler_.beginFrame();
     for (std::size_t i = 0; i < passes().size(); ++i) {
         Pass& pass = *passes()[i];

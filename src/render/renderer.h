@@ -35,6 +35,9 @@ public:
     // setting baked into it changed).
     void configure(const Settings& settings);
     void render(const View& view);
+    // The geometry the light views see changed (moved objects): cached
+    // shadow maps are redrawn on the next frame.
+    void geometryChanged();
 
     const std::vector<std::unique_ptr<Pass>>& passes() const { return plan_.passes(); }
     // The plan's skipped passes, then the local lights left out ("light:<name>").

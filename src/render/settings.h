@@ -34,6 +34,7 @@ struct LightSettings {
     std::optional<float> sky;           // constant sky radiance override
     float emissiveScale = 1.0f;
     int shadowSize = 2048;
+    bool shadowCache = true;  // redraw the sun's map only when its frustum or the geometry changed
     // Side of each spot light's shadow map and of each cube face of a point /
     // area light (6 per light); 16 point lights at 2048² would need 1.6 GB.
     int localShadowSize = 512;
@@ -43,6 +44,7 @@ struct LightSettings {
 struct PostSettings {
     float exposure = 1.0f;
     std::string passesOff;  // comma-separated pass names forced off
+    bool profileDispatches = false;  // a timer scope per dispatch ("<pass>/<shader>")
 };
 
 struct LpvSettings {

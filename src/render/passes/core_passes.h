@@ -37,6 +37,12 @@ void rasterizeScene(FrameContext& ctx, const gl::Program& prog, GLuint fbo, glm:
 // sun's and the local lights' shadow maps go through.
 void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size);
 
+// shadow.cache: true when the sun's shadow map already holds this frame's
+// view of the scene (same light frustum, size, geometry revision, allocation
+// and writer), so the pass may skip drawing; otherwise records the new key and
+// returns false. Always false with shadow.cache=off.
+bool shadowMapCurrent(FrameContext& ctx, int writer);
+
 // Light-space orthographic view-projection that encloses `box` seen from a
 // light travelling along -towardLight (used by the shadow map and the RSM).
 glm::mat4 orthoLightViewProj(const Aabb& box, glm::vec3 towardLight);

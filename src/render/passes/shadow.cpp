@@ -56,12 +56,17 @@ public:
             glNamedFramebufferTexture(f, GL_DEPTH_ATTACHMENT, ctx.res.shadowMap.id(), 0);
             glNamedFramebufferDrawBuffer(f, GL_NONE);
         }
+        if (shadowMapCurrent(ctx, 0)) return;
         renderShadowDepth(ctx, ctx.res.shadowViewProj, fbo_.id(), {n, n});
+        ++redraws_;
     }
+    // Frames (warm-up included) that drew the map; the rest reused it (shadow.cache).
+    std::vector<std::pair<std::string, double>> stats() override { return {{"redraws", double(redraws_)}}; }
 
 private:
     gl::FramebufferHandle fbo_;
     unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffer was made for
+    int redraws_ = 0;
 };
 
 class LocalShadowPass final : public Pass {
@@ -144,6 +149,14 @@ private:
 
 std::unique_ptr<Pass> makeShadowPass() { return std::make_unique<ShadowPass>(); }
 std::unique_ptr<Pass> makeLocalShadowPass() { return std::make_unique<LocalShadowPass>(); }
+
+bool shadowMapCurrent(FrameContext& ctx, int writer) {
+    FrameResources::ShadowKey key{ctx.res.shadowViewProj, ctx.settings.light.shadowSize,
+                                  ctx.gpuScene.geometryRevision(), ctx.res.allocationEpoch, writer};
+    bool current = ctx.settings.light.shadowCache && key == ctx.res.shadowKey;
+    ctx.res.shadowKey = key;
+    return current;
+}
 
 void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size) {
     const gl::Program& prog =

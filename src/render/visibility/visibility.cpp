@@ -22,11 +22,14 @@ constexpr std::int64_t kTriangleRecordBytes = 48;  // VisTriangle (3 x 16 bytes)
 constexpr std::int64_t kMaxBufferBytes = std::int64_t(1) << 31;  // per buffer, well under every driver's limit
 
 // glDispatchCompute with at most 65535 groups per dimension.
-void dispatchLinear(std::int64_t groups) {
+// `program` names the sub-step for profile.dispatches.
+void dispatchLinear(const gl::Program& program, std::int64_t groups) {
     if (groups <= 0) return;
     std::int64_t x = std::min<std::int64_t>(groups, 65535);
     std::int64_t y = (groups + x - 1) / x;
     gl::Profiler::noteDispatch();
+    auto scope = gl::Profiler::dispatchScope(program.name());
+    glUseProgram(program.id());
     glDispatchCompute(GLuint(x), GLuint(y), 1);
 }
 
@@ -177,25 +180,25 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
     if (o.countHits) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_HITS, t.hits.id());
 
-    glUseProgram(clear.id());
-    dispatchLinear((std::max(pixels, tileCount) + 255) / 256);
+    dispatchLinear(clear, (std::max(pixels, tileCount) + 255) / 256);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP;
     const int phases = t.atomic64 ? 1 : 2;
     for (int phase = 0; phase < phases; ++phase) {
         setup.set(RTGI_VISIBILITY_LOC_PHASE, phase);
         if (tileReadsPhase) tile.set(RTGI_VISIBILITY_LOC_PHASE, phase);
-        glUseProgram(setup.id());
-        dispatchLinear(setupGroups);
+        dispatchLinear(setup, setupGroups);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         if (phase == 0) {
             glUseProgram(bin.id());
             gl::Profiler::noteDispatch();
+            auto scope = gl::Profiler::dispatchScope(bin.name());
             glDispatchCompute(RTGI_VISIBILITY_BIN_GROUPS, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
         glUseProgram(tile.id());
         gl::Profiler::noteDispatch();
+        auto scope = gl::Profiler::dispatchScope(tile.name());
         glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
@@ -235,8 +238,9 @@ void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& t, const 
         t.emptyVao.label(t.label + ".empty_vao");
     }
     glBindVertexArray(t.emptyVao.id());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
     gl::Profiler::noteDispatch();
+    auto scope = gl::Profiler::dispatchScope(prog.name());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
     glDepthFunc(GL_LESS);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

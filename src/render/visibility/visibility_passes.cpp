@@ -53,26 +53,23 @@ private:
     std::shared_ptr<VisibilityState> st_;
 };
 
-// visibility.resolve: visibility buffer -> G-buffer targets (imageStore) and
-// the D32F depth (full-screen gl_FragDepth copy).
+// visibility.resolve: visibility buffer -> G-buffer targets (imageStore).
 class VisibilityResolvePass final : public Pass {
 public:
     explicit VisibilityResolvePass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
     std::string name() const override { return "visibility.resolve"; }
-    // The same seven G-buffer resources as the hardware pass `gbuffer`; the
-    // renderer allocates them from their descriptors.
+    // The G-buffer resources of the hardware pass `gbuffer` but its depth
+    // attachment (R::depth, which no pass reads: a full-screen gl_FragDepth copy
+    // cost 0.18 ms at 1080p on the H200); the renderer allocates them from
+    // their descriptors.
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (!computePath(s)) return d.skip(rasterPathReason(s) + " (gbuffer)");
-        d.write(R::depth).write(R::linearDepth).write(R::normal).write(R::albedo).write(R::material);
+        d.write(R::linearDepth).write(R::normal).write(R::albedo).write(R::material);
         d.write(R::emissive).write(R::velocity);
     }
     void execute(FrameContext& ctx) override {
         GBuffer& g = ctx.res.gbuffer;
         VisibilityTarget& t = st_->target;
-        if (epoch_ != ctx.res.allocationEpoch) {  // reallocated: a texture name may be reused, rebuild the copy FBO
-            epoch_ = ctx.res.allocationEpoch;
-            t.resetDepthTargets();
-        }
         const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
         bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
         glBindImageTexture(RTGI_VISIBILITY_IMG_LINEAR_DEPTH, g.linearDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -82,7 +79,6 @@ public:
         glBindImageTexture(RTGI_VISIBILITY_IMG_EMISSIVE, g.emissive.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R11F_G11F_B10F);
         glBindImageTexture(RTGI_VISIBILITY_IMG_VELOCITY, g.velocity.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG16F);
         gl::dispatch(prog, t.size.x, t.size.y);
-        copyVisibilityDepth(ctx.programs, t, g.depth);
         // Consumers sample these as textures; the next passes' barriers are theirs,
         // but image stores need this one before any texture fetch.
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
@@ -90,7 +86,6 @@ public:
 
 private:
     std::shared_ptr<VisibilityState> st_;
-    unsigned epoch_ = 0;  // FrameResources::allocationEpoch the depth-copy framebuffer was made for
 };
 
 // shadow.raster: the sun's depth map (same light frustum and slope-scaled
@@ -112,6 +107,8 @@ public:
             target_.resetDepthTargets();
         }
         int n = ctx.settings.light.shadowSize;
+        if (shadowMapCurrent(ctx, 1)) return;
+        ++redraws_;
         VisibilityOptions o = visibilityOptions(ctx.settings);
         o.depthBias = true;
         rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, ctx.res.shadowViewProj, {n, n}, target_, o);
@@ -123,11 +120,14 @@ public:
     }
     std::vector<std::pair<std::string, double>> stats() override {
         target_.checkOverflow(name());
-        return counterStats(target_);
+        auto st = counterStats(target_);
+        st.emplace_back("redraws", double(redraws_));  // the other frames reused the map (shadow.cache)
+        return st;
     }
 
 private:
     VisibilityTarget target_{"shadow.raster"};
+    int redraws_ = 0;
     unsigned epoch_ = 0;  // FrameResources::allocationEpoch the compare mode and copy FBO were set for
 };
 
