@@ -21,7 +21,8 @@ one() {  # binary, out dir, name, args...
 suite() {
   local bin=$1 dir=$2
   mkdir -p "$dir"
-  for v in "" "lpv=off" "ao=off" "ssr=off" "raster.path=hardware"; do
+  local extra=${3:-}
+  for v in "" "lpv=off" "ao=off" "ssr=off" "raster.path=hardware" $extra; do
     local tag=${v:-defaults}; tag=${tag//=/-}
     local set=(); [ -n "$v" ] && set=(--set "$v")
     one "$bin" "$dir" "atrium-$tag" --scene builtin:atrium "${set[@]}"
@@ -34,6 +35,7 @@ suite() {
   done
 }
 
-suite "$BENCH" "$OUT/frame"
+# shadow.cache=off: the frame of a moving sun (the shadow map redrawn every frame).
+suite "$BENCH" "$OUT/frame" "shadow.cache=off"
 [ -n "${BASE:-}" ] && suite "$BASE" "$OUT/frame-base"
 python3 benchmarks/device/frame_table.py "$OUT/frame" ${BASE:+"$OUT/frame-base"}
