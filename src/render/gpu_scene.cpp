@@ -62,6 +62,7 @@ std::vector<std::string> namedViews(const Scene& scene) {
 
 Camera resolveCamera(const Scene& scene, const Settings& s) {
     Camera c = scene.cameras.empty() ? defaultCamera(scene) : scene.cameras.front();
+    const bool framed = c.name == "default";  // rtgi::defaultCamera: near/far are automatic
     if (!s.camera.view.empty()) {
         bool found = false;
         for (auto& j : viewFilesFor(scene)) {
@@ -81,6 +82,20 @@ Camera resolveCamera(const Scene& scene, const Settings& s) {
     if (s.camera.position) c.position = *s.camera.position;
     if (s.camera.target) c.target = *s.camera.target;
     if (s.camera.fovDeg) c.fovY = glm::radians(*s.camera.fovDeg);
+    if (framed && !s.camera.farPlane) {
+        // The framed camera's far plane covers the framed bounds from where the
+        // camera stood; a named view or a moved camera (and a floor ten times
+        // wider than the model it carries, rtgi::mergeScenes) needs the farthest
+        // corner of the whole scene from where it stands now, or the floor's far
+        // part renders as sky.
+        Aabb b = scene.bounds();
+        float reach = 0.0f;
+        for (int i = 0; i < 8; ++i) {
+            glm::vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+            reach = std::max(reach, glm::length(corner - c.position));
+        }
+        c.far = std::max(c.far, 1.01f * reach);
+    }
     if (s.camera.nearPlane) c.near = *s.camera.nearPlane;
     if (s.camera.farPlane) c.far = *s.camera.farPlane;
     if (!(c.far > c.near)) throw ConfigError("camera: far plane must lie beyond the near plane");

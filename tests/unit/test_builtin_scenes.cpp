@@ -1,5 +1,7 @@
 // Built-in scenes and the JSON scene builder (no GL). The analytic scenes are
 // checked for exactness because the AO tests integrate against them.
+#include "app/cli.h"
+#include "render/gpu_scene.h"
 #include "scene/builtin.h"
 #include "scene/scene.h"
 
@@ -447,4 +449,25 @@ TEST_CASE("gallery: a closed room lit by two spot lights and a point light only"
     glm::vec3 c = s.cameras.front().position;
     CHECK(std::abs(c.x) < 4.0f);
     CHECK(std::abs(c.z) < 3.0f);
+}
+
+TEST_CASE("automatic far plane: a moved framed camera still sees the farthest corner of the scene") {
+    // A model on builtin:plane gets a floor ten times its footprint and a camera
+    // framing the model; a named view or --set camera.position moves that camera,
+    // and its far plane must still reach the floor's far corner (not render it as sky).
+    Scene s = mergeScenes({"builtin:plane", "builtin:cornell"});
+    Settings st;
+    st.camera.position = glm::vec3(0.3f, 0.4f, 0.3f);
+    st.camera.target = glm::vec3(0.0f, 0.2f, 0.0f);
+    Camera c = resolveCamera(s, st);
+    Aabb b = s.bounds();
+    double farthest = 0.0;
+    for (double x : {double(b.lo.x), double(b.hi.x)})
+        for (double y : {double(b.lo.y), double(b.hi.y)})
+            for (double z : {double(b.lo.z), double(b.hi.z)})
+                farthest = std::max(farthest, glm::length(glm::dvec3(x, y, z) - glm::dvec3(*st.camera.position)));
+    CHECK(double(c.far) >= farthest);
+    // An explicit far plane is kept.
+    st.camera.farPlane = 3.0f;
+    CHECK(resolveCamera(s, st).far == 3.0f);
 }
