@@ -37,6 +37,14 @@ std::vector<Material> resolveMaterials(const Scene& scene, const Settings& setti
 class GpuScene {
 public:
     GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings);
+    // A moving scene (issue 23): rewrites the vertex buffer (positions,
+    // normals) or the punctual lights from the scene's current state; the
+    // counts must not change.
+    void updateVertices(const Scene& scene);
+    void updateLights(const Scene& scene);
+    // Counts updateVertices calls: a pass that built something from the
+    // geometry (the reference's BVH) rebuilds it when this changed.
+    std::uint64_t geometryVersion() const { return geometryVersion_; }
     // Binds the VAO and issues the one indexed draw (the caller binds the program).
     void draw() const;
     GLuint vao() const { return vao_.id(); }
@@ -56,6 +64,7 @@ private:
     gl::Buffer vbo_, ibo_, materials_, lights_;
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
+    std::uint64_t geometryVersion_ = 0;
 };
 
 }  // namespace rtgi

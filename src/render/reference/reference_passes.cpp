@@ -72,6 +72,7 @@ struct ReferenceState {
     std::size_t nodeCount = 0, triangleCount = 0;
     int depth = 0;
     double buildMs = 0;
+    std::uint64_t geometryVersion = 0;  // GpuScene::geometryVersion the BVH was built from
 };
 
 class BvhUploadPass final : public Pass {
@@ -80,7 +81,9 @@ public:
     std::string name() const override { return "ref.bvh_upload"; }
     void declare(PassDecl&, const Scene&, const Settings&) const override {}
     void execute(FrameContext& ctx) override {
-        if (st_->nodes) return;
+        // Built once; rebuilt when a moving scene rewrote the vertices (issue 23).
+        if (st_->nodes && st_->geometryVersion == ctx.gpuScene.geometryVersion()) return;
+        st_->geometryVersion = ctx.gpuScene.geometryVersion();
         auto t0 = std::chrono::steady_clock::now();
         Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
         st_->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
