@@ -38,7 +38,8 @@ const OptionSpec kOptions[] = {
      "temporal error (per-frame CSV, flicker, lag; docs/temporal.md)"},
     {"--reference-every", "K", kBench,
      "on a path with --reference: reference every K-th frame (+ the frame before it\n"
-     "and the frames around step events); default 1, 4 at the small path-reference default size"},
+     "and the frames around step events); default 1, and 8 at the small default size of a\n"
+     "path reference without --res (192x108, reference.spp=64; docs/temporal.md)"},
     {"--device", "N", kBench, "EGL device index (default: NVIDIA if present, else Mesa)"},
     {"--out", "DIR", kBench, "output directory for images and results (default out)"},
     {"--set", "key=value", kBoth, "configuration (repeatable; see the keys below)"},

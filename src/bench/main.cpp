@@ -30,8 +30,9 @@ namespace {
 constexpr int kExitOutput = 6;
 
 // --path --reference without --res (docs/temporal.md): the size and reference spacing.
-constexpr int kPathReferenceSize[2] = {320, 180};
-constexpr int kPathReferenceEvery = 4;
+constexpr int kPathReferenceSize[2] = {192, 108};
+constexpr int kPathReferenceEvery = 8;
+constexpr int kPathReferenceSpp = 64;
 
 const char* kCompareUsage =
     "usage: rtgi-bench --compare IMAGE REFERENCE [--out DIR] [--quantity auto|ao|ldr|radiance]\n"
@@ -143,13 +144,16 @@ int main(int argc, char** argv) {
             const Path path = loadPath(cl.run.path, scene);
             if (!cl.framesGiven) cl.run.frames = path.frameCount();
             if (cl.run.reference && !cl.resolutionGiven) {
-                // A reference per frame: a small default size keeps a path on a CPU (llvmpipe) to minutes.
+                // A reference per frame: small defaults keep a path on a CPU (llvmpipe) to minutes
+                // (docs/temporal.md); --res (and --set reference.spp) choose the real size.
                 cl.run.resolution = {kPathReferenceSize[0], kPathReferenceSize[1]};
                 if (cl.run.referenceEvery == 0) cl.run.referenceEvery = kPathReferenceEvery;
+                cl.assignments.insert(cl.assignments.begin(), {"reference.spp", std::to_string(kPathReferenceSpp)});
                 std::fprintf(stderr,
-                             "rtgi-bench: --path with --reference: %dx%d, a reference every %d frames (and the frame "
-                             "before, and around step events); --res and --reference-every change this\n",
-                             cl.run.resolution.x, cl.run.resolution.y, cl.run.referenceEvery);
+                             "rtgi-bench: --path with --reference and no --res: %dx%d, a reference (%d spp unless "
+                             "reference.spp is set) every %d frames with the frame before it and the frames around "
+                             "step events; --res, --reference-every and --set reference.spp change this\n",
+                             cl.run.resolution.x, cl.run.resolution.y, kPathReferenceSpp, cl.run.referenceEvery);
             }
         }
         if (cl.printFrame) {  // the declared frame; no GL context needed
