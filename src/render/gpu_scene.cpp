@@ -236,12 +236,14 @@ void GpuScene::updateVertices(const Scene& scene) {
         throw std::logic_error("GpuScene::updateVertices: the vertex count changed");
     vbo_.upload(verts.data(), vbo_.size());
     ++geometryVersion_;
+    ++stateVersion_;
 }
 
 void GpuScene::updateLights(const Scene& scene) {
     std::vector<gpu::GpuLight> gls = gpuLights(scene);
     if (int(gls.size()) != lightCount_) throw std::logic_error("GpuScene::updateLights: the light count changed");
     if (!gls.empty()) lights_.upload(gls.data(), std::int64_t(gls.size() * sizeof(gpu::GpuLight)));
+    ++stateVersion_;  // also when only the sun changed (it lives in the frame uniforms)
 }
 
 void GpuScene::draw() const {

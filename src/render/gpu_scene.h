@@ -45,6 +45,9 @@ public:
     // Counts updateVertices calls: a pass that built something from the
     // geometry (the reference's BVH) rebuilds it when this changed.
     std::uint64_t geometryVersion() const { return geometryVersion_; }
+    // Counts updateVertices and updateLights calls: an image of the scene
+    // (the reference) is still valid only while this is unchanged.
+    std::uint64_t stateVersion() const { return stateVersion_; }
     // Binds the VAO and issues the one indexed draw (the caller binds the program).
     void draw() const;
     GLuint vao() const { return vao_.id(); }
@@ -64,7 +67,7 @@ private:
     gl::Buffer vbo_, ibo_, materials_, lights_;
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
-    std::uint64_t geometryVersion_ = 0;
+    std::uint64_t geometryVersion_ = 0, stateVersion_ = 0;
 };
 
 }  // namespace rtgi

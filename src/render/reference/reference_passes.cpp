@@ -148,7 +148,9 @@ public:
             executeProgressive(ctx);
             return;
         }
-        if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_) return;  // still valid
+        if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_ &&
+            doneState_ == ctx.gpuScene.stateVersion())
+            return;  // still valid: the same view of the same scene state
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
         if (measure_ && c.converging) {
             executeConverging(ctx, c);
@@ -313,7 +315,8 @@ private:
     void executeProgressive(FrameContext& ctx) {
         const View& v = ctx.view;
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
-        const bool restart = !mean_ || v.size != doneSize_ || v.view != doneView_ || v.proj != doneProj_;
+        const bool restart = !mean_ || v.size != doneSize_ || v.view != doneView_ || v.proj != doneProj_ ||
+                             doneState_ != ctx.gpuScene.stateVersion();
         if (restart) {
             beginView(ctx);
             samplesDone_ = 0;
@@ -340,6 +343,7 @@ private:
         doneSize_ = v.size;
         doneView_ = v.view;
         doneProj_ = v.proj;
+        doneState_ = ctx.gpuScene.stateVersion();
     }
 
     void trace(FrameContext& ctx, const ReferenceConstants& c) { trace(ctx, c, 0, c.spp, true); }
@@ -481,6 +485,7 @@ private:
     gl::Buffer rayCounter_;
     glm::ivec2 doneSize_{0};
     glm::mat4 doneView_{0.0f}, doneProj_{0.0f};
+    std::uint64_t doneState_ = 0;  // GpuScene::stateVersion of the scene it depicts (issue 23)
     std::string key_;
     bool fromCache_ = false;
     int spp_ = 0;
