@@ -3,6 +3,7 @@
 // against values computed by hand or by an independent formulation.
 #include "bench/path_run.h"
 #include "bench/temporal.h"
+#include "render/lpv/lpv_math.h"
 #include "render/settings.h"
 #include "scene/animation.h"
 #include "scene/path.h"
@@ -12,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <string>
 
 using namespace rtgi;
 
@@ -278,4 +280,58 @@ TEST_CASE("temporal: lag, summaries and reference frames") {
     CHECK(s.count == 4);
     auto r = referenceFrames(10, 4, {});
     CHECK(r == std::vector<bool>{true, false, false, true, true, false, false, true, true, true});
+}
+
+TEST_CASE("path: LPV cascades stay put along a path that moves less than a cell, and step one cell at a time") {
+    LpvSettings s;
+    s.grid = {8, 8, 8};
+    s.cell = 0.25f;
+    const int C = 3;
+    const glm::vec3 fwd(0.3f, -0.2f, -1.0f);
+    auto play = [&](const std::string& json) {
+        Path p = parsePath(json, "test", "p");
+        std::vector<std::vector<lpv::Placement>> out;
+        for (int f = 0; f < p.frameCount(); ++f) {
+            Camera c = pathCamera(&p, p.timeOfFrame(f), Camera{});
+            out.push_back(lpv::placeCascades(s, C, Aabb{}, c.position, fwd));
+        }
+        return out;
+    };
+    // A dolly of 0.05 m (a fifth of the finest cell) whose two ends snap alike (found by a scan):
+    // every frame in between snaps alike too (no cascade jitters back and forth).
+    double x0 = 1.30;
+    for (; x0 < 2.0; x0 += 0.01) {
+        auto a = lpv::placeCascades(s, C, Aabb{}, {float(x0), 2.1f, -0.7f}, fwd);
+        auto b = lpv::placeCascades(s, C, Aabb{}, {float(x0 + 0.05), 2.1f, -0.7f}, fwd);
+        bool same = true;
+        for (int i = 0; i < C; ++i) same = same && a[std::size_t(i)].originCells == b[std::size_t(i)].originCells;
+        if (same) break;
+    }
+    REQUIRE(x0 < 2.0);
+    const std::string x0s = std::to_string(x0), x1s = std::to_string(x0 + 0.05);
+    auto still = play(("{\"fps\": 30, \"camera\": {\"keys\": [{\"t\": 0, \"position\": [" + x0s +
+                       ", 2.1, -0.7], \"target\": [" + x0s + ", 2.1, -5]}, {\"t\": 1, \"position\": [" + x1s +
+                       ", 2.1, -0.7], \"target\": [" + x1s + ", 2.1, -5]}]}}")
+                          .c_str());
+    REQUIRE(still.size() == 31);
+    for (auto& f : still)
+        for (int i = 0; i < C; ++i) CHECK(f[std::size_t(i)].originCells == still[0][std::size_t(i)].originCells);
+    // 3.5 finest cells along +x in 31 frames (0.028 m per frame): cascade i moves by whole cells, never more
+    // than one per frame, and in total by the number of its cell boundaries the camera crossed.
+    auto moving = play(R"({"fps": 30, "camera": {"keys": [{"t": 0, "position": [1.31, 2.1, -0.7], "target": [1.31, 2.1, -5]},
+                                                           {"t": 1, "position": [2.185, 2.1, -0.7], "target": [2.185, 2.1, -5]}]}})");
+    for (int i = 0; i < C; ++i) {
+        for (std::size_t f = 1; f < moving.size(); ++f) {
+            glm::ivec3 d = moving[f][std::size_t(i)].originCells - moving[f - 1][std::size_t(i)].originCells;
+            CHECK((d == glm::ivec3(0) || d == glm::ivec3(1, 0, 0)));
+        }
+        const double cell = moving[0][std::size_t(i)].cell;
+        const glm::ivec3 total = moving.back()[std::size_t(i)].originCells - moving[0][std::size_t(i)].originCells;
+        // The snapped anchor is the camera plus a fixed offset: boundaries crossed = floor(b/cell) - floor(a/cell)
+        // for the anchor's x, which moved by 0.875 m; between floor(0.875/cell) and that plus one.
+        CHECK(total.x >= int(std::floor(0.875 / cell)));
+        CHECK(total.x <= int(std::floor(0.875 / cell)) + 1);
+        CHECK(total.y == 0);
+        CHECK(total.z == 0);
+    }
 }
