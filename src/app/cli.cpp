@@ -32,6 +32,14 @@ const OptionSpec kOptions[] = {
     {"--frames", "N", kBench, "measured frames (default 100)"},
     {"--frames", "N", kView, "render N frames and exit (automation; the screenshot is taken after the last)"},
     {"--warmup", "N", kBench, "warm-up frames before measuring (default 20)"},
+    {"--path", "FILE|NAME", kBench,
+     "play a camera/scene path (benchmarks/paths/<scene>.json or a file): frame i at\n"
+     "t = i/fps; --frames counts path frames (default: all); with --reference a\n"
+     "temporal error (per-frame CSV, flicker, lag; docs/temporal.md)"},
+    {"--reference-every", "K", kBench,
+     "on a path with --reference: reference every K-th frame (+ the frame before it\n"
+     "and the frames around step events); default 1, and 8 at the small default size of a\n"
+     "path reference without --res (192x108, reference.spp=64; docs/temporal.md)"},
     {"--device", "N", kBench, "EGL device index (default: NVIDIA if present, else Mesa)"},
     {"--out", "DIR", kBench, "output directory for images and results (default out)"},
     {"--set", "key=value", kBoth, "configuration (repeatable; see the keys below)"},
@@ -110,6 +118,10 @@ void checkCommandLine(const CommandLine& c) {
         if (s.empty()) throw ConfigError("--scene: the scene path is empty");
     if (c.sweep.empty() && (c.shardIndex != 0 || c.shardCount != 1))
         throw ConfigError("--shard applies only to --sweep (no sweep file given)");
+    if (c.run.referenceEvery > 0 && c.run.path.empty())
+        throw ConfigError("--reference-every applies only to --path (no path given)");
+    if (!c.sweep.empty() && !c.run.path.empty())
+        throw ConfigError("--path does not apply to --sweep (a sweep runs still frames; run one rtgi-bench --path per configuration)");
     if (!c.sweep.empty() && c.scenesGiven)
         throw ConfigError("--scene does not apply to --sweep; the sweep file lists its scenes");
 }
@@ -147,10 +159,17 @@ CommandLine parseCommandLine(Host host, int argc, char** argv) {
             auto x = v.find('x');
             if (x == std::string::npos) throw ConfigError("--res '" + v + "': expected WxH, e.g. 1920x1080");
             c.run.resolution = {toInt("--res", v.substr(0, x), 1, 16384), toInt("--res", v.substr(x + 1), 1, 16384)};
+            c.resolutionGiven = true;
         } else if (a == "--frames") {
             c.run.frames = toInt(a, value(), 1, 1000000);
             c.framesGiven = true;
-        } else if (a == "--warmup") c.run.warmup = toInt(a, value(), 0, 1000000);
+        } else if (a == "--warmup") {
+            c.run.warmup = toInt(a, value(), 0, 1000000);
+            c.warmupGiven = true;
+        } else if (a == "--path") {
+            c.run.path = value();
+            if (c.run.path.empty()) throw ConfigError("--path: the path file or name is empty");
+        } else if (a == "--reference-every") c.run.referenceEvery = toInt(a, value(), 1, 1000000);
         else if (a == "--device") c.device = toInt(a, value(), 0, 64);
         else if (a == "--out") {
             c.run.outDir = value();

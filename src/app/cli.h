@@ -33,6 +33,12 @@ struct RunOptions {
     // The kind a sweep asked for: its frames are timed without the reference
     // passes (reference=off), so the kind travels here (Off: what the run produces).
     ReferenceSettings::Kind referenceKind = ReferenceSettings::Kind::Off;
+    // --path FILE|NAME (issue 23): frame i renders the scene state at t = i / fps
+    // (warm-up frames at t = 0); --frames then counts path frames (default: the whole path).
+    std::string path;
+    // --reference-every K on a path: a reference for every K-th frame and the one
+    // before it (flicker), and every frame around a step event (0: the default, docs/temporal.md).
+    int referenceEvery = 0;
     std::int64_t maxMemory = 0;  // --max-memory: GPU memory budget in bytes (0 = what the device reports)
     // Provenance recorded in results.json (SPEC 12: any figure can be reproduced).
     std::string commandLine;  // the exact argv, shell-quoted
@@ -49,6 +55,7 @@ struct CommandLine {
     bool printFrame = false;  // --print-frame: print the pruned frame and exit
     bool validateOnly = false;  // --validate-only: load scenes and settings, no GL, exit 0
     bool framesGiven = false;
+    bool warmupGiven = false, resolutionGiven = false;
     std::string sweep;    // --sweep FILE.json
     int shardIndex = 0, shardCount = 1;
     bool scenesGiven = false;

@@ -5,6 +5,7 @@
 #include "bench/results_csv.h"
 #include "bench/run.h"
 #include "bench/sweep.h"
+#include "scene/path.h"
 #include "gl/context.h"
 #include "gl/input_files.h"
 #include "gl/output_files.h"
@@ -27,6 +28,11 @@ namespace {
 // 2 configuration / command line / memory budget, 3 scene or image input,
 // 4 GL, 5 --check found NaN/Inf, 6 a result file could not be written.
 constexpr int kExitOutput = 6;
+
+// --path --reference without --res (docs/temporal.md): the size and reference spacing.
+constexpr int kPathReferenceSize[2] = {192, 108};
+constexpr int kPathReferenceEvery = 8;
+constexpr int kPathReferenceSpp = 64;
 
 const char* kCompareUsage =
     "usage: rtgi-bench --compare IMAGE REFERENCE [--out DIR] [--quantity auto|ao|ldr|radiance]\n"
@@ -134,6 +140,22 @@ int main(int argc, char** argv) {
         Scene scene = loadScenes(cl.run.scenes);
         for (auto& w : scene.warnings) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
         checkRadiometricRange(scene, settingsFor(scene, cl));  // also for --validate-only and --print-frame
+        if (!cl.run.path.empty()) {  // issue 23: checked before any GL work (docs/temporal.md)
+            const Path path = loadPath(cl.run.path, scene);
+            if (!cl.framesGiven) cl.run.frames = path.frameCount();
+            if (cl.run.reference && !cl.resolutionGiven) {
+                // A reference per frame: small defaults keep a path on a CPU (llvmpipe) to minutes
+                // (docs/temporal.md); --res (and --set reference.spp) choose the real size.
+                cl.run.resolution = {kPathReferenceSize[0], kPathReferenceSize[1]};
+                if (cl.run.referenceEvery == 0) cl.run.referenceEvery = kPathReferenceEvery;
+                cl.assignments.insert(cl.assignments.begin(), {"reference.spp", std::to_string(kPathReferenceSpp)});
+                std::fprintf(stderr,
+                             "rtgi-bench: --path with --reference and no --res: %dx%d, a reference (%d spp unless "
+                             "reference.spp is set) every %d frames with the frame before it and the frames around "
+                             "step events; --res, --reference-every and --set reference.spp change this\n",
+                             cl.run.resolution.x, cl.run.resolution.y, kPathReferenceSpp, cl.run.referenceEvery);
+            }
+        }
         if (cl.printFrame) {  // the declared frame; no GL context needed
             std::cout << FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl)).table();
             return 0;
@@ -152,6 +174,17 @@ int main(int argc, char** argv) {
         for (auto& row : resultsCsvRows(r)) csv += row + "\n";
         writeFileAtomic(cl.run.outDir + "/results.csv", csv);
         std::cout << formatTimingTable(r);
+        if (r.contains("temporal")) {
+            const auto& t = r["temporal"];
+            auto mean = [](const nlohmann::json& s) { return s.is_null() ? std::string("-") : s["mean"].dump(); };
+            std::cout << "  temporal error (" << t["compared"].get<std::string>() << ", " << t["reference_frames"]
+                      << " reference frames): rmse mean " << mean(t["rmse"]) << ", flicker mean " << mean(t["flicker"])
+                      << ", disoccluded rmse mean " << mean(t["rmse_disoccluded"]) << ", lag events " << t["lag"].size()
+                      << "\n";
+        }
+        if (r.contains("path"))
+            std::cout << "  path " << r["path"]["name"].get<std::string>() << ": " << r["path"]["frames"]
+                      << " frames at " << r["path"]["fps"] << " fps; wrote " << cl.run.outDir << "/temporal.csv\n";
         if (r.contains("error")) {
             const auto& e = r["error"];
             std::cout << "  error vs reference (" << e["compared"].get<std::string>() << ", "

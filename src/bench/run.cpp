@@ -2,6 +2,7 @@
 
 #include "gl/image_files.h"
 #include "gl/image_io.h"
+#include "bench/path_run.h"
 #include "bench/reference_compare.h"
 #include "bench/results_csv.h"
 #include "render/memory_budget.h"
@@ -52,8 +53,13 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     const Settings& settings = renderer.settings();
     renderer.setCheck(opts.check);
     Camera cam = resolveCamera(scene, settings);
+    nlohmann::json pathResult;
+    if (!opts.path.empty()) {  // a moving scene (issue 23): bench/path_run.h
+        const Path path = loadPath(opts.path, scene);
+        pathResult = runPathFrames(renderer, path, opts, cam);
+    }
     View prev;
-    int total = opts.warmup + opts.frames;
+    int total = opts.path.empty() ? opts.warmup + opts.frames : 0;
     for (int f = 0; f < total; ++f) {
         const bool warm = f < opts.warmup;
         if (warm) progress::report("warm-up frames", f, opts.warmup);
@@ -66,7 +72,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
         if (f + 1 == opts.warmup) progress::report("warm-up frames", opts.warmup, opts.warmup);
     }
     profiler.flush();
-    progress::report("measured frames", opts.frames, opts.frames);
+    if (opts.path.empty()) progress::report("measured frames", opts.frames, opts.frames);
 
     nlohmann::json r;
     r["version"] = versionString();
@@ -100,6 +106,13 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     r["camera"] = {{"position", {cam.position.x, cam.position.y, cam.position.z}},
                    {"target", {cam.target.x, cam.target.y, cam.target.z}},
                    {"fov", glm::degrees(cam.fovY)}, {"near", cam.near}, {"far", cam.far}};
+    if (!pathResult.is_null()) {
+        if (pathResult.contains("temporal")) {  // the temporal error at the top level, beside "error" of a still run
+            r["temporal"] = pathResult["temporal"];
+            pathResult.erase("temporal");
+        }
+        r["path"] = pathResult;
+    }
     nlohmann::json passes = nlohmann::json::array();
     double totalMs = 0;
     for (auto& t : profiler.results()) {
@@ -169,7 +182,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
                 if (d.tex && *d.tex) writeTexture(opts.outDir, d.name, *d.tex, d.scale, false);
         r["images"] = opts.outDir;
     }
-    if (opts.reference) {
+    if (opts.reference && opts.path.empty()) {  // a path's error is per frame: r["path"]["temporal"]
         r["error"] = compareWithReference(renderer, cam, opts.resolution, opts.outDir, opts.writeImages,
                                           opts.referenceKind, opts.warmup + opts.frames);
         // The frames above were timed without the reference passes; the

@@ -122,6 +122,8 @@ void Profiler::resolve(FrameSlot& s, bool) {
         dispatchTotals_[name] += frameDispatches[name];
     }
     samples_["frame"].push_back(frameMs);
+    frameSums["frame"] = frameMs;
+    frameTimings_.push_back(std::move(frameSums));
 }
 
 void Profiler::flush() {
@@ -135,6 +137,7 @@ void Profiler::flush() {
 void Profiler::reset() {
     flush();
     samples_.clear();
+    frameTimings_.clear();
     dispatchTotals_.clear();
     order_.clear();
     measuredFrames_ = 0;

@@ -69,6 +69,9 @@ public:
     };
     // In first-seen order; includes "frame" (whole frame) last.
     std::vector<PassTiming> results() const;
+    // Per measured frame, in frame order: milliseconds per pass and "frame"
+    // (rtgi-bench --path writes them per frame).
+    const std::vector<std::map<std::string, double>>& frameTimings() const { return frameTimings_; }
     // Most recent resolved per-pass milliseconds (viewer overlay).
     const std::map<std::string, double>& latest() const { return latest_; }
 
@@ -105,6 +108,7 @@ private:
     std::map<std::string, long> dispatchTotals_;
     std::map<std::string, double> latest_;
     int measuredFrames_ = 0;
+    std::vector<std::map<std::string, double>> frameTimings_;
     static Profiler* active_;
     static bool perDispatch_;
 };

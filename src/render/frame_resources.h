@@ -87,7 +87,7 @@ struct FrameResources {
     struct ShadowKey {
         glm::mat4 viewProj{0.0f};
         int size = 0;
-        std::uint64_t geometryRevision = ~std::uint64_t(0);
+        std::uint64_t geometryVersion = ~std::uint64_t(0);
         unsigned allocationEpoch = ~0u;
         int writer = -1;  // which pass drew it (hardware or compute rasterizer)
         bool operator==(const ShadowKey&) const = default;

@@ -146,7 +146,10 @@ std::vector<std::uint8_t> resample(const Image& img, int size) {
 
 }  // namespace
 
-GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings) {
+namespace {
+
+// The vertex buffer's contents (positions and normals of the scene's current state).
+std::vector<GpuVertex> gpuVertices(const Scene& scene) {
     std::vector<GpuVertex> verts(scene.vertices.size());
     for (std::size_t i = 0; i < verts.size(); ++i) {
         const Vertex& v = scene.vertices[i];
@@ -156,7 +159,32 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     // primitive into its own range), so the material can live per vertex.
     for (auto& d : scene.draws)
         for (std::uint32_t k = 0; k < d.indexCount; ++k) verts[scene.indices[d.firstIndex + k]].material = std::uint32_t(d.material);
-    vbo_ = gl::Buffer(ledger, "scene.vertices", std::int64_t(verts.size() * sizeof(GpuVertex)), verts.data(), 0);
+    return verts;
+}
+
+// The reference's punctual lights (the real-time path has its own list, render/lights.h).
+std::vector<gpu::GpuLight> gpuLights(const Scene& scene) {
+    std::vector<gpu::GpuLight> gls;
+    for (auto& l : scene.lights) {
+        if (l.type == LightType::Directional) continue;
+        gpu::GpuLight g{};
+        g.positionRange = glm::vec4(l.position, l.range);
+        g.colorIntensity = glm::vec4(l.color * l.intensity, 0);
+        glm::vec3 dir = glm::length(l.direction) > 0 ? glm::normalize(l.direction) : glm::vec3(0, -1, 0);
+        g.directionType = glm::vec4(dir, l.type == LightType::Point ? RTGI_LIGHT_POINT : RTGI_LIGHT_SPOT);
+        g.cone = glm::vec4(std::cos(l.innerCone), std::cos(l.outerCone), -1, 0);  // the reference has no shadow maps
+        gls.push_back(g);
+    }
+    return gls;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings) {
+    std::vector<GpuVertex> verts = gpuVertices(scene);
+    // Dynamic storage: a moving scene rewrites it (updateVertices).
+    vbo_ = gl::Buffer(ledger, "scene.vertices", std::int64_t(verts.size() * sizeof(GpuVertex)), verts.data(),
+                      GL_DYNAMIC_STORAGE_BIT);
     // Only indices of kept draws (validateAndRepair may have dropped some).
     std::vector<std::uint32_t> idx;
     for (auto& d : scene.draws)
@@ -191,20 +219,11 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     materialCount_ = int(mats.size());
     materials_ = gl::Buffer(ledger, "scene.materials", std::int64_t(gm.size() * sizeof(gpu::GpuMaterial)), gm.data(), 0);
 
-    std::vector<gpu::GpuLight> gls;
-    for (auto& l : scene.lights) {
-        if (l.type == LightType::Directional) continue;
-        gpu::GpuLight g{};
-        g.positionRange = glm::vec4(l.position, l.range);
-        g.colorIntensity = glm::vec4(l.color * l.intensity, 0);
-        glm::vec3 dir = glm::length(l.direction) > 0 ? glm::normalize(l.direction) : glm::vec3(0, -1, 0);
-        g.directionType = glm::vec4(dir, l.type == LightType::Point ? RTGI_LIGHT_POINT : RTGI_LIGHT_SPOT);
-        g.cone = glm::vec4(std::cos(l.innerCone), std::cos(l.outerCone), -1, 0);  // the reference has no shadow maps
-        gls.push_back(g);
-    }
+    std::vector<gpu::GpuLight> gls = gpuLights(scene);
     lightCount_ = int(gls.size());
     if (gls.empty()) gls.push_back({});
-    lights_ = gl::Buffer(ledger, "scene.lights", std::int64_t(gls.size() * sizeof(gpu::GpuLight)), gls.data(), 0);
+    lights_ = gl::Buffer(ledger, "scene.lights", std::int64_t(gls.size() * sizeof(gpu::GpuLight)), gls.data(),
+                         GL_DYNAMIC_STORAGE_BIT);
 
     // Base-colour textures: one 2D array at a common size (at least one layer
     // so the sampler is always complete).
@@ -224,6 +243,22 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     }
     glGenerateTextureMipmap(textures_.id());
     textures_.setSampling(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_REPEAT);
+}
+
+void GpuScene::updateVertices(const Scene& scene) {
+    std::vector<GpuVertex> verts = gpuVertices(scene);
+    if (std::int64_t(verts.size() * sizeof(GpuVertex)) != vbo_.size())
+        throw std::logic_error("GpuScene::updateVertices: the vertex count changed");
+    vbo_.upload(verts.data(), vbo_.size());
+    ++geometryVersion_;
+    ++stateVersion_;
+}
+
+void GpuScene::updateLights(const Scene& scene) {
+    std::vector<gpu::GpuLight> gls = gpuLights(scene);
+    if (int(gls.size()) != lightCount_) throw std::logic_error("GpuScene::updateLights: the light count changed");
+    if (!gls.empty()) lights_.upload(gls.data(), std::int64_t(gls.size() * sizeof(gpu::GpuLight)));
+    ++stateVersion_;  // also when only the sun changed (it lives in the frame uniforms)
 }
 
 void GpuScene::draw() const {

@@ -38,6 +38,17 @@ std::vector<Material> resolveMaterials(const Scene& scene, const Settings& setti
 class GpuScene {
 public:
     GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings);
+    // A moving scene (issue 23): rewrites the vertex buffer (positions,
+    // normals) or the punctual lights from the scene's current state; the
+    // counts must not change.
+    void updateVertices(const Scene& scene);
+    void updateLights(const Scene& scene);
+    // Counts updateVertices calls: a pass that built something from the
+    // geometry (the reference's BVH) rebuilds it when this changed.
+    std::uint64_t geometryVersion() const { return geometryVersion_; }
+    // Counts updateVertices and updateLights calls: an image of the scene
+    // (the reference) is still valid only while this is unchanged.
+    std::uint64_t stateVersion() const { return stateVersion_; }
     // Binds the VAO and issues the one indexed draw (the caller binds the program).
     void draw() const;
     GLuint vao() const { return vao_.id(); }
@@ -49,10 +60,6 @@ public:
     int indexCount() const { return indexCount_; }
     int punctualLightCount() const { return lightCount_; }
     int materialCount() const { return materialCount_; }
-    // Changes whenever the geometry the light views see changes (cached
-    // shadow maps compare it; render/passes/core_passes.h shadowMapCurrent).
-    std::uint64_t geometryRevision() const { return geometryRevision_; }
-    void bumpGeometryRevision() { ++geometryRevision_; }
     // Binds materials, lights and the texture array at their shared bindings.
     void bindTables() const;
 
@@ -61,7 +68,7 @@ private:
     gl::Buffer vbo_, ibo_, materials_, lights_;
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
-    std::uint64_t geometryRevision_ = 0;
+    std::uint64_t geometryVersion_ = 0, stateVersion_ = 0;
 };
 
 }  // namespace rtgi

@@ -6,6 +6,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
+#include <cstring>
 
 namespace rtgi {
 
@@ -71,9 +73,13 @@ void Renderer::configure(const Settings& settings) {
     for (bool& b : writtenLastFrame_) b = false;
     if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_);
     plan_ = FramePlan::build(frameScript(), frameFamilies(), scene_, settings_);
-    skipped_ = plan_.skipped();
+    resolveLights();
+}
 
-    // Local lights: the per-frame list and the shadow matrices live as long as this configuration.
+// Local lights: the per-frame list and the shadow matrices live as long as
+// this configuration (or until a moving scene changes its lights).
+void Renderer::resolveLights() {
+    skipped_ = plan_.skipped();
     localLights_ = resolveLocalLights(scene_, settings_);
     for (auto& [light, reason] : localLights_.leftOut) skipped_.push_back({"light:" + light, reason});
     res_.localShadowLayers = std::max(1, maxShadowLayers(localLights_));
@@ -81,6 +87,42 @@ void Renderer::configure(const Settings& settings) {
                                   std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLight)));
     res_.localShadowMatrices = gl::Buffer(ledger_, "shadow.local.matrices",
                                           std::int64_t(res_.localShadowLayers * sizeof(glm::mat4)));
+}
+
+void Renderer::updateScene(const Scene& state) {
+    if (state.vertices.size() != scene_.vertices.size() || state.lights.size() != scene_.lights.size())
+        throw std::logic_error("Renderer::updateScene: a scene state must keep the vertex and light counts");
+    sceneUpdate_ = {};
+    const auto t0 = std::chrono::steady_clock::now();
+    static_assert(sizeof(Vertex) == 32, "Vertex is compared bytewise");
+    if (!state.vertices.empty() &&
+        std::memcmp(state.vertices.data(), scene_.vertices.data(), state.vertices.size() * sizeof(Vertex)) != 0) {
+        scene_.vertices = state.vertices;
+        gpuScene_->updateVertices(scene_);
+        sceneUpdate_.geometry = true;
+    }
+    bool lightsChanged = false;
+    for (std::size_t i = 0; i < state.lights.size(); ++i) {
+        const Light &a = state.lights[i], &b = scene_.lights[i];
+        lightsChanged = lightsChanged || a.position != b.position || a.direction != b.direction ||
+                        a.color != b.color || a.intensity != b.intensity;
+    }
+    if (lightsChanged) {
+        scene_.lights = state.lights;
+        checkRadiometricRange(scene_, settings_);
+        gpuScene_->updateLights(scene_);
+        std::vector<std::string> before;
+        for (auto& l : localLights_.lights) before.push_back(l.name);
+        LocalLights now = resolveLocalLights(scene_, settings_);
+        std::vector<std::string> after;
+        for (auto& l : now.lights) after.push_back(l.name);
+        if (before == after) localLights_ = std::move(now);  // the same list: new positions, colours
+        else resolveLights();  // a light switched on or off: new buffers (and shadow layers)
+        sceneUpdate_.lights = true;
+    }
+    scene_.cameras = state.cameras;
+    glFinish();  // the upload belongs to the update's time
+    sceneUpdate_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // Every shared resource a pass of the frame writes, from its descriptor (by
@@ -153,8 +195,6 @@ void Renderer::uploadFrameUniforms(const View& v) {
     u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, res_.localLightCount);
     frameUbo_.upload(&u, sizeof(u));
 }
-
-void Renderer::geometryChanged() { gpuScene_->bumpGeometryRevision(); }
 
 void Renderer::render(const View& view) {
     allocateShared(view);

@@ -35,9 +35,16 @@ public:
     // setting baked into it changed).
     void configure(const Settings& settings);
     void render(const View& view);
-    // The geometry the light views see changed (moved objects): cached
-    // shadow maps are redrawn on the next frame.
-    void geometryChanged();
+    // A moving scene (issue 23): the scene's state at the next frame's time
+    // (same vertex and light counts; vertices, lights and cameras may move).
+    // Rewrites the vertex buffer when a vertex moved, the lights when one
+    // changed; lastSceneUpdate() says what and how long it took (CPU + upload).
+    void updateScene(const Scene& state);
+    struct SceneUpdate {
+        bool geometry = false, lights = false;
+        double ms = 0;
+    };
+    const SceneUpdate& lastSceneUpdate() const { return sceneUpdate_; }
 
     const std::vector<std::unique_ptr<Pass>>& passes() const { return plan_.passes(); }
     // The plan's skipped passes, then the local lights left out ("light:<name>").
@@ -72,6 +79,7 @@ public:
 
 private:
     void uploadFrameUniforms(const View& view);
+    void resolveLights();
     void allocateShared(const View& view);
     void checkOutputs(const Pass& pass);
     int indexOf(const Pass& pass) const;
@@ -92,6 +100,7 @@ private:
     LocalLights localLights_;  // point/spot/area lights of the real-time path
     int localCulled_ = 0, localShadowed_ = 0;
     bool check_ = false;
+    SceneUpdate sceneUpdate_;
     std::vector<FiniteCount> finite_;
 };
 

@@ -25,6 +25,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <climits>
 #include <cmath>
@@ -345,6 +346,10 @@ private:
         double znear, zfar;
     };
     std::vector<PendingCamera> pendingCameras_;
+    // Node animations (issue 23): per glTF node and AnimatedProperty, the
+    // index of its track in scene_.animation.tracks (-1: not animated).
+    std::vector<std::array<int, 3>> nodeTracks_;
+    int currentAnimNode_ = -1;  // the AnimatedNode being walked (-1: the file has no animations)
 
     [[noreturn]] void fail(const std::string& sentence) const { throw SceneError(printable(path_) + ": " + printable(sentence)); }
     void warn(const std::string& sentence) { scene_.warnings.push_back(printable(path_) + ": " + printable(sentence)); }
@@ -372,6 +377,7 @@ private:
         parseWithTinygltf();
         checkImagesAvailable();
         convertMaterials();
+        readAnimations();
         walkNodes();
         reportWarnings();
         validateAndRepair(scene_, path_);
@@ -1010,6 +1016,84 @@ private:
         return {tris, verts};
     }
 
+    // ---- animations (issue 23) ------------------------------------------------
+
+    // glTF animation samplers as double tracks; every animation plays from
+    // t = 0 at once. Morph targets ("weights") are refused, skins in walkNodes.
+    void readAnimations() {
+        if (model_.animations.empty()) return;
+        nodeTracks_.assign(model_.nodes.size(), {-1, -1, -1});
+        for (std::size_t ai = 0; ai < model_.animations.size(); ++ai) {
+            const auto& anim = model_.animations[ai];
+            for (std::size_t ci = 0; ci < anim.channels.size(); ++ci) {
+                const auto& ch = anim.channels[ci];
+                const std::string at = "animations[" + str(ai) + "].channels[" + str(ci) + "]";
+                if (ch.target_path == "weights")
+                    fail(at + " animates morph target weights; rtgi plays node animations (translation, rotation, "
+                         "scale) only and does not support morph targets");
+                int prop = ch.target_path == "translation" ? 0 : ch.target_path == "rotation" ? 1
+                           : ch.target_path == "scale"     ? 2 : -1;
+                if (prop < 0) fail(at + " has the unknown target path \"" + ch.target_path + "\"");
+                if (ch.target_node < 0 || std::size_t(ch.target_node) >= model_.nodes.size())
+                    fail(at + " targets node " + str(ch.target_node) + ", which does not exist");
+                if (!model_.nodes[std::size_t(ch.target_node)].matrix.empty())
+                    fail(at + " animates node " + str(ch.target_node) +
+                         ", which has a matrix (glTF: animated nodes use translation/rotation/scale)");
+                if (ch.sampler < 0 || std::size_t(ch.sampler) >= anim.samplers.size())
+                    fail(at + " refers to sampler " + str(ch.sampler) + ", which does not exist");
+                int& slot = nodeTracks_[std::size_t(ch.target_node)][std::size_t(prop)];
+                if (slot >= 0) {
+                    warn(at + " animates the " + ch.target_path + " of node " + str(ch.target_node) +
+                         " again; the first channel that drives a property plays");
+                    continue;
+                }
+                const auto& sm = anim.samplers[std::size_t(ch.sampler)];
+                const std::string sat = "animations[" + str(ai) + "].samplers[" + str(ch.sampler) + "]";
+                KeyTrack k;
+                k.components = prop == 1 ? 4 : 3;
+                k.rotation = prop == 1;
+                k.interpolation = sm.interpolation == "STEP"          ? Interpolation::Step
+                                  : sm.interpolation == "CUBICSPLINE" ? Interpolation::CubicSpline
+                                  : sm.interpolation.empty() || sm.interpolation == "LINEAR"
+                                      ? Interpolation::Linear
+                                      : (fail(sat + " has the unknown interpolation \"" + sm.interpolation + "\""),
+                                         Interpolation::Linear);
+                AccessorData in = accessor(sm.input, sat + " input");
+                if (in.type != TINYGLTF_TYPE_SCALAR || in.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                    fail(sat + " input must be a float SCALAR accessor (is " + describe(in) + ")");
+                AccessorData outA = accessor(sm.output, sat + " output");
+                if (typeComponents(outA.type) != std::size_t(k.components))
+                    fail(sat + " output must be a VEC" + str(k.components) + " accessor for " + ch.target_path +
+                         " (is " + describe(outA) + ")");
+                for (std::size_t i = 0; i < in.count; ++i) k.times.push_back(double(in.component(i, 0)));
+                for (std::size_t i = 0; i < outA.count; ++i)
+                    for (int c = 0; c < k.components; ++c) k.values.push_back(double(outA.component(i, std::size_t(c))));
+                try {
+                    k.validate(sat);
+                } catch (const SceneError& e) {
+                    fail(e.what());
+                }
+                slot = int(scene_.animation.tracks.size());
+                scene_.animation.tracks.push_back(std::move(k));
+            }
+        }
+    }
+
+    AnimatedNode animatedNode(int v, int parentInstance) const {
+        const auto& node = model_.nodes[std::size_t(v)];
+        AnimatedNode a;
+        a.parent = parentInstance;
+        a.name = printable(node.name.empty() ? "node " + str(v) : node.name);
+        if (!node.matrix.empty()) a.matrix = localMatrix(std::size_t(v));  // checked there
+        if (node.translation.size() == 3)
+            a.rest.translation = {node.translation[0], node.translation[1], node.translation[2]};
+        if (node.rotation.size() == 4)
+            a.rest.rotation = glm::normalize(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+        if (node.scale.size() == 3) a.rest.scale = {node.scale[0], node.scale[1], node.scale[2]};
+        for (int p = 0; p < 3; ++p) a.track[p] = nodeTracks_[std::size_t(v)][std::size_t(p)];
+        return a;
+    }
+
     void walkNodes() {
         std::vector<int> roots = rootNodes();
         std::vector<int> order = topologicalOrder(roots);
@@ -1053,14 +1137,27 @@ private:
         for (int v : order) local[std::size_t(v)] = localMatrix(std::size_t(v));
 
         bool skinned = false;
-        std::vector<std::pair<int, glm::dmat4>> stack;
-        for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::dmat4(1.0));
+        const bool animated = !nodeTracks_.empty();
+        struct Entry {
+            int node;
+            glm::dmat4 parent;
+            int parentInstance;  // index into scene_.animation.nodes (animated files only)
+        };
+        std::vector<Entry> stack;
+        for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, glm::dmat4(1.0), -1});
         while (!stack.empty()) {
-            auto [v, parent] = stack.back();
+            auto [v, parent, parentInstance] = stack.back();
             stack.pop_back();
             const auto& node = model_.nodes[std::size_t(v)];
             glm::dmat4 world = parent * *local[std::size_t(v)];
             if (node.skin != -1) skinned = true;
+            if (animated) {
+                if (node.skin != -1)
+                    fail("node " + str(v) + " is skinned; rtgi plays node animations (translation, rotation, scale) "
+                         "only and does not support skinning");
+                currentAnimNode_ = int(scene_.animation.nodes.size());
+                scene_.animation.nodes.push_back(animatedNode(v, parentInstance));
+            }
             if (node.mesh != -1) {
                 if (node.mesh < 0 || std::size_t(node.mesh) >= model_.meshes.size())
                     fail("node " + str(v) + " refers to mesh " + str(node.mesh) + ", which does not exist");
@@ -1079,7 +1176,8 @@ private:
                          ", which does not exist");
                 addLight(v, std::size_t(li), world);
             }
-            for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, world);
+            for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+                stack.push_back({*c, world, currentAnimNode_});
         }
         if (skinned) warn("skins are ignored; skinned meshes are placed by their node transforms");
     }
@@ -1098,6 +1196,9 @@ private:
             const LocalPrimitive& lp = primitive(meshIndex, pi);
             if (lp.skipped || lp.indices.empty()) continue;
             auto base = std::uint32_t(scene_.vertices.size());
+            if (currentAnimNode_ >= 0)
+                scene_.animation.nodes[std::size_t(currentAnimNode_)].vertexRanges.emplace_back(
+                    base, std::uint32_t(lp.positions.size()));
             for (std::size_t i = 0; i < lp.positions.size(); ++i) {
                 Vertex vx;
                 // Transformed in double, checked, then stored as the float the GPU reads.
@@ -1179,6 +1280,8 @@ private:
                 fail(at + "zfar: " + num(zf) + " does not lie beyond znear " + num(zn) + " in float precision");
         }
         scene_.cameras.push_back(c);
+        if (currentAnimNode_ >= 0)
+            scene_.animation.nodes[std::size_t(currentAnimNode_)].cameras.push_back(int(scene_.cameras.size()) - 1);
         pendingCameras_.push_back({scene_.cameras.size() - 1, gc.perspective.znear, gc.perspective.zfar});
     }
 
@@ -1267,6 +1370,8 @@ private:
             l.outerCone = float(outer);
         }
         scene_.lights.push_back(l);
+        if (currentAnimNode_ >= 0)
+            scene_.animation.nodes[std::size_t(currentAnimNode_)].lights.push_back(int(scene_.lights.size()) - 1);
     }
 
     void reportWarnings() {

@@ -29,6 +29,18 @@ void Scene::merge(const Scene& o) {
     auto iOff = std::uint32_t(indices.size());
     int mOff = int(materials.size());
     int tOff = int(images.size());
+    {  // the other scene's animated nodes, re-indexed into this one
+        SceneAnimation a = o.animation;
+        a.offset(vOff, int(lights.size()), int(cameras.size()));
+        const int nOff = int(animation.nodes.size()), kOff = int(animation.tracks.size());
+        for (auto& n : a.nodes) {
+            if (n.parent >= 0) n.parent += nOff;
+            for (int& k : n.track)
+                if (k >= 0) k += kOff;
+        }
+        animation.nodes.insert(animation.nodes.end(), a.nodes.begin(), a.nodes.end());
+        animation.tracks.insert(animation.tracks.end(), a.tracks.begin(), a.tracks.end());
+    }
     vertices.insert(vertices.end(), o.vertices.begin(), o.vertices.end());
     for (auto i : o.indices) indices.push_back(i + vOff);
     for (auto d : o.draws) {

@@ -3,6 +3,8 @@
 // vertex/index array, one draw range per primitive), materials, lights and
 // cameras. Flattening keeps the rasterizer, the BVH and merging of several
 // --scene inputs trivial; the scenes rtgi targets fit comfortably.
+#include "scene/animation.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -103,6 +105,9 @@ struct Scene {
     // results.json records the effective values and lists these under
     // "scene_settings".
     std::vector<std::pair<std::string, std::string>> suggestedSettings;
+    // The glTF node animations (empty for a still scene): the vertices, lights
+    // and cameras above are the rest pose; applySceneAnimation moves them.
+    SceneAnimation animation;
 
     Aabb bounds() const;
     std::size_t triangleCount() const { return indices.size() / 3; }

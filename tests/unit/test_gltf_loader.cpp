@@ -1040,3 +1040,66 @@ TEST_CASE("gltf: hardening: vertices beyond 1e15 are an error naming the file; h
     CHECK(sc.triangleCount() == 2);
     CHECK(sc.vertices[0].normal.z == doctest::Approx(1.0f));
 }
+
+// Issue 23: node animations. An animated glTF written here: the parent node
+// translates (LINEAR), the mesh node rotates (LINEAR slerp), a light node
+// steps (STEP); the scene at t is compared with positions computed by hand.
+TEST_CASE("gltf: node animations move meshes and lights; skins and morph targets are refused") {
+    Asset a = quad();
+    const float h = std::sqrt(0.5f);
+    a.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    a.doc["extensions"]["KHR_lights_punctual"]["lights"] = json::array({{{"type", "point"}, {"intensity", 5.0}}});
+    a.doc["nodes"] = json::array({{{"translation", {5, 0, 0}}, {"children", {1, 2}}},
+                                  {{"mesh", 0}},
+                                  {{"translation", {0, 1, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}});
+    const int t0 = a.addData(std::vector<float>{0, 2}, kF32, 2, "SCALAR");
+    const int v0 = a.addData(std::vector<float>{5, 0, 0, 5, 4, 0}, kF32, 2, "VEC3");
+    const int t1 = a.addData(std::vector<float>{0, 1}, kF32, 2, "SCALAR");
+    const int v1 = a.addData(std::vector<float>{0, 0, 0, 1, 0, 0, h, h}, kF32, 2, "VEC4");
+    const int t2 = a.addData(std::vector<float>{0, 1.5f}, kF32, 2, "SCALAR");
+    const int v2 = a.addData(std::vector<float>{0, 1, 0, 0, 2, 0}, kF32, 2, "VEC3");
+    a.doc["animations"] = json::array({{{"samplers", json::array({{{"input", t0}, {"output", v0}, {"interpolation", "LINEAR"}},
+                                                                  {{"input", t1}, {"output", v1}},
+                                                                  {{"input", t2}, {"output", v2}, {"interpolation", "STEP"}}})},
+                                        {"channels", json::array({{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+                                                                  {{"sampler", 1}, {"target", {{"node", 1}, {"path", "rotation"}}}},
+                                                                  {{"sampler", 2}, {"target", {{"node", 2}, {"path", "translation"}}}}})}}});
+    const rtgi::Scene rest = loadGltf(writeEmbedded("animated.gltf", a));
+    REQUIRE(rest.vertices.size() == 4);
+    REQUIRE(rest.lights.size() == 1);
+    CHECK(rest.animation.tracks.size() == 3);
+    CHECK(rest.animation.duration() == 2.0);
+    CHECK(near3(rest.vertices[1].position, {6, 0, 0}));  // the rest pose: the nodes' own TRS
+    CHECK(near3(rest.lights[0].position, {5, 1, 0}));
+    auto at = [&](double t) {
+        rtgi::Scene s = rest;
+        CHECK(rtgi::applySceneAnimation(s, rest, t));
+        return s;
+    };
+    // t = 0.5: parent at (5, 1, 0), quad turned 45 degrees about z: (1,0,0) -> (0.70711, 0.70711, 0).
+    rtgi::Scene s = at(0.5);
+    CHECK(near3(s.vertices[1].position, {5.70710678f, 1.70710678f, 0}));
+    CHECK(near3(s.vertices[1].normal, {0, 0, 1}));
+    CHECK(near3(s.lights[0].position, {5, 2, 0}));  // STEP: still the first key
+    // t = 1: parent at (5, 2, 0), quad turned 90 degrees: (1,0,0) -> (5,3,0), (1,1,0) -> (4,3,0).
+    s = at(1.0);
+    CHECK(near3(s.vertices[1].position, {5, 3, 0}));
+    CHECK(near3(s.vertices[2].position, {4, 3, 0}));
+    CHECK(near3(s.lights[0].position, {5, 3, 0}));
+    // t = 2 and beyond: the last keys hold; the light has stepped to (0, 2, 0).
+    s = at(3.0);
+    CHECK(near3(s.vertices[1].position, {5, 5, 0}));
+    CHECK(near3(s.lights[0].position, {5, 6, 0}));
+
+    Asset morph = a;
+    morph.doc["animations"][0]["channels"][1]["target"]["path"] = "weights";
+    expectError(writeEmbedded("morph.gltf", morph), "morph target");
+    Asset skin = a;
+    skin.doc["skins"] = json::array({{{"joints", {0}}}});
+    skin.doc["nodes"][1]["skin"] = 0;
+    expectError(writeEmbedded("skin.gltf", skin), "skinning");
+    Asset badTimes = a;
+    const int tb = badTimes.addData(std::vector<float>{1, 0}, kF32, 2, "SCALAR");
+    badTimes.doc["animations"][0]["samplers"][0]["input"] = tb;
+    expectError(writeEmbedded("badtimes.gltf", badTimes), "increase strictly");
+}

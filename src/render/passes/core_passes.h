@@ -38,9 +38,9 @@ void rasterizeScene(FrameContext& ctx, const gl::Program& prog, GLuint fbo, glm:
 void renderShadowDepth(FrameContext& ctx, const glm::mat4& viewProj, GLuint fbo, glm::ivec2 size);
 
 // shadow.cache: true when the sun's shadow map already holds this frame's
-// view of the scene (same light frustum, size, geometry revision, allocation
-// and writer), so the pass may skip drawing; otherwise records the new key and
-// returns false. Always false with shadow.cache=off.
+// view of the scene (same light frustum, size, GpuScene::geometryVersion,
+// allocation and writer), so the pass may skip drawing; otherwise records the
+// new key and returns false. Always false with shadow.cache=off.
 bool shadowMapCurrent(FrameContext& ctx, int writer);
 
 // Light-space orthographic view-projection that encloses `box` seen from a

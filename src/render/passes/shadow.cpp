@@ -152,7 +152,7 @@ std::unique_ptr<Pass> makeLocalShadowPass() { return std::make_unique<LocalShado
 
 bool shadowMapCurrent(FrameContext& ctx, int writer) {
     FrameResources::ShadowKey key{ctx.res.shadowViewProj, ctx.settings.light.shadowSize,
-                                  ctx.gpuScene.geometryRevision(), ctx.res.allocationEpoch, writer};
+                                  ctx.gpuScene.geometryVersion(), ctx.res.allocationEpoch, writer};
     bool current = ctx.settings.light.shadowCache && key == ctx.res.shadowKey;
     ctx.res.shadowKey = key;
     return current;

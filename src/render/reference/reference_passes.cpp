@@ -72,6 +72,7 @@ struct ReferenceState {
     std::size_t nodeCount = 0, triangleCount = 0;
     int depth = 0;
     double buildMs = 0;
+    std::uint64_t geometryVersion = 0;  // GpuScene::geometryVersion the BVH was built from
 };
 
 class BvhUploadPass final : public Pass {
@@ -80,7 +81,9 @@ public:
     std::string name() const override { return "ref.bvh_upload"; }
     void declare(PassDecl&, const Scene&, const Settings&) const override {}
     void execute(FrameContext& ctx) override {
-        if (st_->nodes) return;
+        // Built once; rebuilt when a moving scene rewrote the vertices (issue 23).
+        if (st_->nodes && st_->geometryVersion == ctx.gpuScene.geometryVersion()) return;
+        st_->geometryVersion = ctx.gpuScene.geometryVersion();
         auto t0 = std::chrono::steady_clock::now();
         Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
         st_->buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -145,7 +148,9 @@ public:
             executeProgressive(ctx);
             return;
         }
-        if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_) return;  // still valid
+        if (mean_ && v.size == doneSize_ && v.view == doneView_ && v.proj == doneProj_ &&
+            doneState_ == ctx.gpuScene.stateVersion())
+            return;  // still valid: the same view of the same scene state
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
         if (measure_ && c.converging) {
             executeConverging(ctx, c);
@@ -310,7 +315,8 @@ private:
     void executeProgressive(FrameContext& ctx) {
         const View& v = ctx.view;
         ReferenceConstants c = referenceConstants(ctx.settings, ctx.scene.bounds());
-        const bool restart = !mean_ || v.size != doneSize_ || v.view != doneView_ || v.proj != doneProj_;
+        const bool restart = !mean_ || v.size != doneSize_ || v.view != doneView_ || v.proj != doneProj_ ||
+                             doneState_ != ctx.gpuScene.stateVersion();
         if (restart) {
             beginView(ctx);
             samplesDone_ = 0;
@@ -337,6 +343,7 @@ private:
         doneSize_ = v.size;
         doneView_ = v.view;
         doneProj_ = v.proj;
+        doneState_ = ctx.gpuScene.stateVersion();
     }
 
     void trace(FrameContext& ctx, const ReferenceConstants& c) { trace(ctx, c, 0, c.spp, true); }
@@ -478,6 +485,7 @@ private:
     gl::Buffer rayCounter_;
     glm::ivec2 doneSize_{0};
     glm::mat4 doneView_{0.0f}, doneProj_{0.0f};
+    std::uint64_t doneState_ = 0;  // GpuScene::stateVersion of the scene it depicts (issue 23)
     std::string key_;
     bool fromCache_ = false;
     int spp_ = 0;
