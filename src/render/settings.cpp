@@ -161,6 +161,8 @@ std::vector<SettingKey> buildKeys() {
             s.light.localShadowSize = parseInt("shadow.local_size", v, 16, 8192), fmt(s.light.localShadowSize)),
         KEY("emissive.lights", "each connected emissive region becomes a shadowed area light of the real-time path",
             "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
+        KEY("light.radius", "source radius of every point/spot light: soft shadows and area shading (auto: the scene's, 0 = punctual)",
+            "auto|0..1e4", s.light.lightRadius = optFloat<float>("light.radius", v, 0, 1e4), fmtOpt(s.light.lightRadius)),
         // ---- rasterization ----------------------------------------------------
         KEY("raster.path", "which rasterizer draws the views: hardware, compute (every view), or auto: the camera G-buffer on compute where 64-bit atomics exist, light views (shadow maps, sun RSM) on the hardware, faster there", "hardware|compute|auto",
             s.raster.path = parseEnum<RasterSettings::Path>("raster.path", v, kRasterPath), kRasterPath[int(s.raster.path)]),
@@ -312,6 +314,8 @@ std::vector<SettingKey> buildKeys() {
             s.reference.cacheDir = v, s.reference.cacheDir),
         KEY("reference.seed", "seed of the reference's sample sequence (same seed, same image)", "0..2147483647",
             s.reference.seed = parseInt("reference.seed", v, 0, 2147483647), fmt(s.reference.seed)),
+        KEY("reference.split", "with reference=full: also the error of the direct and of the indirect part (results.json error.split; traces an indirect reference too)", "on|off",
+            s.reference.split = parseBool("reference.split", v), s.reference.split ? "on" : "off"),
         KEY("reference.specular", "GGX lobe in the path tracer (off: Lambert only)", "on|off",
             s.reference.specular = parseBool("reference.specular", v), s.reference.specular ? "on" : "off"),
         KEY("reference.light_sampling",
