@@ -159,7 +159,7 @@ std::vector<SettingKey> buildKeys() {
             s.light.shadowSize = parseInt("shadow.size", v, 16, 16384), fmt(s.light.shadowSize)),
         KEY("shadow.local_size", "side of each spot-light shadow map and point/area-light cube face", "16..8192",
             s.light.localShadowSize = parseInt("shadow.local_size", v, 16, 8192), fmt(s.light.localShadowSize)),
-        KEY("emissive.lights", "each connected emissive region becomes a shadowed area light of the real-time path",
+        KEY("emissive.lights", "each connected emissive region becomes a shadowed rectangular area light of the real-time path",
             "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
         KEY("light.radius", "source radius of every point/spot light: soft shadows and area shading (auto: the scene's, 0 = punctual)",
             "auto|0..1e4", s.light.lightRadius = optFloat<float>("light.radius", v, 0, 1e4), fmtOpt(s.light.lightRadius)),
