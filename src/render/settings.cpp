@@ -161,7 +161,7 @@ std::vector<SettingKey> buildKeys() {
             s.light.localShadowSize = parseInt("shadow.local_size", v, 16, 8192), fmt(s.light.localShadowSize)),
         KEY("emissive.lights", "each connected emissive region becomes a shadowed rectangular area light of the real-time path",
             "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
-        KEY("light.radius", "source radius of every point/spot light: soft shadows and area shading (auto: the scene's, 0 = punctual)",
+        KEY("light.radius", "source radius of every point/spot light in scene units: PCSS soft shadows sized by it (auto: each light's own, a builtin scene's 'radius'; 0 = punctual, 3x3 PCF)",
             "auto|0..1e4", s.light.lightRadius = optFloat<float>("light.radius", v, 0, 1e4), fmtOpt(s.light.lightRadius)),
         // ---- rasterization ----------------------------------------------------
         KEY("raster.path", "which rasterizer draws the views: hardware, compute (every view), or auto: the camera G-buffer on compute where 64-bit atomics exist, light views (shadow maps, sun RSM) on the hardware, faster there", "hardware|compute|auto",
