@@ -271,6 +271,8 @@ TEST_CASE("Local lights: zero intensity and out-of-view lights are left out with
     CHECK(ll.lights[1].influence == doctest::Approx(2.0f));
 }
 
+namespace {
+
 // Lambert's formula on the polygon q clipped (Sutherland–Hodgman, double)
 // to the half-space above p's tangent plane: the irradiance of a one-sided
 // uniform emitter of radiance le whose front faces p (written here in
@@ -312,6 +314,8 @@ double ggxSpecular(glm::dvec3 n, glm::dvec3 v, glm::dvec3 l, double roughness) {
     double nl = glm::dot(n, l);
     return nl > 0 ? (brdfCos(n, v, l, 0.0, roughness)) / nl : 0.0;
 }
+
+}  // namespace
 
 TEST_CASE("Area lights: a rectangular emitter is one area light; unshadowed, the direct pass equals Lambert's polygon "
           "formula (with horizon clipping) below and beside it") {
@@ -434,29 +438,17 @@ TEST_CASE("Area lights: the representative-point GGX term against numerical inte
     }
 }
 
-TEST_CASE("Area lights: the penumbra of a plate's edge under a rectangular light has the similar-triangles width") {
-    GpuFixture fx;
-    gl::Profiler prof(false);
-    const double le = 5.0, hx = 0.2, hz = 0.1, H = 1.0, hB = 0.5;
-    Scene s = floorScene(4.0f, glm::vec3(0.7f), false);
-    Material e;
-    e.baseColor = glm::vec4(0, 0, 0, 1);
-    e.emissive = glm::vec3(float(le));
-    s.materials.push_back(e);
-    const float u = float(hx), v = float(hz), yf = float(H);
-    addQuad(s, {-u, yf, -v}, {u, yf, -v}, {u, yf, v}, {-u, yf, v}, 1);
-    s.cameras[0].position = {0.0f, 0.3f, 1.0f};
-    s.cameras[0].target = {0.0f, 0.0f, -0.3f};
-    s.cameras[0].fovY = glm::radians(60.0f);
-    Settings st = lightSettings();
-    Scene open = s;
-    addBox(s, {-3.0f, float(hB) - 0.01f, -3.0f}, {0.0f, float(hB), 3.0f}, 0);  // the plate, edge at x = 0 along z
-    Frame lit = render(open, st, prof), shadowed = render(s, st, prof);
-    // Visibility per floor pixel = shadowed / unshadowed direct light, binned
-    // by x; a ray from (x, 0) to the light point (l, H) passes the plate's
-    // plane at x + (l − x)·hB/H, so the penumbra spans |x| ≤ hx·hB/(H − hB)
-    // and visibility rises linearly in l (uniform over the rectangle's width).
-    const double half = hx * hB / (H - hB);
+namespace {
+
+// Visibility across a straight shadow edge at x = 0 (along z): per floor
+// pixel with |z| < 0.5, shadowed / unshadowed direct light, binned by x over
+// [−2·half, 2·half]; where it crosses 0.1, 0.5 and 0.9 (linear interpolation
+// between bin centres), and the mean in the outermost bins.
+struct PenumbraProfile {
+    double x10 = 0, x50 = 0, x90 = 0, umbra = 0, lit = 0;
+    int filled = 0;
+};
+PenumbraProfile penumbraProfile(const Frame& lit, const Frame& shadowed, const Scene& s, const Settings& st, double half) {
     const int bins = 40;
     const double lo = -2 * half, hi = 2 * half;
     std::vector<double> sum(bins, 0.0);
@@ -469,7 +461,6 @@ TEST_CASE("Area lights: the penumbra of a plate's edge under a rectangular light
         sum[std::size_t(b)] += shadowed.direct.at(x, y, 0) / base;
         ++count[std::size_t(b)];
     });
-    // Where the binned visibility crosses 0.1 and 0.9 (linear interpolation between bin centres).
     auto crossing = [&](double level) {
         double prevX = 0, prevV = -1;
         for (int b = 0; b < bins; ++b) {
@@ -480,21 +471,88 @@ TEST_CASE("Area lights: the penumbra of a plate's edge under a rectangular light
         }
         return std::nan("");
     };
-    int filled = 0;
-    for (int c : count) filled += c > 0;
-    const double x10 = crossing(0.1), x90 = crossing(0.9), x50 = crossing(0.5);
-    // A linear ramp from −half to +half crosses 0.1 and 0.9 at ∓0.8·half.
-    INFO("bins filled " << filled << ", x(0.1) " << x10 << ", x(0.5) " << x50 << ", x(0.9) " << x90
-                        << ", predicted 10-90 % width " << 1.6 * half);
-    MESSAGE("penumbra 10-90 % width " << x90 - x10 << " (predicted " << 1.6 * half << "), x(0.5) " << x50);
-    REQUIRE(filled > bins * 3 / 4);
-    REQUIRE(std::isfinite(x10));
-    REQUIRE(std::isfinite(x90));
-    CHECK((x90 - x10) == doctest::Approx(1.6 * half).epsilon(0.25));
-    CHECK(std::abs(x50) < 0.15 * half);
-    // Deep in the umbra and fully outside: dark and lit.
-    CHECK(sum[1] / std::max(count[1], 1) < 0.05);
-    CHECK(sum[bins - 2] / std::max(count[bins - 2], 1) > 0.95);
+    PenumbraProfile r;
+    for (int c : count) r.filled += c > 0;
+    r.x10 = crossing(0.1), r.x50 = crossing(0.5), r.x90 = crossing(0.9);
+    r.umbra = sum[1] / std::max(count[1], 1);
+    r.lit = sum[bins - 2] / std::max(count[bins - 2], 1);
+    return r;
+}
+
+// Floor, a plate at height hB covering x < 0 (edge along z at x = 0), camera
+// under the plate looking along −z so the edge crosses the columns.
+Scene plateScene(double hB, bool plate) {
+    Scene s = floorScene(4.0f, glm::vec3(0.7f), false);
+    s.cameras[0].position = {0.0f, 0.3f, 1.0f};
+    s.cameras[0].target = {0.0f, 0.0f, -0.3f};
+    s.cameras[0].fovY = glm::radians(60.0f);
+    if (plate) addBox(s, {-3.0f, float(hB) - 0.01f, -3.0f}, {0.0f, float(hB), 3.0f}, 0);
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("Area lights: the penumbra of a plate's edge under a rectangular light has the similar-triangles width") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    const double le = 5.0, hx = 0.2, hz = 0.1, H = 1.0, hB = 0.5;
+    Scene open = plateScene(hB, false), s = plateScene(hB, true);
+    for (Scene* sc : {&open, &s}) {
+        Material e;
+        e.baseColor = glm::vec4(0, 0, 0, 1);
+        e.emissive = glm::vec3(float(le));
+        const int m = int(sc->materials.size());
+        sc->materials.push_back(e);
+        const float u = float(hx), v = float(hz), yf = float(H);
+        addQuad(*sc, {-u, yf, -v}, {u, yf, -v}, {u, yf, v}, {-u, yf, v}, m);
+    }
+    Settings st = lightSettings();
+    Frame lit = render(open, st, prof), shadowed = render(s, st, prof);
+    // A ray from (x, 0) to the light point (l, H) passes the plate's plane at
+    // x + (l − x)·hB/H, so the penumbra spans |x| ≤ hx·hB/(H − hB) and the
+    // visibility rises linearly in l (uniform over the rectangle's width):
+    // 0.1 and 0.9 at ∓0.8·half.
+    const double half = hx * hB / (H - hB);
+    PenumbraProfile r = penumbraProfile(lit, shadowed, s, st, half);
+    MESSAGE("rectangle: penumbra 10-90 % width " << r.x90 - r.x10 << " (predicted " << 1.6 * half << "), x(0.5) "
+                                                 << r.x50);
+    REQUIRE(r.filled > 30);
+    REQUIRE(std::isfinite(r.x10));
+    REQUIRE(std::isfinite(r.x90));
+    CHECK((r.x90 - r.x10) == doctest::Approx(1.6 * half).epsilon(0.25));
+    CHECK(std::abs(r.x50) < 0.15 * half);
+    CHECK(r.umbra < 0.05);  // deep in the umbra
+    CHECK(r.lit > 0.95);    // fully outside
+}
+
+TEST_CASE("Area lights: a point light with light.radius casts the penumbra of a disc of that radius") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    const double R = 0.2, H = 1.0, hB = 0.5;
+    Scene open = plateScene(hB, false), s = plateScene(hB, true);
+    for (Scene* sc : {&open, &s}) sc->lights.push_back(pointLight({0.0f, float(H), 0.0f}, 2.0f));
+    Settings st = lightSettings();
+    st.light.lightRadius = float(R);
+    Frame lit = render(open, st, prof), shadowed = render(s, st, prof);
+    // A disc of radius R seen from under the edge: the visible fraction at
+    // offset t·R of the edge's image is (acos t − t√(1 − t²))/π, 0.1 at
+    // t = 0.6877, so the 10-90 % width is 2·0.6877·R·hB/(H − hB).
+    const double scale = hB / (H - hB);
+    PenumbraProfile r = penumbraProfile(lit, shadowed, s, st, R * scale);
+    MESSAGE("disc: penumbra 10-90 % width " << r.x90 - r.x10 << " (predicted " << 2 * 0.6877 * R * scale << ")");
+    REQUIRE(r.filled > 30);
+    REQUIRE(std::isfinite(r.x10));
+    REQUIRE(std::isfinite(r.x90));
+    CHECK((r.x90 - r.x10) == doctest::Approx(2 * 0.6877 * R * scale).epsilon(0.25));
+    CHECK(std::abs(r.x50) < 0.15 * R * scale);
+    CHECK(r.umbra < 0.05);
+    CHECK(r.lit > 0.95);
+    // Radius 0: the punctual 3x3 PCF, a penumbra of a few shadow texels only.
+    st.light.lightRadius = 0.0f;
+    Frame hardLit = render(open, st, prof), hard = render(s, st, prof);
+    PenumbraProfile h = penumbraProfile(hardLit, hard, s, st, R * scale);
+    MESSAGE("punctual: penumbra 10-90 % width " << h.x90 - h.x10);
+    CHECK(h.x90 - h.x10 < 0.25 * (r.x90 - r.x10));
 }
 
 TEST_CASE("The original Cornell box (emissive panel, no sun) runs with shadows and LPV on by default") {
