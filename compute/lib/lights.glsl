@@ -179,7 +179,8 @@ vec3 lightShapePoint(vec3 centre, vec3 u, vec3 v, int k, vec2 xi) {
 // 1. blocker search: 16 rays p' -> l at four fractions s of the way (Latin
 //    square over the grid), the mean distance r_B of texels closer to o than
 //    the receiver's tangent plane in that direction (no self-shadowing of
-//    the plane); 2. 16 compare taps (each bilinear, 2x2) at the receiver's
+//    the plane) and than the receiver (cleared texels are no blockers);
+//    2. 16 compare taps (each bilinear, 2x2) at the receiver's
 //    plane along the rays for that r_B: penumbra width 2h·(d − r_B)/r_B
 //    (similar triangles). Falls back to the 3x3 PCF for a punctual light.
 float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight g, GpuLightShape sh, vec3 p,
@@ -215,10 +216,14 @@ float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight
         vec3 dir = normalize(b - o);
         float axis = int(g.directionType.w) == RTGI_LIGHT_SPOT ? dot(dir, g.directionType.xyz)
                                                                 : max(abs(dir.x), max(abs(dir.y), abs(dir.z)));
-        float rB = localShadowViewDepth(texture(depths, c.xyz).r, far) / max(axis, 1e-4);
+        float z = texture(depths, c.xyz).r;
+        if (z >= 1.0) continue;  // cleared texel: nothing in that direction
+        float rB = localShadowViewDepth(z, far) / max(axis, 1e-4);
         float dn = dot(dir, n);
         float rPlane = dn < -1e-4 ? planeDist / dn : d;
-        if (rB < rPlane * tolerance) {
+        // A blocker lies between the light and the receiver: closer to o than
+        // the receiver's plane in that direction and than the receiver itself.
+        if (rB < min(rPlane, d) * tolerance) {
             sum += rB;
             found += 1.0;
         }
