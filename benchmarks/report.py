@@ -428,8 +428,8 @@ def gi_suite_table(results):
             continue
         lines = ["**%s**" % title, "",
                  "| scene | view | res | LPV ms | RMSE (debiased, 95 %%) | RMSE lpv=off | gain | interior gain | "
-                 "matching-bounce skill | ref. noise / error | ref. spp |",
-                 "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+                 "matching-bounce skill | direct rel. RMSE / bias | indirect rel. RMSE / bias | ref. noise / error | ref. spp |",
+                 "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         gains = []
         for r in part:
             e = r["error"]
@@ -440,11 +440,20 @@ def gi_suite_table(results):
             ref = e.get("reference", {})
             ratio = ref.get("noise_ratio")
             gains.append(g["gain"])
-            lines.append("| %s | %s | %s | %.3f | %.4f [%.4f, %.4f] | %.4f | %s%+.3f%s | %+.3f | %s | %s | %s |" % (
+            sp = e.get("split", {})
+
+            def part_error(k):
+                # Issue 26 (reference.split=on): the direct and indirect parts' interior errors.
+                x = sp.get(k, {}).get("interior", {})
+                if not isinstance(x.get("rel_rmse"), (int, float)):
+                    return "—"
+                return "%.3f / %+.4f" % (x["rel_rmse"], x.get("bias", float("nan")))
+            lines.append("| %s | %s | %s | %.3f | %.4f [%.4f, %.4f] | %.4f | %s%+.3f%s | %+.3f | %s | %s | %s | %s | %s |" % (
                 r["sweep"]["scene_label"], r["sweep"].get("view") or "(own)", r["resolution"], lpv_ms,
                 e.get("rmse_debiased", float("nan")), lo, hi, g["rmse_without"],
                 "**" if g["gain"] <= 0 else "", g["gain"], "**" if g["gain"] <= 0 else "",
                 g["interior"]["gain"], "%.3f" % mb if isinstance(mb, (int, float)) else "—",
+                part_error("direct"), part_error("indirect"),
                 "%.2f" % ratio if isinstance(ratio, (int, float)) else str(ratio), ref.get("spp", "—")))
         lines.append("")
         lines.append("%s: mean gain %.3f, minimum %.3f (%d views; **bold**: the LPV makes the image worse)." % (

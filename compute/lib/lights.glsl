@@ -47,6 +47,69 @@ float planeRectSolidAngle(vec2 lo, vec2 hi) {
     return f.x - f.y - f.z + f.w;
 }
 
+
+// ---- area lights: exact diffuse irradiance, representative-point specular ----
+// (docs/lights.md "Area shading"). Vertices are relative to the shaded point.
+
+// θ·(n·γ) of one edge a -> b of a spherical polygon (a, b unit vectors): the
+// angle between them times the normal component of the edge's unit normal
+// γ = a×b/|a×b| (Lambert's formula). atan2 keeps small angles exact in fp32.
+float lambertEdge(vec3 a, vec3 b, vec3 n) {
+    vec3 c = cross(a, b);
+    float s = length(c);
+    float th = atan(s, dot(a, b));
+    return (s > 1e-7 ? th / s : 1.0) * dot(c, n);
+}
+
+// Projected solid angle ∫ max(n·ω, 0) dω of the quadrilateral q[0..3]
+// (relative to the shaded point, either winding) clipped to the hemisphere
+// above n: 0.5·|Σ θᵢ n·γᵢ| over the clipped polygon's edges. Irradiance
+// from a uniform emitter of radiance Le is Le times this.
+float quadProjectedSolidAngle(vec3 q[4], vec3 n) {
+    vec3 o[5];
+    int m = 0;
+    for (int i = 0; i < 4; ++i) {
+        vec3 a = q[i], b = q[(i + 1) & 3];
+        float ha = dot(a, n), hb = dot(b, n);
+        if (ha >= 0.0) o[m++] = a;
+        if ((ha >= 0.0) != (hb >= 0.0)) o[m++] = a + (b - a) * (ha / (ha - hb));
+    }
+    if (m < 3) return 0.0;
+    float sum = 0.0;
+    for (int i = 0; i < m; ++i) {
+        vec3 a = o[i], b = o[i + 1 < m ? i + 1 : 0];
+        float la = length(a), lb = length(b);
+        if (la > 0.0 && lb > 0.0) sum += lambertEdge(a / la, b / lb, n);
+    }
+    return 0.5 * abs(sum);
+}
+
+// The light's rectangle relative to p: centre ± halfU ± halfV.
+void areaLightQuad(GpuLightShape sh, vec3 p, out vec3 q[4]) {
+    vec3 c = sh.centerRadius.xyz - p;
+    q[0] = c - sh.halfU.xyz - sh.halfV.xyz;
+    q[1] = c + sh.halfU.xyz - sh.halfV.xyz;
+    q[2] = c + sh.halfU.xyz + sh.halfV.xyz;
+    q[3] = c - sh.halfU.xyz + sh.halfV.xyz;
+}
+
+// Representative point of the rectangle for a GGX lobe around the mirror
+// direction r: where r meets the light's plane, clamped into the rectangle
+// (when r runs away from the plane, the point of the plane at the centre's
+// distance along r, clamped). Returns the unit direction p -> that point.
+vec3 areaLightRepresentativeDir(GpuLightShape sh, vec3 p, vec3 r) {
+    vec3 u = sh.halfU.xyz, v = sh.halfV.xyz;
+    vec3 nl = cross(u, v);
+    vec3 c = sh.centerRadius.xyz - p;
+    float rn = dot(r, nl), t = dot(c, nl) / (rn != 0.0 ? rn : 1e-30);
+    vec3 x = (rn < 0.0 && t > 0.0) ? r * t : r * length(c);
+    vec3 d = x - c;
+    float uu = max(dot(u, u), 1e-30), vv = max(dot(v, v), 1e-30);
+    vec3 y = c + u * clamp(dot(d, u) / uu, -1.0, 1.0) + v * clamp(dot(d, v) / vv, -1.0, 1.0);
+    float ly = length(y);
+    return ly > 0.0 ? y / ly : -normalize(nl);
+}
+
 #ifdef RTGI_LOCAL_SHADOWS
 layout(std430, binding = RTGI_SSBO_LOCAL_SHADOW_MATRICES) readonly buffer LocalShadowBlock { mat4 localShadowMatrices[]; };
 
@@ -77,5 +140,105 @@ float localShadow(sampler2DArrayShadow maps, GpuLight g, vec3 p, vec3 n, float d
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) v += texture(maps, vec4(s.xy + vec2(x, y) * texel, float(layer), s.z));
     return v / 9.0;
+}
+// ---- soft shadows (PCSS over the light's extent, docs/lights.md "Penumbrae") ----
+
+// Distance along the layer's view axis of a D32F value of a local shadow
+// layer (GL perspective projection, near = far / 1000 as in render/lights.cpp).
+float localShadowViewDepth(float z, float far) {
+    float near = far * 1e-3;
+    return 2.0 * far * near / ((far + near) - (2.0 * z - 1.0) * (far - near));
+}
+
+// Shadow-map position (xy, layer in z, depth in w) of world point x; false
+// outside every layer of the light.
+bool localShadowCoord(GpuLight g, vec3 x, out vec4 coord) {
+    int layer = localShadowLayer(g, x);
+    vec4 c = localShadowMatrices[layer] * vec4(x, 1.0);
+    coord = vec4(0.0);
+    if (!(c.w > 0.0)) return false;
+    vec3 s = c.xyz / c.w * 0.5 + 0.5;
+    coord = vec4(s.xy, float(layer), s.z);
+    return all(greaterThanEqual(s.xy, vec2(0.0))) && all(lessThanEqual(s.xy, vec2(1.0)));
+}
+
+// Point k of 16 on the emitting shape centre ± u ± v: a 4x4 stratified grid,
+// each point moved inside its cell by xi ∈ [0,1)².
+vec3 lightShapePoint(vec3 centre, vec3 u, vec3 v, int k, vec2 xi) {
+    vec2 t = (vec2(float(k & 3), float(k >> 2)) + xi) * 0.5 - 1.0;
+    return centre + u * t.x + v * t.y;
+}
+
+// Visibility of an extended light (area rectangle, or a point/spot light of
+// source radius R seen as the square of the disc's area facing p) at p with
+// normal n: percentage-closer soft shadows in world space. The map is drawn
+// from the light's centre o; the ray from p' (p with the normal offset) to
+// a point l on the light crosses a blocker at distance r_B from o at
+// b = p' + (l − p')·(1 − r_B/|p' − o|), so the shadow map looked up in b's
+// direction answers "is that ray blocked" exactly for a blocker at r_B.
+// 1. blocker search: 16 rays p' -> l at four fractions s of the way (Latin
+//    square over the grid), the mean distance r_B of texels closer to o than
+//    the receiver's tangent plane in that direction (no self-shadowing of
+//    the plane) and than the receiver (cleared texels are no blockers);
+//    2. 16 compare taps (each bilinear, 2x2) at the receiver's
+//    plane along the rays for that r_B: penumbra width 2h·(d − r_B)/r_B
+//    (similar triangles). Falls back to the 3x3 PCF for a punctual light.
+float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight g, GpuLightShape sh, vec3 p,
+                      vec3 n, float dist, vec2 xi) {
+    if (g.cone.z < 0.0) return 1.0;
+    vec3 o = g.positionRange.xyz;
+    vec3 centre, u, v;
+    if (int(g.directionType.w) == RTGI_LIGHT_AREA) {
+        centre = sh.centerRadius.xyz;
+        u = sh.halfU.xyz;
+        v = sh.halfV.xyz;
+    } else {
+        float radius = sh.centerRadius.w;
+        if (!(radius > 0.0)) return localShadow(maps, g, p, n, dist);
+        vec3 w = normalize(p - o);
+        vec3 t = normalize(cross(abs(w.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0), w));
+        float h = radius * 0.886226925;  // √π / 2: the square of the disc's area
+        centre = o;
+        u = t * h;
+        v = cross(w, t) * h;
+    }
+    vec3 q = p + n * (g.cone.w * dist);
+    float d = length(q - o);
+    float far = sh.halfU.w;
+    float planeDist = dot(q - o, n);  // < 0: the light is in front of the receiver's plane
+    float tolerance = 1.0 - 2.0 * g.cone.w;
+    float sum = 0.0, found = 0.0;
+    for (int k = 0; k < 16; ++k) {
+        float s = 0.35 + 0.2 * float((k + (k >> 2)) & 3);  // 0.35, 0.55, 0.75, 0.95 of the way
+        vec3 b = q + (lightShapePoint(centre, u, v, k, vec2(0.5)) - q) * s;
+        vec4 c;
+        if (!localShadowCoord(g, b, c)) continue;
+        vec3 dir = normalize(b - o);
+        float axis = int(g.directionType.w) == RTGI_LIGHT_SPOT ? dot(dir, g.directionType.xyz)
+                                                                : max(abs(dir.x), max(abs(dir.y), abs(dir.z)));
+        float z = texture(depths, c.xyz).r;
+        if (z >= 1.0) continue;  // cleared texel: nothing in that direction
+        float rB = localShadowViewDepth(z, far) / max(axis, 1e-4);
+        float dn = dot(dir, n);
+        float rPlane = dn < -1e-4 ? planeDist / dn : d;
+        // A blocker lies between the light and the receiver: closer to o than
+        // the receiver's plane in that direction and than the receiver itself.
+        if (rB < min(rPlane, d) * tolerance) {
+            sum += rB;
+            found += 1.0;
+        }
+    }
+    if (found == 0.0) return 1.0;
+    float sf = clamp(1.0 - sum / found / d, 0.0, 1.0);
+    float vis = 0.0;
+    for (int k = 0; k < 16; ++k) {
+        vec3 b = q + (lightShapePoint(centre, u, v, k, xi) - q) * sf;
+        vec3 dir = normalize(b - o);
+        float dn = dot(dir, n);
+        vec3 x = dn < -1e-4 ? o + dir * (planeDist / dn) : b;
+        vec4 c;
+        vis += localShadowCoord(g, x, c) ? texture(maps, c) : 1.0;
+    }
+    return vis / 16.0;
 }
 #endif

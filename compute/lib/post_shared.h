@@ -21,6 +21,7 @@
 #define RTGI_POST_TEX_EMISSIVE         4  // post/direct.comp
 #define RTGI_POST_TEX_SHADOW_MAP       5  // post/direct.comp
 #define RTGI_POST_DIRECT_TEX_LOCAL_SHADOWS 6  // post/direct.comp (RTGI_LOCAL_SHADOWS): spot/point/area maps
+#define RTGI_POST_DIRECT_TEX_LOCAL_DEPTH 7    // post/direct.comp (RTGI_LOCAL_SHADOWS): the same maps, raw depth (blocker search)
 // image units
 #define RTGI_POST_IMG_LUT    0  // post/brdf_lut.comp
 #define RTGI_POST_IMG_HDR    0  // post/compose.comp

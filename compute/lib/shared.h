@@ -22,6 +22,7 @@ using uint = std::uint32_t;
 #define RTGI_SSBO_LIGHTS 2      // GpuLight[]
 #define RTGI_TEX_MATERIALS 0    // sampler2DArray of base-colour textures (raster passes)
 #define RTGI_SSBO_LOCAL_SHADOW_MATRICES 10  // mat4[]: world -> clip of every local-light shadow layer
+#define RTGI_SSBO_LIGHT_SHAPES 11  // GpuLightShape[], parallel to the real-time GpuLight[] (post/direct.comp)
 #define RTGI_ATTR_POSITION 0
 #define RTGI_ATTR_NORMAL 1
 #define RTGI_ATTR_UV 2
@@ -60,6 +61,16 @@ RTGI_STRUCT(GpuLight) {
     vec4 colorIntensity;  // rgb colour × intensity (W/sr; area: Le·A)
     vec4 directionType;   // xyz direction the light travels (area: its normal), w: type (0: culled this frame)
     vec4 cone;            // cos(inner), cos(outer), first shadow layer (−1: none), shadow texel size per unit distance
+};
+
+// Extent of a real-time local light (std430), parallel to its GpuLight:
+// area lights are the rectangle centre ± halfU ± halfV (docs/lights.md
+// "Emissive regions as area lights"); point and spot lights a sphere of
+// radius centerRadius.w (0: punctual, hard shadows).
+RTGI_STRUCT(GpuLightShape) {
+    vec4 centerRadius;  // xyz rectangle centre (area lights), w: source radius (point/spot; area: 0)
+    vec4 halfU;         // xyz half extent along the rectangle's first axis, w: shadow far plane (near = far/1000)
+    vec4 halfV;         // xyz half extent along its second axis (halfU × halfV along the emitting normal), w: unused
 };
 
 #define RTGI_LIGHT_POINT 1

@@ -325,6 +325,41 @@ nlohmann::json compareWithReference(Renderer& run, const Camera& camera, glm::iv
         e["matching_bounce"] = matchingBounceError(run, rs, readTexture(res.indirectDiffuse), mean, se, mask,
                                                    depthInteriorMask(depth, 0.1), v, matching, matchingSe);
     }
+    // Issue 26: with a full reference and reference.split=on, the error of
+    // the direct and the indirect part of the frame, each against its part
+    // of the path tracer: res.indirectDiffuse against the indirect reference
+    // with the full reference's bounces (light reaching x1 over at least one
+    // other surface, x1's Lambert lobe), res.direct against full − indirect
+    // (emission + direct light; it also holds the reference's indirect
+    // glossy part, which res.direct does not model). Standard errors add in
+    // quadrature; rows with "bias" tell which part makes the frame too dark.
+    if (kind == K::Full && run.settings().reference.split) {
+        const std::vector<std::uint8_t> interior = depthInteriorMask(depth, 0.1);
+        Settings is = referenceRunSettings(run.settings(), K::Indirect);
+        is.reference = rs.reference;
+        is.reference.kind = K::Indirect;
+        FloatImage testIndirect = res.indirectDiffuse ? readTexture(res.indirectDiffuse) : readTexture(res.gbuffer.linearDepth);
+        if (!res.indirectDiffuse) std::fill(testIndirect.data.begin(), testIndirect.data.end(), 0.0f);
+        gl::Profiler iprof(false);
+        Renderer iref(run.scene(), is, iprof);
+        auto* iout = dynamic_cast<ReferenceOutput*>(iref.findPass("ref.path"));
+        if (!iout) throw ConfigError("--reference: the indirect reference pass did not run (reference.split)");
+        convergeAgainst(*iout, is, testIndirect, 3, mask);
+        iref.render(v);
+        FloatImage ind = readTexture(iout->mean()), indSe = readTexture(iout->standardError());
+        FloatImage dir = mean, dirSe = se;
+        for (std::size_t i = 0; i < dir.data.size(); ++i) {
+            dir.data[i] = mean.data[i] - ind.data[i];
+            dirSe.data[i] = std::sqrt(se.data[i] * se.data[i] + indSe.data[i] * indSe.data[i]);
+        }
+        nlohmann::json split;
+        split["direct"] = indirectErrorJson(readTexture(res.direct), dir, dirSe, peak, mask, interior);
+        split["indirect"] = indirectErrorJson(testIndirect, ind, indSe, peak, mask, interior);
+        split["indirect"]["reference_spp"] = iout->samplesDone();
+        split["note"] = "direct: res.direct vs full - indirect reference; indirect: res.indirectDiffuse vs the indirect "
+                        "reference (same bounces); both relative to the full reference's peak";
+        e["split"] = split;
+    }
     // Issue 22: does the technique help? The same frame composed without its
     // contribution, against the same reference: gain = 1 − rmse / rmse_without
     // on the debiased RMSEs (> 0: better than switching it off). LPV off

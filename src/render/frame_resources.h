@@ -108,6 +108,8 @@ struct FrameResources {
     // real-time path (culled ones have type 0), the world -> clip matrix of
     // every shadow layer; the layered depth maps are R::localShadowMaps.
     gl::Buffer localLights;          // GpuLight[] (bound at RTGI_SSBO_LIGHTS by the real-time passes)
+    gl::Buffer localLightShapes;     // GpuLightShape[] parallel to it (RTGI_SSBO_LIGHT_SHAPES, the direct pass)
+    gl::SamplerHandle localShadowDepthSampler;  // compare off, nearest: raw depth of localShadowMaps (soft shadows)
     int localLightCount = 0;
     int localLightsCulled = 0;       // this frame: outside the view (influence sphere) or zero intensity
     int localShadowLayers = 1;       // layers of localShadowMaps (every light at once, so culling never reallocates)

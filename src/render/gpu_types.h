@@ -10,4 +10,5 @@ namespace rtgi::gpu {
 static_assert(sizeof(FrameUniforms) == 8 * 64 + 7 * 16, "FrameUniforms must match std140 layout");
 static_assert(sizeof(GpuMaterial) == 48);
 static_assert(sizeof(GpuLight) == 64);
+static_assert(sizeof(GpuLightShape) == 48);
 }  // namespace rtgi::gpu

@@ -40,6 +40,7 @@ LocalLights resolveLocalLights(const Scene& scene, const Settings& settings) {
         L.gpu.colorIntensity = glm::vec4(l.color * l.intensity, 0);
         L.gpu.directionType = glm::vec4(dir, l.type == LightType::Point ? RTGI_LIGHT_POINT : RTGI_LIGHT_SPOT);
         L.gpu.cone = glm::vec4(std::cos(l.innerCone), std::cos(l.outerCone), -1, 0);
+        L.shape.centerRadius = glm::vec4(l.position, settings.light.lightRadius ? *settings.light.lightRadius : l.radius);
         float peak = maxComponent(l.color * l.intensity);
         L.influence = influenceRadius(l.range, peak, cutoff);
         // Kept in the buffer (the reference indexes the scene's lights in
@@ -62,6 +63,9 @@ LocalLights resolveLocalLights(const Scene& scene, const Settings& settings) {
         L.gpu.colorIntensity = glm::vec4(i0, 0);
         L.gpu.directionType = glm::vec4(n, RTGI_LIGHT_AREA);
         L.gpu.cone = glm::vec4(0, 0, -1, 0);
+        L.shape.centerRadius = glm::vec4(glm::vec3(reg.centroid), 0);
+        L.shape.halfU = glm::vec4(glm::vec3(reg.halfU), 0);
+        L.shape.halfV = glm::vec4(glm::vec3(reg.halfV), 0);
         L.influence = influenceRadius(0.0f, maxComponent(i0), cutoff);
         out.lights.push_back(L);
     }
@@ -172,6 +176,7 @@ FrameLights frameLights(const LocalLights& ll, const glm::mat4& cameraViewProj, 
     for (std::size_t i = 0; i < ll.lights.size(); ++i) {
         const LocalLight& L = ll.lights[i];
         gpu::GpuLight g = L.gpu;
+        f.shapes.push_back(L.shape);
         glm::vec3 pos(g.positionRange);
         bool zero = !(maxComponent(glm::vec3(g.colorIntensity)) > 0.0f);
         if (zero || !sphereInFrustum(cameraViewProj, pos, L.influence)) {
@@ -189,6 +194,7 @@ FrameLights frameLights(const LocalLights& ll, const glm::mat4& cameraViewProj, 
                 far = std::max(far, glm::length(corner - pos));
             }
             far = std::max(std::min(far, L.influence) * 1.01f, 1e-6f);
+            f.shapes.back().halfU.w = far;
             float near = far * 1e-3f;  // D32F keeps ~1e-3 relative depth precision at 1e6 : 1 near/far
             int first = int(f.views.size());
             bool spot = int(g.directionType.w) == RTGI_LIGHT_SPOT;

@@ -16,6 +16,7 @@ namespace rtgi {
 struct LocalLight {
     std::string name;
     gpu::GpuLight gpu{};  // cone.z/.w (shadow layer, texel size) are filled per frame
+    gpu::GpuLightShape shape{};  // rectangle (area) or source radius (point/spot); halfU.w (far plane) per frame
     float influence = 0;  // radius beyond which its irradiance is below the cutoff (or its range)
 };
 
@@ -67,6 +68,7 @@ struct ShadowView {
 // never reach past it).
 struct FrameLights {
     std::vector<gpu::GpuLight> gpu;  // one per LocalLights entry
+    std::vector<gpu::GpuLightShape> shapes;  // parallel to gpu
     std::vector<ShadowView> views;   // in layer order
     int culled = 0, shadowed = 0;
 };

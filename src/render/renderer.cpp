@@ -85,6 +85,8 @@ void Renderer::resolveLights() {
     res_.localShadowLayers = std::max(1, maxShadowLayers(localLights_));
     res_.localLights = gl::Buffer(ledger_, "lights.local",
                                   std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLight)));
+    res_.localLightShapes = gl::Buffer(ledger_, "lights.local.shapes",
+                                       std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLightShape)));
     res_.localShadowMatrices = gl::Buffer(ledger_, "shadow.local.matrices",
                                           std::int64_t(res_.localShadowLayers * sizeof(glm::mat4)));
 }
@@ -176,6 +178,8 @@ void Renderer::uploadFrameUniforms(const View& v) {
     FrameLights fl = frameLights(localLights_, u.viewProj, box, findPass("shadow.local") != nullptr,
                                  settings_.light.localShadowSize);
     if (!fl.gpu.empty()) res_.localLights.upload(fl.gpu.data(), std::int64_t(fl.gpu.size() * sizeof(gpu::GpuLight)));
+    if (!fl.shapes.empty())
+        res_.localLightShapes.upload(fl.shapes.data(), std::int64_t(fl.shapes.size() * sizeof(gpu::GpuLightShape)));
     res_.localLightCount = int(fl.gpu.size());
     res_.localShadowViews.clear();
     std::vector<glm::mat4> mats;

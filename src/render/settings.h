@@ -39,6 +39,7 @@ struct LightSettings {
     // area light (6 per light); 16 point lights at 2048² would need 1.6 GB.
     int localShadowSize = 512;
     bool emissiveLights = true;  // emissive regions become area lights of the real-time path
+    std::optional<float> lightRadius;  // source radius of every point/spot light (overrides the scene's)
 };
 
 struct PostSettings {
@@ -127,6 +128,7 @@ struct ReferenceSettings {
     int seed = 1;                         // fixed seed of the sample sequence
     bool specular = true;                 // off: Lambert lobe only (furnace tests, diffuse-only comparisons)
     bool lightSampling = true;            // next-event estimation of emissive triangles with MIS (off: BRDF sampling only)
+    bool split = false;                   // full reference: also the direct and indirect parts' errors (error.split)
     // Caustic paths (camera → diffuse → glossy → light, docs/reference.md):
     // kept as they are (on), removed (off) or path-space regularized.
     enum class Caustics { On, Off, Regularized } caustics = Caustics::Regularized;

@@ -417,15 +417,17 @@ void Builder::readLights(const Json& lights) {
             light.intensity = float(number(l, where, "irradiance"));
         } else if (type == "point" || type == "spot") {
             if (type == "point")
-                allowKeys(l, where, {"type", "name", "color", "position", "intensity", "range"});
+                allowKeys(l, where, {"type", "name", "color", "position", "intensity", "range", "radius"});
             else
                 allowKeys(l, where,
-                          {"type", "name", "color", "position", "intensity", "range", "direction", "innerConeDeg",
-                           "outerConeDeg"});
+                          {"type", "name", "color", "position", "intensity", "range", "radius", "direction",
+                           "innerConeDeg", "outerConeDeg"});
             light.type = type == "point" ? LightType::Point : LightType::Spot;
             light.position = vec3(l, where, "position");
             light.intensity = float(number(l, where, "intensity"));
             light.range = float(number(l, where, "range", 0.0));
+            light.radius = float(number(l, where, "radius", 0.0));
+            if (!(light.radius >= 0.0f && light.radius <= 1e4f)) fail(where, "light radius must be in 0..1e4");
             if (type == "spot") {
                 light.direction = direction(l, where, "direction");
                 double inner = number(l, where, "innerConeDeg", 0.0), outer = number(l, where, "outerConeDeg", 45.0);

@@ -1,6 +1,7 @@
 #include "scene/emitters.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -125,6 +126,7 @@ std::vector<EmissiveRegion> emissiveRegions(const Scene& scene, const std::vecto
         int k = int(std::clamp(std::round(len / width), 1.0, double(kMaxRegionPieces)));
         std::vector<EmissiveRegion> pieces(static_cast<std::size_t>(k));
         for (auto& r : pieces) r.normal = normal;
+        std::vector<std::array<double, 4>> boxes(pieces.size(), {1e300, -1e300, 1e300, -1e300});  // lo1 hi1 lo2 hi2
         for (std::size_t i : members) {
             const Item& it = items[i];
             for (int piece = 0; piece < k; ++piece) {
@@ -151,6 +153,13 @@ std::vector<EmissiveRegion> emissiveRegions(const Scene& scene, const std::vecto
                 }
                 if (poly.size() < 3) continue;
                 EmissiveRegion& r = pieces[std::size_t(piece)];
+                for (auto& q : poly) {
+                    double a = glm::dot(q - centroid, t1), b = glm::dot(q - centroid, t2);
+                    boxes[std::size_t(piece)][0] = std::min(boxes[std::size_t(piece)][0], a);
+                    boxes[std::size_t(piece)][1] = std::max(boxes[std::size_t(piece)][1], a);
+                    boxes[std::size_t(piece)][2] = std::min(boxes[std::size_t(piece)][2], b);
+                    boxes[std::size_t(piece)][3] = std::max(boxes[std::size_t(piece)][3], b);
+                }
                 for (std::size_t a = 1; a + 1 < poly.size(); ++a) {  // fan
                     double at = 0.5 * glm::length(glm::cross(poly[a] - poly[0], poly[a + 1] - poly[0]));
                     r.centroid += at * (poly[0] + poly[a] + poly[a + 1]) / 3.0;
@@ -160,10 +169,16 @@ std::vector<EmissiveRegion> emissiveRegions(const Scene& scene, const std::vecto
                 ++r.triangles;
             }
         }
-        for (auto& r : pieces) {
+        for (std::size_t piece = 0; piece < pieces.size(); ++piece) {
+            EmissiveRegion& r = pieces[piece];
             if (!(r.area > 0)) continue;
             r.centroid /= r.area;
             r.radiance /= r.area;
+            const auto& b = boxes[piece];
+            const double w1 = std::max(b[1] - b[0], 0.0), w2 = std::max(b[3] - b[2], 0.0);
+            const double s = w1 * w2 > 0 ? std::sqrt(r.area / (w1 * w2)) : 1.0;
+            r.halfU = t1 * (0.5 * w1 * s);
+            r.halfV = t2 * (0.5 * w2 * s);  // t1 × t2 = normal
             out.push_back(r);
         }
     }

@@ -30,6 +30,11 @@ struct EmissiveRegion {
     double area = 0;
     glm::dvec3 radiance{0.0};   // area-weighted mean Le
     std::size_t triangles = 0;  // triangles (or clipped parts of them) in it
+    // The rectangle that stands for it in the real-time path: centred on the
+    // centroid, sides along the principal axes, the aspect of its bounding
+    // box there, scaled to the region's area (|halfU|·|halfV|·4 = area), so
+    // a rectangular panel is itself; halfU × halfV points along `normal`.
+    glm::dvec3 halfU{0.0}, halfV{0.0};
     // Radiant flux leaving the front side of a Lambertian emitter: π·Le·A.
     glm::dvec3 power() const { return 3.14159265358979323846 * radiance * area; }
 };

@@ -65,6 +65,7 @@ struct Light {
     glm::vec3 direction{0.0f, -1.0f, 0.0f};  // direction the light travels
     float range = 0.0f;                       // 0 = infinite
     float innerCone = 0.0f, outerCone = 0.7853982f;
+    float radius = 0.0f;  // point/spot: radius of the emitting sphere (soft shadows; 0 = punctual)
 };
 
 struct Camera {

@@ -94,6 +94,45 @@ TEST_CASE("emissive regions: a strip light (one quad, 2 m x 0.25 m) is cut into 
     CHECK(emissiveRegions(p, p.materials).size() == 1);
 }
 
+TEST_CASE("emissive regions: the rectangle of a region is the panel itself, or has the region's area (disc)") {
+    Material lamp;
+    lamp.emissive = glm::vec3(1.0f);
+    // A 0.3 x 0.2 m panel turned 30° about the vertical, facing down: its
+    // rectangle has the same corners (half extents 0.15 and 0.1 along its sides).
+    Scene s;
+    s.materials = {lamp};
+    const double c = std::cos(M_PI / 6), sn = std::sin(M_PI / 6);
+    auto at = [&](double x, double z) { return glm::vec3(float(c * x - sn * z), 1.0f, float(sn * x + c * z)); };
+    addQuad(s, at(-0.15, 0.1), at(0.15, 0.1), at(0.15, -0.1), at(-0.15, -0.1), 0);
+    auto regions = emissiveRegions(s, s.materials);
+    REQUIRE(regions.size() == 1);
+    const EmissiveRegion& r = regions[0];
+    CHECK(glm::length(r.halfU) == doctest::Approx(0.15).epsilon(1e-6));
+    CHECK(glm::length(r.halfV) == doctest::Approx(0.1).epsilon(1e-6));
+    CHECK(std::abs(glm::dot(glm::normalize(r.halfU), glm::dvec3(c, 0, sn))) == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(glm::dot(glm::normalize(glm::cross(r.halfU, r.halfV)), r.normal) == doctest::Approx(1.0));
+    // A disc (48-gon fan) of radius 0.2: a square of the disc's area (4·|u|·|v| = A), centred on it.
+    Scene d;
+    d.materials = {lamp};
+    const int n = 48;
+    for (int i = 0; i < n; ++i) {
+        double a0 = 2 * M_PI * i / n, a1 = 2 * M_PI * (i + 1) / n;
+        auto base = std::uint32_t(d.vertices.size());
+        for (glm::vec3 p : {glm::vec3(0, 2, 0), glm::vec3(0.2f * float(std::cos(a1)), 2, 0.2f * float(std::sin(a1))),
+                            glm::vec3(0.2f * float(std::cos(a0)), 2, 0.2f * float(std::sin(a0)))})
+            d.vertices.push_back({p, {0, -1, 0}, {0, 0}});
+        for (std::uint32_t k = 0; k < 3; ++k) d.indices.push_back(base + k);
+    }
+    d.draws.push_back({0, std::uint32_t(d.indices.size()), 0});
+    auto disc = emissiveRegions(d, d.materials);
+    REQUIRE(disc.size() == 1);
+    const double area = 0.5 * n * 0.04 * std::sin(2 * M_PI / n);  // the 48-gon's area
+    CHECK(disc[0].area == doctest::Approx(area));
+    CHECK(4 * glm::length(disc[0].halfU) * glm::length(disc[0].halfV) == doctest::Approx(area));
+    CHECK(glm::length(disc[0].halfU) == doctest::Approx(glm::length(disc[0].halfV)).epsilon(0.02));
+    CHECK(glm::length(disc[0].centroid - glm::dvec3(0, 2, 0)) < 1e-6);
+}
+
 TEST_CASE("local lights: area lights from regions, culling by influence sphere, shadow layer layout") {
     Scene s = emitterScene();
     Light spot;

@@ -21,6 +21,21 @@ public:
     }
 };
 
+GLuint localShadowDepthSampler(FrameResources& res) {
+    if (!res.localShadowDepthSampler) {
+        GLuint id = 0;
+        glCreateSamplers(1, &id);
+        res.localShadowDepthSampler = gl::SamplerHandle(id);
+        res.localShadowDepthSampler.label("shadow.local.depth_sampler");
+        glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+        glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glSamplerParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    return res.localShadowDepthSampler.id();
+}
+
 }  // namespace
 
 void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOnly) {
@@ -44,12 +59,17 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
     ctx.gpuScene.bindTables();
     // The real-time light list (culled, with shadow layers) replaces the scene's.
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LIGHTS, ctx.res.localLights.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LIGHT_SHAPES, ctx.res.localLightShapes.id());
     if (local) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LOCAL_SHADOW_MATRICES, ctx.res.localShadowMatrices.id());
         b.texture(RTGI_POST_DIRECT_TEX_LOCAL_SHADOWS, ctx.res.localShadowMaps);
+        // The same layers once more, read as raw depth (blocker search of the soft shadows).
+        b.texture(RTGI_POST_DIRECT_TEX_LOCAL_DEPTH, ctx.res.localShadowMaps);
+        glBindSampler(RTGI_POST_DIRECT_TEX_LOCAL_DEPTH, localShadowDepthSampler(ctx.res));
     }
     b.image(RTGI_POST_IMG_DIRECT, target, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, target.width(), target.height());
+    if (local) glBindSampler(RTGI_POST_DIRECT_TEX_LOCAL_DEPTH, 0);  // the unit's next user samples with its texture's state
 }
 
 std::unique_ptr<Pass> makeDirectPass() { return std::make_unique<DirectPass>(); }
