@@ -8,6 +8,8 @@
 #include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_volumes.h"
 #include "render/gpu_scene.h"
+#include "render/noise.h"
+#include "render/ao/ao_params.h"
 #include "render/renderer.h"
 
 #include <algorithm>
@@ -85,6 +87,9 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     if (hasFamily(r, "ssr.")) screen += kSsrBytesPerPixel * pixels + kSsrBytesPerTracePixel * (s.ssr.halfResolution ? half(res) : pixels);
     if (hasFamily(r, "ref.")) screen += kReferenceBytesPerPixel * pixels;
     by[resKey] += screen;
+    const std::string fixedKey = "the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)";
+    if (hasFamily(r, "ao.") || hasFamily(r, "ssr.")) by[fixedKey] += double(gl::textureBytes(blueNoiseDesc()));
+    if (hasFamily(r, "ao.")) by[fixedKey] += double(sizeof(gpu::AoParams));
 
     // The compute rasterizer's visibility buffer and bins, per rasterized view
     // (src/render/visibility/visibility.cpp, visibilityCapacity).
@@ -125,6 +130,10 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
                                   : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +
                                         std::to_string(s.lpv.grid.z);
         by["lpv.grid=" + gridKey] += lpv;
+        // The uniform block of every cascade and the dropped-texel counter;
+        // lpv.apply's two running sums over cascades.
+        by[fixedKey] += double(cascades) * double(sizeof(gpu::LpvUniforms)) + 4.0;
+        if (cascades > 1 && hasFamily(r, "lpv.apply")) by[resKey] += 2.0 * double(gl::textureBytes(lpv::applySumDesc(res)));
         // The sun's RSM and one per face of every local light (spot 1, point
         // / area 6, render/lights.h) at FrameResources::localRsmSize, each
         // with one LPV uniform block per cascade: the descriptors lpv.rsm

@@ -554,8 +554,8 @@ public:
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
         const int count = int(st.cascades.size());
         if (count > 1) {
-            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(s));
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", lpv::applySumDesc(s));
         }
         for (int i = 0; i < count; ++i) {
             const LpvCascade& c = st.cascades[std::size_t(i)];

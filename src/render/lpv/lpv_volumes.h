@@ -27,6 +27,8 @@ struct Rsm {
 struct RsmDescs {
     gl::TextureDesc flux, normal, depth;
 };
+// lpv.apply's running sums over cascades (C > 1; two of them), view-sized.
+inline gl::TextureDesc applySumDesc(glm::ivec2 view) { return {GL_TEXTURE_2D, GL_RGBA32F, view.x, view.y}; }
 inline RsmDescs rsmDescs(int n) {
     return {{GL_TEXTURE_2D, GL_RGBA32F, n, n}, {GL_TEXTURE_2D, GL_RGBA16F, n, n}, {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}};
 }
