@@ -3,7 +3,9 @@
 // scene's point and spot lights, plus one area light per connected emissive
 // region (src/scene/emitters.h); per frame, the ones whose influence sphere
 // misses the view frustum are culled, the others get shadow-map layers
-// (spot: 1 perspective map, point / area: a cube of 6).
+// (spot: 1 perspective map, point / area: a cube of 6), and the light budget
+// (LightSchedule) decides which of them are drawn this frame and which are
+// reused from earlier frames (docs/lights.md "Light budget").
 #include "render/gpu_types.h"
 #include "render/settings.h"
 #include "scene/scene.h"
