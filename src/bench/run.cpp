@@ -3,6 +3,7 @@
 #include "gl/image_files.h"
 #include "gl/image_io.h"
 #include "bench/path_run.h"
+#include "gl/input_files.h"
 #include "bench/reference_compare.h"
 #include "bench/results_csv.h"
 #include "render/memory_budget.h"
@@ -46,6 +47,7 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, const Scene& scene, con
 
 nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, const RunOptions& opts) {
     // Before the first frame allocates anything (render/memory_budget.h).
+    for (auto& w : renderer.warnings()) std::fprintf(stderr, "rtgi-bench: warning: %s\n", escapeControl(w).c_str());
     checkMemoryBudget(renderer, opts.resolution, opts.maxMemory);
     gl::Profiler& profiler = renderer.profiler();
     profiler.reset();
@@ -136,7 +138,9 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     for (auto& p : renderer.passes())
         for (auto& [k, v] : p->stats()) st[p->name() + "." + k] = v;
     if (!st.empty()) r["stats"] = st;
-    if (!scene.warnings.empty()) r["warnings"] = scene.warnings;
+    std::vector<std::string> warnings = scene.warnings;
+    warnings.insert(warnings.end(), renderer.warnings().begin(), renderer.warnings().end());
+    if (!warnings.empty()) r["warnings"] = warnings;
     if (opts.check) {
         nlohmann::json fc = nlohmann::json::array();
         std::uint64_t bad = 0;

@@ -53,6 +53,16 @@ int bytesPerTexel(GLenum f) {
     }
 }
 
+std::int64_t textureBytes(const TextureDesc& d) {
+    std::int64_t bytes = 0;
+    for (int l = 0; l < d.levels; ++l) {
+        std::int64_t w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
+        std::int64_t z = d.target == GL_TEXTURE_3D ? std::max(1, d.depth >> l) : d.depth;
+        bytes += w * h * z * bytesPerTexel(d.format);
+    }
+    return bytes;
+}
+
 namespace {
 // GL reports a failed allocation only through glGetError (issue 16: a run
 // under a memory cap died inside the driver later). Checked after every
@@ -78,12 +88,7 @@ Texture::Texture(MemoryLedger& ledger, std::string label, const TextureDesc& d) 
         glTextureStorage3D(id, d.levels, d.format, d.width, d.height, d.depth);
     else
         glTextureStorage2D(id, d.levels, d.format, d.width, d.height);
-    std::int64_t bytes = 0;
-    for (int l = 0; l < d.levels; ++l) {
-        std::int64_t w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
-        std::int64_t z = d.target == GL_TEXTURE_3D ? std::max(1, d.depth >> l) : d.depth;
-        bytes += w * h * z * bytesPerTexel(d.format);
-    }
+    const std::int64_t bytes = textureBytes(d);
     checkAllocation("texture '" + label_ + "'", bytes);
     handle_.label(label_);
     setSampling(d.levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST, GL_NEAREST);

@@ -57,6 +57,9 @@ struct TextureDesc {
     bool operator==(const TextureDesc&) const = default;
 };
 
+// Bytes of a texture's storage, every level (what the ledger registers).
+std::int64_t textureBytes(const TextureDesc& desc);
+
 class Texture {
 public:
     Texture() = default;

@@ -105,23 +105,30 @@ struct FrameResources {
     const gl::Texture& operator[](Resource r) const;
 
     // Local lights (render/lights.h): this frame's GpuLight list of the
-    // real-time path (culled ones have type 0), the world -> clip matrix of
-    // every shadow layer; the layered depth maps are R::localShadowMaps.
+    // real-time path (culled and waiting ones have type 0), the world -> clip
+    // matrix of every shadow layer (the one its map was drawn with); the
+    // layered depth maps are R::localShadowMaps. The light budget
+    // (LightSchedule) picks the faces drawn this frame; the others keep their maps.
     gl::Buffer localLights;          // GpuLight[] (bound at RTGI_SSBO_LIGHTS by the real-time passes)
     gl::Buffer localLightShapes;     // GpuLightShape[] parallel to it (RTGI_SSBO_LIGHT_SHAPES, the direct pass)
     gl::SamplerHandle localShadowDepthSampler;  // compare off, nearest: raw depth of localShadowMaps (soft shadows)
     int localLightCount = 0;
     int localLightsCulled = 0;       // this frame: outside the view (influence sphere) or zero intensity
+    int localLightsWaiting = 0;      // this frame: kept but a face it needs has no map yet (light budget)
+    int localFacesCached = 0;        // this frame: needed faces reused from earlier frames
     int localShadowLayers = 1;       // layers of localShadowMaps (every light at once, so culling never reallocates)
+    int localRsmSize = 0;            // side of each local-light RSM face (localRsmSize(), lights.h)
     gl::Buffer localShadowMatrices;  // mat4[] per layer
     struct LocalShadowView {
         glm::mat4 viewProj;
         int light, layer;
         float tanHalfFov;  // of the square perspective frustum
+        int face;          // fixed face index (LocalLight::firstFace + k)
     };
-    std::vector<LocalShadowView> localShadowViews;  // layers rendered this frame
+    std::vector<LocalShadowView> localShadowViews;  // shadow layers drawn this frame
     std::vector<gpu::GpuLight> localLightsCpu;      // the uploaded list (lpv.rsm reads the lights' data)
-    std::vector<LocalShadowView> localRsmViews;     // RSM faces of the kept local lights (LPV on), lpv.rsm size
+    std::vector<LocalShadowView> localRsmViews;     // RSM faces drawn this frame (localRsmSize)
+    std::vector<LocalShadowView> localRsmInject;    // RSM faces injected this frame (every face of the lit lights)
 };
 
 }  // namespace rtgi

@@ -6,6 +6,10 @@
 
 #include "render/lights.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_volumes.h"
+#include "render/gpu_scene.h"
+#include "render/noise.h"
+#include "render/ao/ao_params.h"
 #include "render/renderer.h"
 
 #include <algorithm>
@@ -16,28 +20,18 @@ namespace rtgi {
 
 namespace {
 
-// Bytes per pixel of the screen-sized targets, summed from the formats the
-// passes give them (the ensure() calls in src/render/**; gpu/memory budget
-// tests check the sums against the ledger after a frame):
-// G-buffer depth 4 + linear depth 4 + normal 8 + albedo 4 + material 4 +
-// emissive 4 + velocity 4; direct 8; post.hdr 16, ldr 4, history 8.
-constexpr double kBaseBytesPerPixel = 68;
-// indirectDiffuse and specular (RGBA16F), written by lpv.apply or ao.nearfield.
-constexpr double kIndirectBytesPerPixel = 16;
+// Private screen-sized targets of the pass families (bytes per pixel; the
+// shared ones are counted from their descriptors, Renderer::sharedTextureDesc).
 // AO at its own resolution: half depth 4, half normal 8, radius scale 2 and
-// colour 4, raw 2, bent normal / S3HO 8, blur temporary + output 4, temporal
-// value and depth (two each) 12; at full resolution: ao 2, near-field 4.
-constexpr double kAoBytesPerAoPixel = 44, kAoBytesPerPixel = 6;
+// colour 4, raw 2, blur temporary + output 4, temporal value and depth (two
+// each) 12; at full resolution: near-field 4.
+constexpr double kAoBytesPerAoPixel = 36, kAoBytesPerPixel = 4;
 // SSR at the trace resolution: hit 4, confidence 2, distance 2, trace depth 4
 // and normal 8, resolved 8, blur temporary + output 16, temporal value and
-// depth (two each) 24; full resolution: HiZ with mips 4 * 4/3, specular 8,
-// specular occlusion 2, direct-diffuse temporary 8, diffuse history 8.
-constexpr double kSsrBytesPerTracePixel = 68, kSsrBytesPerPixel = 32;
+// depth (two each) 24; full resolution: HiZ with mips 4 * 4/3, direct-diffuse temporary 8.
+constexpr double kSsrBytesPerTracePixel = 68, kSsrBytesPerPixel = 8 + 4.0 * 4 / 3;
 // Reference: mean, standard error, accumulation and its square (RGBA32F), ldr.
 constexpr double kReferenceBytesPerPixel = 68;
-// Blue noise, BRDF LUT, uniform and parameter buffers: small and fixed.
-constexpr double kFixedBytes = 4.0 * 1024 * 1024;
-
 bool hasFamily(const Renderer& r, const std::string& prefix) {
     for (auto& p : r.passes())
         if (p->name().rfind(prefix, 0) == 0) return true;
@@ -71,17 +65,32 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     auto half = [](glm::ivec2 v) { return double(std::max((v.x + 1) / 2, 1)) * double(std::max((v.y + 1) / 2, 1)); };
     const std::string resKey = "--res " + resolutionText(res);
 
-    double screen = kBaseBytesPerPixel * pixels;
-    if (hasFamily(r, "lpv.apply") || hasFamily(r, "ao.nearfield")) screen += kIndirectBytesPerPixel * pixels;
-    if (hasFamily(r, "ao.")) screen += kAoBytesPerPixel * pixels + kAoBytesPerAoPixel * (s.ao.halfResolution ? half(res) : pixels);
+    // Shared resources: the descriptors the renderer allocates from.
+    for (int i = 0; i < R::count; ++i) {
+        const Resource res_i{i};
+        if (!r.plan().written(res_i)) continue;
+        const ResourceDesc& d = resourceDesc(res_i);
+        const double bytes = double(gl::textureBytes(r.sharedTextureDesc(res_i, res)));
+        switch (d.extent) {
+            case Extent::view: case Extent::ao: by[resKey] += bytes; break;
+            case Extent::shadow: by["shadow.size=" + std::to_string(s.light.shadowSize)] += bytes; break;
+            case Extent::localShadow:
+                by["shadow.local_size=" + std::to_string(s.light.localShadowSize) + " (" +
+                   std::to_string(r.resources().localShadowLayers) + " local shadow layers)"] += bytes;
+                break;
+            case Extent::brdfLut: by["the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)"] += bytes; break;
+        }
+    }
+    double screen = 0;
+    if (hasFamily(r, "ao.nearfield")) screen += kAoBytesPerPixel * pixels;
+    if (hasFamily(r, "ao.")) screen += kAoBytesPerAoPixel * (s.ao.halfResolution ? half(res) : pixels);
     if (hasFamily(r, "ssr.")) screen += kSsrBytesPerPixel * pixels + kSsrBytesPerTracePixel * (s.ssr.halfResolution ? half(res) : pixels);
     if (hasFamily(r, "ref.")) screen += kReferenceBytesPerPixel * pixels;
     by[resKey] += screen;
+    const std::string fixedKey = "the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)";
+    if (hasFamily(r, "ao.") || hasFamily(r, "ssr.")) by[fixedKey] += double(gl::textureBytes(blueNoiseDesc()));
+    if (hasFamily(r, "ao.")) by[fixedKey] += double(sizeof(gpu::AoParams));
 
-    // The sun's map (pass shadow or shadow.raster; shadow.local is below).
-    if (std::any_of(r.passes().begin(), r.passes().end(),
-                    [](auto& p) { return p->name() == "shadow" || p->name() == "shadow.raster"; }))
-        by["shadow.size=" + std::to_string(s.light.shadowSize)] += 4.0 * double(s.light.shadowSize) * s.light.shadowSize;
     // The compute rasterizer's visibility buffer and bins, per rasterized view
     // (src/render/visibility/visibility.cpp, visibilityCapacity).
     const std::int64_t triangles = std::int64_t(r.scene().triangleCount());
@@ -90,12 +99,10 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     if (hasFamily(r, "shadow.raster"))
         by["shadow.size=" + std::to_string(s.light.shadowSize)] += visibility(glm::ivec2(s.light.shadowSize));
     if (hasFamily(r, "shadow.local")) {
-        // The D32F array (every light's layers, render/lights.h) and, on the
-        // compute path, one visibility target reused for every face.
+        // The D32F array is a shared resource (above); on the compute path,
+        // one visibility target reused for every face.
         const int n = s.light.localShadowSize;
-        double bytes = 4.0 * double(n) * double(n) * double(r.resources().localShadowLayers);
-        if (useComputeRasterLightViews(s)) bytes += visibility(glm::ivec2(n));
-        by["shadow.local_size=" + std::to_string(n)] += bytes;
+        if (useComputeRasterLightViews(s)) by["shadow.local_size=" + std::to_string(n)] += visibility(glm::ivec2(n));
     }
     if (hasFamily(r, "lpv.") && useComputeRasterLightViews(s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += visibility(glm::ivec2(s.lpv.rsm));
     if (hasFamily(r, "lpv.")) {
@@ -123,21 +130,30 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
                                   : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +
                                         std::to_string(s.lpv.grid.z);
         by["lpv.grid=" + gridKey] += lpv;
-        // RSM: flux RGBA32F 16, normal RGBA16F 8, depth 4.
-        const double rsmBytes = 28.0 * double(s.lpv.rsm) * s.lpv.rsm;
-        by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += rsmBytes;
-        // Local lights (issue 28): one RSM per face of every local light in
-        // view (spot 1, point / area 6, render/lights.h), each with one LPV
-        // uniform block per cascade; the estimate counts every face.
-        const int faces = hasFamily(r, "lpv.rsm") ? maxShadowLayers(resolveLocalLights(r.scene(), s)) : 0;
+        // The uniform block of every cascade and the dropped-texel counter;
+        // lpv.apply's two running sums over cascades.
+        by[fixedKey] += double(cascades) * double(sizeof(gpu::LpvUniforms)) + 4.0;
+        if (cascades > 1 && hasFamily(r, "lpv.apply")) by[resKey] += 2.0 * double(gl::textureBytes(lpv::applySumDesc(res)));
+        // The sun's RSM and one per face of every local light (spot 1, point
+        // / area 6, render/lights.h) at FrameResources::localRsmSize, each
+        // with one LPV uniform block per cascade: the descriptors lpv.rsm
+        // allocates from.
+        auto rsmBytes = [](int n) {
+            const lpv::RsmDescs d = lpv::rsmDescs(n);
+            return double(gl::textureBytes(d.flux) + gl::textureBytes(d.normal) + gl::textureBytes(d.depth));
+        };
+        if (resolveSun(r.scene(), s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += rsmBytes(s.lpv.rsm);
+        const int faces = hasFamily(r, "lpv.rsm") ? r.localLights().faces : 0;
+        const int ln = r.resources().localRsmSize;
         if (faces > 0)
-            by["local lights (" + std::to_string(faces) + " RSM faces at lpv.rsm=" + std::to_string(s.lpv.rsm) + ")"] +=
-                double(faces) * (rsmBytes + double(cascades) * double(sizeof(gpu::LpvUniforms)));
+            by["local lights (" + std::to_string(faces) + " RSM faces of " + std::to_string(ln) + "^2; light.budget=" +
+               std::to_string(s.light.budget) + ")"] +=
+                double(faces) * (rsmBytes(ln) + double(cascades) * double(sizeof(gpu::LpvUniforms)));
     }
     // What the renderer holds already (the GPU scene, for one: vertices,
     // indices, BVH, textures) and the small fixed resources.
     auto& ledger = const_cast<Renderer&>(r).ledger();
-    by["the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)"] += double(ledger.total()) + kFixedBytes;
+    by["the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)"] += double(ledger.total());
 
     MemoryEstimate e;
     for (auto& [k, v] : by) e.items.push_back({k, std::int64_t(std::min(v, 9.0e18))});

@@ -45,10 +45,14 @@ std::vector<float> blueNoiseTile(int size, unsigned seed) {
     return out;
 }
 
+gl::TextureDesc blueNoiseDesc() {
+    return {GL_TEXTURE_2D_ARRAY, GL_RGBA8, kBlueNoiseSize, kBlueNoiseSize, kBlueNoiseVariants};
+}
+
 const gl::Texture& ensureBlueNoise(FrameResources& res, gl::MemoryLedger& ledger) {
     if (res.blueNoise) return res.blueNoise;
     const int s = kBlueNoiseSize, layers = kBlueNoiseVariants;
-    res.blueNoise.ensure(ledger, "noise.blue", {GL_TEXTURE_2D_ARRAY, GL_RGBA8, s, s, layers});
+    res.blueNoise.ensure(ledger, "noise.blue", blueNoiseDesc());
     std::vector<std::uint8_t> texels(std::size_t(s * s * layers * 4));
     for (int l = 0; l < layers; ++l)
         for (int c = 0; c < 4; ++c) {

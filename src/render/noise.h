@@ -19,5 +19,7 @@ std::vector<float> blueNoiseTile(int size, unsigned seed);
 // Creates res.blueNoise once (RGBA8 2D array, 64 x 64 x 8, channels from
 // independent seeds) and returns it; later calls return the same texture.
 const gl::Texture& ensureBlueNoise(FrameResources& res, gl::MemoryLedger& ledger);
+// Its descriptor (the memory estimate counts it for the AO and SSR families, its users).
+gl::TextureDesc blueNoiseDesc();
 
 }  // namespace rtgi

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <optional>
+#include <stdexcept>
 
 namespace rtgi {
 
@@ -82,7 +84,9 @@ void Renderer::resolveLights() {
     skipped_ = plan_.skipped();
     localLights_ = resolveLocalLights(scene_, settings_);
     for (auto& [light, reason] : localLights_.leftOut) skipped_.push_back({"light:" + light, reason});
-    res_.localShadowLayers = std::max(1, maxShadowLayers(localLights_));
+    res_.localShadowLayers = std::max(1, localLights_.shadowLayers);
+    res_.localRsmSize = localRsmSize(settings_, localLights_.faces);
+    lightSchedule_.reset(localLights_);
     res_.localLights = gl::Buffer(ledger_, "lights.local",
                                   std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLight)));
     res_.localLightShapes = gl::Buffer(ledger_, "lights.local.shapes",
@@ -102,6 +106,7 @@ void Renderer::updateScene(const Scene& state) {
         scene_.vertices = state.vertices;
         gpuScene_->updateVertices(scene_);
         sceneUpdate_.geometry = true;
+        geometryChanged();  // the light budget's cached local maps show the old geometry
     }
     bool lightsChanged = false;
     for (std::size_t i = 0; i < state.lights.size(); ++i) {
@@ -118,8 +123,14 @@ void Renderer::updateScene(const Scene& state) {
         LocalLights now = resolveLocalLights(scene_, settings_);
         std::vector<std::string> after;
         for (auto& l : now.lights) after.push_back(l.name);
-        if (before == after) localLights_ = std::move(now);  // the same list: new positions, colours
-        else resolveLights();  // a light switched on or off: new buffers (and shadow layers)
+        if (before == after) {  // the same list: new positions, colours; redraw the maps of those that moved
+            for (std::size_t i = 0; i < now.lights.size(); ++i)
+                if (std::memcmp(&now.lights[i].gpu, &localLights_.lights[i].gpu, sizeof(gpu::GpuLight)) != 0)
+                    lightChanged(int(i));
+            localLights_ = std::move(now);
+        } else {
+            resolveLights();  // a light switched on or off: new buffers (and shadow layers)
+        }
         sceneUpdate_.lights = true;
     }
     scene_.cameras = state.cameras;
@@ -129,24 +140,30 @@ void Renderer::updateScene(const Scene& state) {
 
 // Every shared resource a pass of the frame writes, from its descriptor (by
 // handle, so two passes can never allocate one resource under two labels).
-void Renderer::allocateShared(const View& view) {
-    const glm::ivec2 s = view.size;
+gl::TextureDesc Renderer::sharedTextureDesc(Resource r, glm::ivec2 s) const {
     const glm::ivec2 aoSize = settings_.ao.halfResolution ? glm::max((s + 1) / 2, glm::ivec2(1)) : s;
+    const ResourceDesc& d = resourceDesc(r);
+    glm::ivec2 size = d.extent == Extent::view          ? s
+                      : d.extent == Extent::ao          ? aoSize
+                      : d.extent == Extent::shadow      ? glm::ivec2(settings_.light.shadowSize)
+                      : d.extent == Extent::localShadow ? glm::ivec2(settings_.light.localShadowSize)
+                                                        : glm::ivec2(kBrdfLutSize);
+    const bool layered = d.extent == Extent::localShadow;
+    return {layered ? GLenum(GL_TEXTURE_2D_ARRAY) : GLenum(GL_TEXTURE_2D), d.format, size.x, size.y,
+            layered ? res_.localShadowLayers : 1};
+}
+
+// Every shared resource a pass of the frame writes, from its descriptor (by
+// handle, so two passes can never allocate one resource under two labels).
+void Renderer::allocateShared(const View& view) {
     for (int i = 0; i < R::count; ++i) {
         const Resource r{i};
         if (!plan_.written(r)) continue;
         const ResourceDesc& d = resourceDesc(r);
-        glm::ivec2 size = d.extent == Extent::view          ? s
-                          : d.extent == Extent::ao          ? aoSize
-                          : d.extent == Extent::shadow      ? glm::ivec2(settings_.light.shadowSize)
-                          : d.extent == Extent::localShadow ? glm::ivec2(settings_.light.localShadowSize)
-                                                            : glm::ivec2(kBrdfLutSize);
-        const bool layered = d.extent == Extent::localShadow;
-        if (res_[r].ensure(ledger_, d.name,
-                           {layered ? GLenum(GL_TEXTURE_2D_ARRAY) : GLenum(GL_TEXTURE_2D), d.format, size.x, size.y,
-                            layered ? res_.localShadowLayers : 1})) {
+        if (res_[r].ensure(ledger_, d.name, sharedTextureDesc(r, view.size))) {
             res_[r].setSampling(d.filter, d.filter);
             ++res_.allocationEpoch;
+            if (r == R::localShadowMaps) lightSchedule_.shadowStorageLost();
             writtenLastFrame_[i] = false;
         }
     }
@@ -175,29 +192,52 @@ void Renderer::uploadFrameUniforms(const View& v) {
     u.sky = glm::vec4(resolveSky(scene_, settings_), settings_.post.exposure);
     u.projParams = glm::vec4(v.nearPlane, v.farPlane, std::tan(0.5f * v.fovY), float(v.size.x) / float(v.size.y));
     u.size = glm::ivec4(v.size, int(v.frame), v.cut ? 1 : 0);
-    FrameLights fl = frameLights(localLights_, u.viewProj, box, findPass("shadow.local") != nullptr,
-                                 settings_.light.localShadowSize);
+    // Local lights: culling, then the light budget picks the faces drawn now.
+    const bool shadows = findPass("shadow.local") != nullptr;
+    FrameLights fl = frameLights(localLights_, u.viewProj, box, shadows, settings_.light.localShadowSize);
+    std::optional<FrameLights> rl;  // the same culling and frusta at the RSM's size
+    if (findPass("lpv.rsm")) rl = frameLights(localLights_, u.viewProj, box, true, res_.localRsmSize);
+    LightSchedule::Frame plan =
+        lightSchedule_.plan(localLights_, fl, rl ? &*rl : nullptr, shadows, settings_.light.budget, v.position);
     if (!fl.gpu.empty()) res_.localLights.upload(fl.gpu.data(), std::int64_t(fl.gpu.size() * sizeof(gpu::GpuLight)));
     if (!fl.shapes.empty())
         res_.localLightShapes.upload(fl.shapes.data(), std::int64_t(fl.shapes.size() * sizeof(gpu::GpuLightShape)));
     res_.localLightCount = int(fl.gpu.size());
+    auto local = [](const ShadowView& sv) {
+        return FrameResources::LocalShadowView{sv.viewProj, sv.light, sv.layer, sv.tanHalfFov, sv.face};
+    };
     res_.localShadowViews.clear();
-    std::vector<glm::mat4> mats;
-    for (auto& sv : fl.views) {
-        res_.localShadowViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
-        mats.push_back(sv.viewProj);
-    }
-    res_.localLightsCpu = fl.gpu;
+    for (auto& sv : plan.drawShadows) res_.localShadowViews.push_back(local(sv));
     res_.localRsmViews.clear();
-    if (findPass("lpv.rsm"))  // the same culling and frusta at the RSM's size
-        for (auto& sv : frameLights(localLights_, u.viewProj, box, true, settings_.lpv.rsm).views)
-            res_.localRsmViews.push_back({sv.viewProj, sv.light, sv.layer, sv.tanHalfFov});
-    if (!mats.empty()) res_.localShadowMatrices.upload(mats.data(), std::int64_t(mats.size() * sizeof(glm::mat4)));
+    for (auto& sv : plan.drawRsms) res_.localRsmViews.push_back(local(sv));
+    res_.localRsmInject.clear();
+    for (auto& sv : plan.injectRsms) res_.localRsmInject.push_back(local(sv));
+    res_.localLightsCpu = fl.gpu;
+    if (shadows && localLights_.shadowLayers > 0) {  // every layer: the view its map was drawn with
+        std::vector<glm::mat4> mats(std::size_t(localLights_.shadowLayers), glm::mat4(1.0f));
+        for (auto& L : localLights_.lights)
+            for (int k = 0; L.firstLayer >= 0 && k < L.faces; ++k)
+                mats[std::size_t(L.firstLayer + k)] = lightSchedule_.shadowViewProj(L.firstFace + k);
+        res_.localShadowMatrices.upload(mats.data(), std::int64_t(mats.size() * sizeof(glm::mat4)));
+    }
     localCulled_ = fl.culled;
     res_.localLightsCulled = fl.culled;
-    localShadowed_ = fl.shadowed;
+    res_.localLightsWaiting = plan.waiting;
+    res_.localFacesCached = plan.cachedFaces;
+    localShadowed_ = fl.shadowed - plan.waiting;
     u.counts = glm::ivec4(gpuScene_->punctualLightCount(), gpuScene_->materialCount(), 0, res_.localLightCount);
     frameUbo_.upload(&u, sizeof(u));
+}
+
+void Renderer::setLocalLight(int light, const LocalLight& l) {
+    if (light < 0 || std::size_t(light) >= localLights_.lights.size())
+        throw std::out_of_range("setLocalLight: no local light " + std::to_string(light));
+    LocalLight& L = localLights_.lights[std::size_t(light)];
+    // The faces and layers are the configuration's (the shadow array's layout).
+    const int faces = L.faces, firstFace = L.firstFace, firstLayer = L.firstLayer;
+    L = l;
+    L.faces = faces, L.firstFace = firstFace, L.firstLayer = firstLayer;
+    lightSchedule_.lightChanged(light);
 }
 
 void Renderer::render(const View& view) {

@@ -54,6 +54,16 @@ public:
     // Of the last frame: local lights culled (outside the view / zero) and shadowed.
     int localLightsCulled() const { return localCulled_; }
     int localLightsShadowed() const { return localShadowed_; }
+    // Hooks for dynamic scenes (the light budget's cache, render/lights.h
+    // LightSchedule): a local light moved or changed (index into
+    // localLights().lights; setLocalLight replaces it and calls lightChanged),
+    // or the geometry moved (every cached shadow map and RSM becomes stale).
+    void lightChanged(int light) { lightSchedule_.lightChanged(light); }
+    void setLocalLight(int light, const LocalLight& l);
+    void geometryChanged() { lightSchedule_.invalidateAll(); }
+    // Configuration warnings (emissive.max_lights, the shadow array's layer
+    // limit): rtgi-bench prints them and lists them in results.json "warnings".
+    const std::vector<std::string>& warnings() const { return localLights_.warnings; }
     Pass* findPass(const std::string& name) const;
     // From the pass's declaration: its shared writes and private outputs
     // (--check), and its private debug images (made on request, outside the measured frame).
@@ -64,6 +74,9 @@ public:
     };
     std::vector<Output> checkedOutputs(const Pass& pass) const;
     std::vector<DebugImage> debugImages(const Pass& pass) const;
+    // The descriptor the renderer allocates shared resource r from for a view
+    // of `viewSize` (the memory estimate counts the same descriptors).
+    gl::TextureDesc sharedTextureDesc(Resource r, glm::ivec2 viewSize) const;
     FrameResources& resources() { return res_; }
     const FrameResources& resources() const { return res_; }
     const Scene& scene() const { return scene_; }
@@ -98,6 +111,7 @@ private:
     bool writtenLastFrame_[R::count] = {};
     bool previousValid_[R::count] = {};
     LocalLights localLights_;  // point/spot/area lights of the real-time path
+    LightSchedule lightSchedule_;
     int localCulled_ = 0, localShadowed_ = 0;
     bool check_ = false;
     SceneUpdate sceneUpdate_;

@@ -165,6 +165,10 @@ std::vector<SettingKey> buildKeys() {
             "on|off", s.light.emissiveLights = parseBool("emissive.lights", v), s.light.emissiveLights ? "on" : "off"),
         KEY("light.radius", "source radius of every point/spot light in scene units: PCSS soft shadows sized by it (auto: each light's own, a builtin scene's 'radius'; 0 = punctual, 3x3 PCF)",
             "auto|0..1e4", s.light.lightRadius = optFloat<float>("light.radius", v, 0, 1e4), fmtOpt(s.light.lightRadius)),
+        KEY("emissive.max_lights", "emissive regions that become area lights: the brightest by power; the others only emit (a warning says how many and what share of the power)", "0..4096",
+            s.light.maxAreaLights = parseInt("emissive.max_lights", v, 0, 4096), fmt(s.light.maxAreaLights)),
+        KEY("light.budget", "local-light faces (spot map, cube face) drawn per frame into shadow maps and RSMs, by priority; the rest reuse their cached maps while static; also bounds the local RSMs' injected texels to budget x lpv.rsm^2 (0: every face every frame, no cache)", "0..100000",
+            s.light.budget = parseInt("light.budget", v, 0, 100000), fmt(s.light.budget)),
         // ---- rasterization ----------------------------------------------------
         KEY("raster.path", "which rasterizer draws the views: hardware, compute (every view), or auto: the camera G-buffer on compute where 64-bit atomics exist, light views (shadow maps, sun RSM) on the hardware, faster there", "hardware|compute|auto",
             s.raster.path = parseEnum<RasterSettings::Path>("raster.path", v, kRasterPath), kRasterPath[int(s.raster.path)]),

@@ -40,6 +40,17 @@ struct LightSettings {
     int localShadowSize = 512;
     bool emissiveLights = true;  // emissive regions become area lights of the real-time path
     std::optional<float> lightRadius;  // source radius of every point/spot light (overrides the scene's)
+    // Emissive regions that become area lights: the brightest by power; the
+    // others are left out with a warning (issue 28: an emissive texture of
+    // many islands became 120 lights = 720 shadow faces + 720 RSMs).
+    int maxAreaLights = 32;
+    // Local-light faces (a spot map or a cube face) drawn per frame into the
+    // shadow maps and, with the LPV, into the RSMs; the others keep their
+    // cached maps while their light and the scene are static (docs/lights.md
+    // "Light budget"). It also bounds the LPV injection of local lights: their
+    // RSM side is halved until all faces hold at most budget x lpv.rsm²
+    // texels. 0: every face every frame, no cache, full-size RSMs.
+    int budget = 48;
 };
 
 struct PostSettings {

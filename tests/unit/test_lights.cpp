@@ -1,7 +1,7 @@
 // Light list of the real-time path without GL (render/lights.h,
 // scene/emitters.h): emissive regions (union-find over shared corners with
 // agreeing normals), area-light power, frustum culling of influence spheres,
-// shadow layer layout.
+// shadow layer layout, the light budget's schedule (LightSchedule) and caps.
 #include "render/lights.h"
 #include "render/view.h"
 #include "scene/emitters.h"
@@ -173,10 +173,22 @@ TEST_CASE("local lights: area lights from regions, culling by influence sphere, 
     CHECK(fl.gpu[1].directionType.w == 0.0f);  // culled: the direct pass skips it
     CHECK(fl.shadowed == 3);
     CHECK(fl.views.size() == 1 + 6 + 6);
-    CHECK(fl.gpu[0].cone.z == 0.0f);   // the spot's map is layer 0
-    CHECK(fl.gpu[2].cone.z == 1.0f);   // then the cubes
-    CHECK(fl.gpu[3].cone.z == 7.0f);
-    for (std::size_t i = 0; i < fl.views.size(); ++i) CHECK(fl.views[i].layer == int(i));
+    // Fixed layers (the light budget caches maps across frames, so culling
+    // never moves a light's layers): disjoint blocks covering 0..19, each
+    // kept light's cone.z is its first layer, its views follow in order.
+    CHECK(ll.shadowLayers == 19);
+    std::vector<int> owner(19, -1);
+    for (std::size_t i = 0; i < ll.lights.size(); ++i)
+        for (int k = 0; k < ll.lights[i].faces; ++k) {
+            REQUIRE(ll.lights[i].firstLayer >= 0);
+            CHECK(owner[std::size_t(ll.lights[i].firstLayer + k)] == -1);
+            owner[std::size_t(ll.lights[i].firstLayer + k)] = int(i);
+        }
+    for (std::size_t i : {0u, 2u, 3u}) CHECK(fl.gpu[i].cone.z == float(ll.lights[i].firstLayer));
+    for (auto& v : fl.views) {
+        CHECK(v.light != 1);  // the culled light draws nothing
+        CHECK(v.layer == ll.lights[std::size_t(v.light)].firstLayer + (v.face - ll.lights[std::size_t(v.light)].firstFace));
+    }
     // Every cube face's frustum holds the points along its axis, and the
     // spot's holds its axis.
     glm::vec3 p(fl.gpu[2].positionRange);
@@ -195,4 +207,191 @@ TEST_CASE("local lights: area lights from regions, culling by influence sphere, 
     // A sphere straddling a frustum plane is kept, one fully outside is not.
     CHECK(sphereInFrustum(proj * view, {0, 1.5f, 8.5f}, 1.0f));
     CHECK_FALSE(sphereInFrustum(proj * view, {0, 1.5f, 12.0f}, 1.0f));
+}
+
+namespace {
+// A floor and `n` point lights of intensities 1, 2, ..., n on a row 2 m above
+// it, in front of a camera at (0, 3, 12) looking at the row (all kept).
+Scene pointRow(int n) {
+    Scene s;
+    s.materials = {Material{}};
+    addQuad(s, {-20, 0, 20}, {20, 0, 20}, {20, 0, -20}, {-20, 0, -20}, 0);
+    for (int i = 0; i < n; ++i) {
+        Light l;
+        l.type = LightType::Point;
+        l.name = "p" + std::to_string(i);
+        l.position = {float(i) - 0.5f * float(n - 1), 2.0f, 0.0f};
+        l.intensity = float(i + 1);
+        l.range = 6.0f;
+        s.lights.push_back(l);
+    }
+    return s;
+}
+glm::mat4 rowCamera() {
+    return glm::perspective(glm::radians(60.0f), 1.5f, 0.1f, 100.0f) *
+           glm::lookAt(glm::vec3(0, 3, 12), glm::vec3(0, 1, 0), glm::vec3(0, 1, 0));
+}
+}  // namespace
+
+TEST_CASE("light budget: faces drawn per frame stay within the budget, the brightest first; the rest wait, then come from the cache") {
+    Scene s = pointRow(4);
+    Settings st;
+    LocalLights ll = resolveLocalLights(s, st);
+    REQUIRE(ll.lights.size() == 4);
+    const glm::mat4 cam = rowCamera();
+    const glm::vec3 eye(0, 3, 12);
+    // Needed shadow faces of each light (inView), from frameLights itself.
+    auto needed = [&](int light) {
+        int n = 0;
+        for (auto& v : frameLights(ll, cam, s.bounds(), true, 64).views) n += v.light == light && v.inView;
+        return n;
+    };
+    int total = 0;
+    for (int i = 0; i < 4; ++i) total += needed(i);
+    REQUIRE(total > 0);
+
+    // Unbudgeted: every face of every kept light, every frame, nothing cached.
+    LightSchedule all;
+    for (int frame = 0; frame < 2; ++frame) {
+        FrameLights fl = frameLights(ll, cam, s.bounds(), true, 64);
+        auto p = all.plan(ll, fl, nullptr, true, 0, eye);
+        CHECK(p.drawShadows.size() == 24);
+        CHECK(p.waiting == 0);
+        CHECK(p.cachedFaces == 0);
+    }
+
+    // Budget 6: one light per frame (each needs at most 6 faces), brightest first;
+    // the others wait (type 0: not lit, nothing of theirs is read).
+    LightSchedule sched;
+    std::vector<int> order;
+    for (int frame = 0; frame < 4; ++frame) {
+        FrameLights fl = frameLights(ll, cam, s.bounds(), true, 64);
+        auto p = sched.plan(ll, fl, nullptr, true, 6, eye);
+        REQUIRE(!p.drawShadows.empty());
+        const int light = p.drawShadows.front().light;
+        for (auto& v : p.drawShadows) {
+            CHECK(v.light == light);
+            CHECK(v.inView);
+        }
+        CHECK(int(p.drawShadows.size()) == needed(light));
+        order.push_back(light);
+        CHECK(p.waiting == 3 - frame);
+        int lit = 0;
+        for (auto& g : fl.gpu) lit += g.directionType.w != 0.0f;
+        CHECK(lit == frame + 1);
+    }
+    // Same distance class: priority = screen influence x intensity decides; the
+    // brightest light (p3) first, every light once.
+    CHECK(order.front() == 3);
+    std::vector<int> sorted = order;
+    std::sort(sorted.begin(), sorted.end());
+    CHECK(sorted == std::vector<int>{0, 1, 2, 3});
+    // Static: nothing drawn, everything from the cache.
+    FrameLights fl = frameLights(ll, cam, s.bounds(), true, 64);
+    auto p = sched.plan(ll, fl, nullptr, true, 6, eye);
+    CHECK(p.drawShadows.empty());
+    CHECK(p.waiting == 0);
+    CHECK(p.cachedFaces == total);
+    // A light changed: only its faces are redrawn, it stays lit meanwhile.
+    sched.lightChanged(1);
+    fl = frameLights(ll, cam, s.bounds(), true, 64);
+    p = sched.plan(ll, fl, nullptr, true, 6, eye);
+    CHECK(int(p.drawShadows.size()) == needed(1));
+    for (auto& v : p.drawShadows) CHECK(v.light == 1);
+    CHECK(p.waiting == 0);
+    // Geometry moved, budget 6: one light redrawn, the others keep their stale
+    // maps (lit, counted as cached), with the view they were drawn with.
+    const glm::mat4 before = sched.shadowViewProj(ll.lights[0].firstFace);
+    sched.invalidateAll();
+    fl = frameLights(ll, cam, s.bounds(), true, 64);
+    p = sched.plan(ll, fl, nullptr, true, 6, eye);
+    CHECK(p.waiting == 0);
+    CHECK(p.drawShadows.front().light == 3);
+    CHECK(sched.shadowViewProj(ll.lights[0].firstFace) == before);
+    // The storage was reallocated: every light waits again for its maps.
+    sched.shadowStorageLost();
+    fl = frameLights(ll, cam, s.bounds(), true, 64);
+    p = sched.plan(ll, fl, nullptr, true, 6, eye);
+    CHECK(p.waiting == 3);
+}
+
+TEST_CASE("light budget: RSM faces count against the same budget and only the lit lights' RSMs are injected") {
+    Scene s = pointRow(3);
+    Settings st;
+    LocalLights ll = resolveLocalLights(s, st);
+    const glm::mat4 cam = rowCamera();
+    LightSchedule sched;
+    FrameLights fl = frameLights(ll, cam, s.bounds(), true, 64), rl = frameLights(ll, cam, s.bounds(), true, 32);
+    auto p = sched.plan(ll, fl, &rl, true, 12, glm::vec3(0, 3, 12));
+    // One light: its needed shadow faces (>= 1) and its six RSM faces; a second
+    // light would need at least 7 more, over the budget of 12.
+    REQUIRE(!p.drawRsms.empty());
+    CHECK(p.drawRsms.size() == 6);
+    CHECK(int(p.drawShadows.size() + p.drawRsms.size()) <= 12);
+    for (auto& v : p.injectRsms) CHECK(v.light == p.drawRsms.front().light);
+    CHECK(p.injectRsms.size() == 6);
+}
+
+TEST_CASE("light budget: local RSM side halves until all faces fit budget x lpv.rsm^2 texels") {
+    Settings st;
+    st.lpv.rsm = 256;
+    st.light.budget = 48;
+    CHECK(localRsmSize(st, 18) == 256);   // within the budget: full size (the frame equals the unbudgeted one)
+    CHECK(localRsmSize(st, 48) == 256);
+    CHECK(localRsmSize(st, 49) == 128);
+    CHECK(localRsmSize(st, 192) == 128);  // 192 x 128^2 = 48 x 256^2
+    CHECK(localRsmSize(st, 193) == 64);
+    CHECK(localRsmSize(st, 12000) == 16); // never below 16
+    for (int faces : {49, 200, 2000}) {
+        const int n = localRsmSize(st, faces);
+        CHECK(double(faces) * n * n <= 48.0 * 256 * 256);
+        CHECK(double(faces) * (2 * n) * (2 * n) > 48.0 * 256 * 256);  // the largest power-of-two step that fits
+    }
+    st.light.budget = 0;
+    CHECK(localRsmSize(st, 12000) == 256);
+}
+
+TEST_CASE("emissive.max_lights keeps the brightest regions with a warning; the shadow array's layer limit goes to the brightest lights") {
+    // 40 separate emissive squares, radiance 1..40 (material per square).
+    Scene s;
+    s.materials.push_back(Material{});
+    addQuad(s, {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50}, 0);
+    double total = 0, kept = 0;
+    for (int i = 0; i < 40; ++i) {
+        Material m;
+        m.emissive = glm::vec3(float(i + 1));
+        s.materials.push_back(m);
+        const float x = float(i) * 2.0f - 40.0f;
+        addQuad(s, {x, 3, 0}, {x + 1, 3, 0}, {x + 1, 3, -1}, {x, 3, -1}, int(i + 1));
+        total += i + 1;
+        if (i >= 8) kept += i + 1;
+    }
+    Settings st;
+    st.light.maxAreaLights = 32;
+    LocalLights ll = resolveLocalLights(s, st);
+    REQUIRE(ll.lights.size() == 32);
+    for (auto& l : ll.lights) CHECK(l.gpu.colorIntensity.x >= 9.0f - 1e-3f);  // radiance 9..40 (area 1)
+    REQUIRE(ll.warnings.size() == 1);
+    char pct[32];
+    std::snprintf(pct, sizeof pct, "%.3g", 100.0 * (total - kept) / total);
+    CHECK(ll.warnings[0].find("40 emissive regions; the brightest 32 are area lights (emissive.max_lights=32), the other 8 (" +
+                              std::string(pct) + " % of the emitted power)") != std::string::npos);
+    // A limit of 20 layers: the 3 brightest cubes get 18, the rest go unshadowed (with a warning).
+    LocalLights few = resolveLocalLights(s, st, 20);
+    CHECK(few.shadowLayers == 18);
+    int shadowed = 0;
+    for (auto& l : few.lights) {
+        if (l.firstLayer < 0) continue;
+        ++shadowed;
+        CHECK(l.gpu.colorIntensity.x >= 38.0f - 1e-3f);
+    }
+    CHECK(shadowed == 3);
+    REQUIRE(few.warnings.size() == 2);
+    CHECK(few.warnings[1].find("29 local lights get no shadow map: the shadow array holds 20 layers") != std::string::npos);
+    // Unshadowed lights are kept (drawn without shadow: cone.z = -1).
+    const glm::mat4 cam = glm::perspective(glm::radians(90.0f), 1.0f, 0.1f, 500.0f) *
+                          glm::lookAt(glm::vec3(0, 40, 30), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
+    FrameLights fl = frameLights(few, cam, s.bounds(), true, 64);
+    for (std::size_t i = 0; i < few.lights.size(); ++i)
+        if (few.lights[i].firstLayer < 0 && fl.gpu[i].directionType.w != 0.0f) CHECK(fl.gpu[i].cone.z == -1.0f);
 }

@@ -29,6 +29,7 @@ struct LocalRsm {
     lpv::Rsm rsm;
     gl::FramebufferHandle fbo;
     std::vector<gl::Buffer> ubo;  // one per cascade
+    glm::mat4 viewProj{1.0f};     // the view it was drawn with (the light budget may reuse it for frames)
 };
 
 // One volume: the single LPV, or one cascade (docs/lpv.md, "Cascades").
@@ -51,8 +52,10 @@ struct LpvState {
     lpv::Rsm rsm;  // the sun's (orthographic, fitted to the coarsest cascade), when there is a sun
     gl::FramebufferHandle rsmFbo;
     bool sunRsm = false;
-    std::vector<LocalRsm> local;  // one per face of a kept spot / point / area light
-    int localUsed = 0;            // how many of `local` this frame rendered
+    std::vector<LocalRsm> local;  // by fixed face index (LocalLight::firstFace + k), made when first drawn
+    std::vector<int> injectFaces; // this frame's injected faces (the lit lights', drawn now or cached)
+    int localSize = 0;            // side of the local RSMs (FrameResources::localRsmSize)
+    int localDrawn = 0;           // faces drawn this frame
     VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer stats;
     gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
@@ -172,44 +175,61 @@ public:
             rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
         }
         // Local lights: one perspective RSM per spot light, six per point /
-        // area light, each with its own uniform block per cascade (that
-        // cascade's placement, this RSM's view-projection): every RSM is
-        // injected into every cascade (issue 13: "and its cascades").
-        const auto& views = ctx.res.localRsmViews;
-        if (st.local.size() < views.size()) st.local.resize(views.size());
-        st.localUsed = int(views.size());
+        // area light, at FrameResources::localRsmSize; the light budget
+        // (render/lights.h LightSchedule) picks the faces drawn this frame,
+        // the others keep theirs. Every face of a lit light gets its own
+        // uniform block per cascade (that cascade's placement, the view the
+        // face was drawn with): every RSM is injected into every cascade
+        // (issue 13: "and its cascades").
+        const int ln = ctx.res.localRsmSize;
+        st.localSize = ln;
+        const auto& draws = ctx.res.localRsmViews;
+        const auto& injects = ctx.res.localRsmInject;
+        std::size_t faces = st.local.size();
+        for (auto& v : draws) faces = std::max(faces, std::size_t(v.face) + 1);
+        if (st.local.size() < faces) st.local.resize(faces);
         const gl::Program& local = ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag",
                                                        {{"RTGI_LIGHT_VIEW", ""}, {"RTGI_RSM_LOCAL", ""}});
-        for (std::size_t i = 0; i < views.size(); ++i) {
-            LocalRsm& r = st.local[i];
-            ensureTargets(ctx, r.rsm, r.fbo, "lpv.rsm.local" + std::to_string(i), n);
+        for (auto& v : draws) {
+            LocalRsm& r = st.local[std::size_t(v.face)];
+            ensureTargets(ctx, r.rsm, r.fbo, "lpv.rsm.local" + std::to_string(v.face), ln);
+            r.viewProj = v.viewProj;
+            const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(v.light)];
+            local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, v.viewProj);
+            glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
+            local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(v.tanHalfFov, float(ln)));
+            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
+            if (useComputeRasterLightViews(ctx.settings)) {
+                rsmCompute(ctx, v.viewProj, ln, r.rsm, &g, v.tanHalfFov);
+            } else {
+                rasterizeScene(ctx, local, r.fbo.id(), {ln, ln}, 2);
+            }
+        }
+        st.localDrawn = int(draws.size());
+        st.injectFaces.clear();
+        for (auto& v : injects) {
+            if (std::size_t(v.face) >= st.local.size() || !st.local[std::size_t(v.face)].rsm.flux) continue;
+            LocalRsm& r = st.local[std::size_t(v.face)];
             if (r.ubo.size() < st.cascades.size()) r.ubo.resize(st.cascades.size());
             for (std::size_t k = 0; k < st.cascades.size(); ++k) {
                 gpu::LpvUniforms lu = st.cascades[k].uniforms;
-                lu.rsmViewProj = views[i].viewProj;
-                lu.rsmInvViewProj = glm::inverse(views[i].viewProj);
+                lu.rsmViewProj = r.viewProj;
+                lu.rsmInvViewProj = glm::inverse(r.viewProj);
+                lu.grid.w = ln;  // the side of this RSM (lpv.rsm for the sun's)
                 if (!r.ubo[k])
                     r.ubo[k] = gl::Buffer(ctx.ledger,
-                                          "lpv.uniforms.local" + std::to_string(i) +
+                                          "lpv.uniforms.local" + std::to_string(v.face) +
                                               (k == 0 ? std::string() : ".cascade" + std::to_string(k)),
                                           sizeof(lu));
                 r.ubo[k].upload(&lu, sizeof(lu));
             }
-            const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(views[i].light)];
-            local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, views[i].viewProj);
-            glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
-            local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(views[i].tanHalfFov, float(n)));
-            glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, r.ubo[0].id());
-            if (useComputeRasterLightViews(ctx.settings)) {
-                rsmCompute(ctx, views[i].viewProj, n, r.rsm, &g, views[i].tanHalfFov);
-            } else {
-                rasterizeScene(ctx, local, r.fbo.id(), {n, n}, 2);
-            }
+            st.injectFaces.push_back(v.face);
         }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
     std::vector<std::pair<std::string, double>> stats() override {
-        return {{"rsms", double(st_->localUsed + (st_->sunRsm ? 1 : 0))}};
+        return {{"rsms", double(st_->localDrawn + (st_->sunRsm ? 1 : 0))},
+                {"local_injected", double(st_->injectFaces.size())}};
     }
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         d.output("lpv.rsm.flux", &st_->rsm.flux).output("lpv.rsm.normal", &st_->rsm.normal, Check::signedValues);
@@ -217,7 +237,8 @@ public:
         const int faces = maxShadowLayers(resolveLocalLights(scene, s));
         for (int i = 0; i < faces; ++i)
             d.output("lpv.rsm.local" + std::to_string(i) + ".flux", [st = st_, i]() -> const gl::Texture* {
-                return i < st->localUsed ? &st->local[std::size_t(i)].rsm.flux : nullptr;
+                return std::size_t(i) < st->local.size() && st->local[std::size_t(i)].rsm.flux
+                           ? &st->local[std::size_t(i)].rsm.flux : nullptr;
             });
         d.debugImage("lpv.rsm.flux", [this] {
             return DebugImage{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)};
@@ -255,9 +276,10 @@ private:
     }
     static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
                               int n) {
-        bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", {GL_TEXTURE_2D, GL_RGBA32F, n, n});
-        changed |= rsm.normal.ensure(ctx.ledger, label + ".normal", {GL_TEXTURE_2D, GL_RGBA16F, n, n});
-        changed |= rsm.depth.ensure(ctx.ledger, label + ".depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n});
+        const lpv::RsmDescs d = lpv::rsmDescs(n);
+        bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", d.flux);
+        changed |= rsm.normal.ensure(ctx.ledger, label + ".normal", d.normal);
+        changed |= rsm.depth.ensure(ctx.ledger, label + ".depth", d.depth);
         if (!changed && fbo) return;
         GLuint f = 0;
         glCreateFramebuffers(1, &f);
@@ -300,15 +322,17 @@ public:
             if (ls.path == LpvSettings::Path::Raster) {
                 bool first = true;
                 if (st.sunRsm) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, first), first = false;
-                for (int i = 0; i < st.localUsed; ++i, first = false)
+                for (int i : st.injectFaces) {
                     lpv::injectRaster(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
-                                      ls.rsm, c.volumes, first);
+                                      st.localSize, c.volumes, first);
+                    first = false;
+                }
                 if (first) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, 0, c.volumes, true);  // clears only
             } else {
                 if (st.sunRsm) lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
-                for (int i = 0; i < st.localUsed; ++i)
+                for (int i : st.injectFaces)
                     lpv::injectCompute(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
-                                       ls.rsm, c.volumes, st.stats);
+                                       st.localSize, c.volumes, st.stats);
             }
         }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
@@ -530,8 +554,8 @@ public:
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
         const int count = int(st.cascades.size());
         if (count > 1) {
-            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(s));
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", lpv::applySumDesc(s));
         }
         for (int i = 0; i < count; ++i) {
             const LpvCascade& c = st.cascades[std::size_t(i)];

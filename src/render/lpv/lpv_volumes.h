@@ -22,6 +22,16 @@ struct Rsm {
     gl::Texture normal;  // RGBA16F: world normal of the lit side, a = 1 where a surface was drawn
     gl::Texture depth;   // D32F
 };
+// Descriptors of an RSM of side n: flux, normal, depth (lpv.rsm allocates
+// from them; the memory estimate counts them).
+struct RsmDescs {
+    gl::TextureDesc flux, normal, depth;
+};
+// lpv.apply's running sums over cascades (C > 1; two of them), view-sized.
+inline gl::TextureDesc applySumDesc(glm::ivec2 view) { return {GL_TEXTURE_2D, GL_RGBA32F, view.x, view.y}; }
+inline RsmDescs rsmDescs(int n) {
+    return {{GL_TEXTURE_2D, GL_RGBA32F, n, n}, {GL_TEXTURE_2D, GL_RGBA16F, n, n}, {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}};
+}
 
 struct Volumes {
     glm::ivec3 grid{0};

@@ -129,11 +129,17 @@ public:
         }
         layersDrawn_ = int(r.localShadowViews.size());
         culled_ = r.localLightsCulled;
+        waiting_ = r.localLightsWaiting;
+        cached_ = r.localFacesCached;
     }
     // Lights left out this frame (their influence sphere misses the view
-    // frustum, or zero intensity) and the layers drawn for the others.
+    // frustum, or zero intensity), the layers drawn for the others, and from
+    // the light budget: lights waiting for their first maps, shadow and RSM
+    // faces reused from earlier frames.
     std::vector<std::pair<std::string, double>> stats() override {
-        return {{"layers", double(layersDrawn_)}, {"lights_culled", double(culled_)}, {"compute", compute_ ? 1.0 : 0.0}};
+        return {{"layers", double(layersDrawn_)}, {"lights_culled", double(culled_)},
+                {"lights_waiting", double(waiting_)}, {"faces_cached", double(cached_)},
+                {"compute", compute_ ? 1.0 : 0.0}};
     }
 
 private:
@@ -141,7 +147,7 @@ private:
     unsigned epoch_ = 0;  // FrameResources::allocationEpoch the framebuffers were made for
     VisibilityTarget target_{"shadow.local"};
     unsigned targetEpoch_ = 0;
-    int layersDrawn_ = 0, culled_ = 0;
+    int layersDrawn_ = 0, culled_ = 0, waiting_ = 0, cached_ = 0;
     bool compute_ = false;
 };
 
