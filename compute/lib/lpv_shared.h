@@ -229,4 +229,15 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_OUT_ACCUM_G 4
 #define RTGI_LPV_OUT_ACCUM_B 5
 
+// lpv.lookup=visibility (docs/lpv.md, "Visibility moments"): per-cell distance moments.
+#define RTGI_LPV_VIS_RES 6                  // N: each cell's octahedral map is N x N directions
+#define RTGI_LPV_VIS_SUBSAMPLES 2           // rays per map texel: S x S strata
+#define RTGI_LPV_VIS_MAX_DISTANCE 2.0       // cells: longer distances are stored as this (lookups reach sqrt(3))
+#define RTGI_LPV_VIS_MIN_VARIANCE 0.00390625  // cells^2: (1/16 cell)^2, floor of the Chebyshev variance
+#define RTGI_LPV_TEX_APPLY_VISIBILITY    24  // lpv/apply.comp with RTGI_LPV_LOOKUP_VISIBILITY: the cascade's moments
+#define RTGI_LPV_VIS_IMG_MOMENTS          0  // lpv/visibility.comp (BVH and scene buffers at their bvh_shared.h bindings)
+#define RTGI_LPV_VIS_IMG_SKY              1  // lpv/visibility.comp with RTGI_LPV_VIS_SKY: sky visibility SH per cell
+#define RTGI_LPV_SKY_STRATA               8  // lpv.sky=visibility: M x M rays per cell
+#define RTGI_LPV_TEX_APPLY_SKY           25  // lpv/apply.comp with RTGI_LPV_SKY: the cascade's sky visibility SH
+
 #endif

@@ -44,6 +44,7 @@ struct LpvCascade {
     const lpv::Rgb* nearResult = nullptr;  // cascades i > 0: the near part read by lpv.apply
     const lpv::Hi* nearResultHi = nullptr;
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
+    glm::vec4 visibilityFor{0.0f};     // origin (xyz) and cell size (w) the moments were traced for
 };
 
 struct LpvState {
@@ -61,6 +62,7 @@ struct LpvState {
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
     lpv::ProbeTracer probe;  // lpv.source=probe (docs/lpv.md, "Stage attribution")
+    lpv::SceneBvh visibilityBvh;  // lpv.lookup=visibility
     LpvCascade& first() { return cascades.front(); }
     const LpvCascade& first() const { return cascades.front(); }
 };
@@ -512,6 +514,46 @@ public:
     }
 };
 
+// lpv.visibility (lpv.lookup=visibility, lpv.sky=visibility; docs/lpv.md, "Visibility moments",
+// "Sky visibility"): each cascade's per-cell distance moments and sky visibility, traced against the scene's BVH when the cascade was placed
+// elsewhere (or first allocated); the scene is static, so otherwise nothing runs.
+class VisibilityPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.visibility"; }
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        const bool moments = s.lpv.lookup == LpvSettings::Lookup::Visibility, sky = s.lpv.sky == LpvSettings::Sky::Visibility;
+        if (!moments && !sky) return d.skip("lpv.lookup is not visibility and lpv.sky is not visibility");
+        const LpvState* st = st_.get();
+        for (int i = 0; i < cascadeCount(s.lpv); ++i) {
+            const std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
+            if (moments)
+                d.output("lpv.visibility" + suffix, [st, i]() -> const gl::Texture* {
+                    return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.visibility : nullptr;
+                });
+            if (sky)
+                d.output("lpv.sky_visibility" + suffix, [st, i]() -> const gl::Texture* {
+                    return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.sky : nullptr;
+                }, Check::signedValues);
+        }
+    }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        const bool moments = ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility;
+        const bool sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility;
+        for (LpvCascade& c : st.cascades) {
+            const glm::vec4 placed = c.uniforms.origin;
+            bool fresh = moments && c.volumes.ensureVisibility(ctx.ledger);
+            fresh = (sky && c.volumes.ensureSky(ctx.ledger)) || fresh;
+            if (!fresh && placed == c.visibilityFor) continue;
+            st.visibilityBvh.ensure(ctx, "lpv.visibility.bvh");
+            if (moments) lpv::visibilityMoments(ctx, c.ubo, st.visibilityBvh, c.volumes);
+            if (sky) lpv::skyVisibility(ctx, c.ubo, st.visibilityBvh, c.volumes);
+            c.visibilityFor = placed;
+        }
+    }
+};
+
 // lpv.apply: indirect diffuse (+ specular) radiance from the volume.
 class ApplyPass final : public LpvPass {
 public:
@@ -563,6 +605,9 @@ public:
                               ? &c.volumes.geometry
                               : nullptr;
             in.geometryAxes = in.geometry ? &c.volumes.geometryAxes : nullptr;
+            in.visibility =
+                ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility ? &c.volumes.visibility : nullptr;
+            in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }
@@ -579,6 +624,7 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
     f.push_back(std::make_unique<GeometryPass>(st));   // blocking potential (occlusion, bounce)
     f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
     f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
+    f.push_back(std::make_unique<VisibilityPass>(st)); // per-cell distance moments (lpv.lookup=visibility)
     f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
 }
 

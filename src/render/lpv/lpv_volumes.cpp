@@ -168,6 +168,21 @@ void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
         geometryAxes.setSampling(GL_LINEAR, GL_LINEAR);
 }
 
+bool Volumes::ensureVisibility(gl::MemoryLedger& ledger) {
+    // Linear within a cell's tile (lib/lpv_lookup.glsl keeps the lookup half a texel inside it).
+    const int n = RTGI_LPV_VIS_RES;
+    if (!visibility.ensure(ledger, "lpv.visibility", {GL_TEXTURE_3D, GL_RG16F, n * grid.x, n * grid.y, grid.z}))
+        return false;
+    visibility.setSampling(GL_LINEAR, GL_LINEAR);
+    return true;
+}
+
+bool Volumes::ensureSky(gl::MemoryLedger& ledger) {
+    if (!sky.ensure(ledger, "lpv.sky_visibility", {GL_TEXTURE_3D, GL_RGBA16F, grid.x, grid.y, grid.z})) return false;
+    sky.setSampling(GL_LINEAR, GL_LINEAR);  // trilinear, as the light volumes
+    return true;
+}
+
 namespace {
 // Two temporal blend targets (ping-pong) of a volume, band 2 included.
 void ensureHistoryPair(gl::MemoryLedger& ledger, const Volumes& v, std::array<Rgb, 2>& rgb, std::array<Hi, 2>& hi,
@@ -458,7 +473,9 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
+    else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
+    if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -483,6 +500,8 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .texture(RTGI_LPV_TEX_LIGHT_HI_B, (*in.volumeHi)[2])
             .texture(RTGI_LPV_TEX_LIGHT_LAST, (*in.volumeHi)[3]);
     if (in.geometry) b.texture(RTGI_LPV_TEX_APPLY_GEOMETRY, *in.geometry).texture(RTGI_LPV_TEX_APPLY_GEOMETRY_AXES, in.geometryAxes);
+    if (!in.geometry && in.visibility) b.texture(RTGI_LPV_TEX_APPLY_VISIBILITY, *in.visibility);
+    if (in.sky) b.texture(RTGI_LPV_TEX_APPLY_SKY, *in.sky);
     if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)
