@@ -100,7 +100,7 @@ const char* const kLpvSource[] = {"propagated", "probe"};
 const char* const kLpvLookup[] = {"trilinear", "geometry", "visibility"};
 const char* const kLpvInjectSide[] = {"offset", "front"};
 const char* const kLpvFirstStep[] = {"free", "blocked"};
-const char* const kLpvBlocking[] = {"oriented", "two-sided"};
+const char* const kLpvBlocking[] = {"oriented", "two-sided", "visibility"};
 const char* const kLpvReflect[] = {"destination", "source"};
 const char* const kLpvSky[] = {"ambient", "visibility"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
@@ -218,7 +218,9 @@ std::vector<SettingKey> buildKeys() {
             s.lpv.injectSide = parseEnum<LpvSettings::InjectSide>("lpv.inject_side", v, kLpvInjectSide),
             kLpvInjectSide[int(s.lpv.injectSide)]),
         KEY("lpv.blocking", "geometry volume blocking: oriented (surfaces facing the light, KD10 band-1 SH) or two-sided "
-            "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\")", "oriented|two-sided",
+            "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\") or visibility (oriented, times the "
+            "Chebyshev visibility of the neighbour's centre from the source cell's ray-traced distance moments; "
+            "docs/lpv.md, \"Visibility moments\")", "oriented|two-sided|visibility",
             s.lpv.blocking = parseEnum<LpvSettings::Blocking>("lpv.blocking", v, kLpvBlocking),
             kLpvBlocking[int(s.lpv.blocking)]),
         KEY("lpv.sky", "the sky term inside the volume: ambient (sky radiance times AO everywhere) or visibility "

@@ -69,6 +69,13 @@ struct LpvState {
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
 
+// lpv.visibility's distance moments: for the lookup, or for the propagation's blocking (compute path, with occlusion).
+bool momentsNeeded(const Settings& s) {
+    return s.lpv.lookup == LpvSettings::Lookup::Visibility ||
+           (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
+            geometryNeeded(s));
+}
+
 // Cascades in use: the raster baseline is the seed's single volume.
 int cascadeCount(const LpvSettings& s) { return s.path == LpvSettings::Path::Raster ? 1 : s.cascades; }
 
@@ -427,7 +434,8 @@ public:
             } else {
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
-                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
+                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
+                                                   ls.blocking == LpvSettings::Blocking::Visibility && geometryNeeded(ctx.settings));
             }
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
@@ -522,8 +530,8 @@ public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.visibility"; }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
-        const bool moments = s.lpv.lookup == LpvSettings::Lookup::Visibility, sky = s.lpv.sky == LpvSettings::Sky::Visibility;
-        if (!moments && !sky) return d.skip("lpv.lookup is not visibility and lpv.sky is not visibility");
+        const bool moments = momentsNeeded(s), sky = s.lpv.sky == LpvSettings::Sky::Visibility;
+        if (!moments && !sky) return d.skip("neither lpv.lookup, lpv.blocking nor lpv.sky is visibility");
         const LpvState* st = st_.get();
         for (int i = 0; i < cascadeCount(s.lpv); ++i) {
             const std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
@@ -539,7 +547,7 @@ public:
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
-        const bool moments = ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility;
+        const bool moments = momentsNeeded(ctx.settings);
         const bool sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility;
         for (LpvCascade& c : st.cascades) {
             const glm::vec4 placed = c.uniforms.origin;
@@ -622,9 +630,9 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
     f.push_back(std::make_unique<InjectPass>(st));     // RSM texels -> SH (fp32 atomics | raster points)
     f.push_back(std::make_unique<PackPass>(st));       // fp32 -> lpv.format (compute path)
     f.push_back(std::make_unique<GeometryPass>(st));   // blocking potential (occlusion, bounce)
+    f.push_back(std::make_unique<VisibilityPass>(st)); // per-cell distance moments and sky visibility (BVH rays)
     f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
     f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
-    f.push_back(std::make_unique<VisibilityPass>(st)); // per-cell distance moments (lpv.lookup=visibility)
     f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
 }
 

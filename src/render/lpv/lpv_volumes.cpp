@@ -333,9 +333,12 @@ void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
 
 }  // namespace
 
-int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near) {
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
+                     bool visibility) {
     const bool sh2 = v.shOrder == 2;
-    const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format, v.shOrder));
+    gl::Defines defines = formatDefines(v.format, v.shOrder);
+    if (visibility) defines.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
+    const gl::Program& prog = programs.compute("lpv/propagate.comp", defines);
     // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
     int nearK = 0;
     while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
@@ -376,6 +379,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
+        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.visibility.id());
         if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).

@@ -91,8 +91,9 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 // Iterations 1..n; returns the index of step[] holding the last iteration.
 // `near` (cascades i > 0): also fills v.near with the steps weighted by
 // cascadeNearWeight (v.ensureNear first).
+// `visibility` (lpv.blocking=visibility): v.visibility holds the moments, which block the flow too.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
-                     bool near = false);
+                     bool near = false, bool visibility = false);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 // lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
 // `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
