@@ -21,8 +21,15 @@
 #define RTGI_UBO_LPV 1              // LpvUniforms
 #define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
 #define RTGI_LPV_MAX_CASCADES 6      // lpv.cascades range 1..6
-#define RTGI_LPV_GV_CHANNELS 11     // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A),
-                                    // sum(A / s^2 |n|) (xyz: two-sided axis blocking, docs/lpv.md "Leaks")
+// Geometry accumulation channels: 4 SH of blocking, sum(A * albedo.rgb), sum(A), and with
+// lpv.blocking=two-sided (RTGI_LPV_TWO_SIDED) sum(A / s^2 |n|) (xyz: axis blocking, docs/lpv.md "Leaks").
+#define RTGI_LPV_GV_CHANNELS_ORIENTED 8
+#define RTGI_LPV_GV_CHANNELS_TWO_SIDED 11
+#ifdef RTGI_LPV_TWO_SIDED
+#define RTGI_LPV_GV_CHANNELS RTGI_LPV_GV_CHANNELS_TWO_SIDED
+#else
+#define RTGI_LPV_GV_CHANNELS RTGI_LPV_GV_CHANNELS_ORIENTED
+#endif
 // Cascades (near.comp, apply.comp with RTGI_LPV_CASCADED): texture units, image units, uniform locations.
 #define RTGI_LPV_TEX_SOURCE_R 0
 #define RTGI_LPV_TEX_SOURCE_G 1

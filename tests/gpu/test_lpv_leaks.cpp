@@ -13,6 +13,8 @@
 #include "compute/lib/lpv_shared.h"
 
 #include <array>
+#include <map>
+#include <string>
 #include <cmath>
 #include <vector>
 
@@ -463,6 +465,55 @@ TEST_CASE("LPV leaks: visibility-moment lookup weights match a CPU double implem
     }
     MESSAGE(beyond << " stencil cells beyond the wall from their lookup point, " << free << " with a free view");
     CHECK(beyond >= 8);
+}
+
+TEST_CASE("LPV leaks: the axis blocking and the visibility volumes are allocated only by the settings that read them") {
+    // lpv.blocking=two-sided alone reads lpv.geometry_axes and the 3 extra accumulation channels;
+    // lpv.lookup / lpv.blocking / lpv.sky = visibility alone read lpv.visibility, lpv.sky_visibility
+    // and the BVH. The oracle is the ledger: what each frame allocated, by name and size.
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene scene = loadBuiltin("leak");
+    const glm::ivec2 size(32, 24);
+    auto allocated = [&](const Settings& s) {
+        auto r = renderFrames(scene, s, size, prof);
+        std::map<std::string, std::int64_t> m;
+        for (auto& [name, bytes] : r->ledger().entries()) m[name] += bytes;
+        return m;
+    };
+    auto has = [](const std::map<std::string, std::int64_t>& m, const std::string& prefix) {
+        for (auto& [name, bytes] : m)
+            if (name.rfind(prefix, 0) == 0 && bytes > 0) return true;
+        return false;
+    };
+    Settings oriented;
+    oriented.lpv.mode = Toggle::On;
+    oriented.lpv.grid = glm::ivec3(8);
+    oriented.lpv.lookup = LpvSettings::Lookup::Geometry;
+    oriented.lpv.sky = LpvSettings::Sky::Ambient;
+    oriented.lpv.blocking = LpvSettings::Blocking::Oriented;
+    auto a = allocated(oriented);
+    CHECK(has(a, "lpv.geometry_accum"));
+    CHECK_FALSE(has(a, "lpv.geometry_axes"));
+    CHECK_FALSE(has(a, "lpv.visibility"));
+    CHECK_FALSE(has(a, "lpv.sky_visibility"));
+    Settings twoSided = oriented;
+    twoSided.lpv.blocking = LpvSettings::Blocking::TwoSided;
+    auto b = allocated(twoSided);
+    CHECK(has(b, "lpv.geometry_axes"));
+    // 8 vs 11 R32F channels per corner of the (grid + 1)^3 lattice, per cascade.
+    const std::int64_t corners = 9 * 9 * 9;
+    const std::int64_t cascades = oriented.lpv.cascades;
+    CHECK(a["lpv.geometry_accum"] == cascades * corners * 8 * 4);
+    CHECK(b["lpv.geometry_accum"] == cascades * corners * 11 * 4);
+    Settings visibility = oriented;
+    visibility.lpv.lookup = LpvSettings::Lookup::Visibility;
+    visibility.lpv.sky = LpvSettings::Sky::Visibility;
+    auto c = allocated(visibility);
+    CHECK(has(c, "lpv.visibility.bvh"));
+    CHECK(c["lpv.visibility"] == cascades * 8 * 8 * 8 * RTGI_LPV_VIS_RES * RTGI_LPV_VIS_RES * 4);
+    CHECK(c["lpv.sky_visibility"] == cascades * 8 * 8 * 8 * 8);
+    CHECK_FALSE(has(c, "lpv.geometry_axes"));
 }
 
 TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of the outside wall's LPV light (two-sided blocking, damping)") {

@@ -398,7 +398,7 @@ public:
         // Blocking potential from the sun's orthographic RSM (its texel areas)
         // and the G-buffer; local lights' perspective RSMs are not used here.
         for (LpvCascade& c : st.cascades) {
-            c.volumes.ensureGeometry(ctx.ledger);
+            c.volumes.ensureGeometry(ctx.ledger, ctx.settings.lpv.blocking == LpvSettings::Blocking::TwoSided);
             lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, st.sunRsm ? ctx.settings.lpv.rsm : 0, gb, c.volumes);
         }
     }
@@ -612,7 +612,7 @@ public:
             in.geometry = ctx.settings.lpv.lookup == LpvSettings::Lookup::Geometry && geometryNeeded(ctx.settings)
                               ? &c.volumes.geometry
                               : nullptr;
-            in.geometryAxes = in.geometry ? &c.volumes.geometryAxes : nullptr;
+            in.geometryAxes = in.geometry && c.volumes.geometryAxes ? &c.volumes.geometryAxes : nullptr;
             in.visibility =
                 ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility ? &c.volumes.visibility : nullptr;
             in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;

@@ -155,16 +155,18 @@ void Volumes::ensureNear(gl::MemoryLedger& ledger) {
     if (shOrder == 2) ensureHi(ledger, nearHi, "lpv.near.hi", grid, format, true);
 }
 
-void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
+void Volumes::ensureGeometry(gl::MemoryLedger& ledger, bool twoSided) {
     glm::ivec3 c = grid + 1;
+    const int channels = twoSided ? RTGI_LPV_GV_CHANNELS_TWO_SIDED : RTGI_LPV_GV_CHANNELS_ORIENTED;
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
-    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z}))
+    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, channels * c.x, c.y, c.z}))
         geometryAccum.clear();
     // Linear: lpv.lookup=geometry samples it between corners (the propagation uses texelFetch).
     if (geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z}))
         geometry.setSampling(GL_LINEAR, GL_LINEAR);
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
-    if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
+    if (!twoSided) geometryAxes = gl::Texture();
+    else if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
         geometryAxes.setSampling(GL_LINEAR, GL_LINEAR);
 }
 
@@ -292,7 +294,11 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindImageTexture(RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                        GL_R32F);
-    const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
+    // lpv.blocking=two-sided allocated the axis blocking (ensureGeometry): the variant that fills it.
+    const bool twoSided = bool(v.geometryAxes);
+    gl::Defines variant;
+    if (twoSided) variant.push_back({"RTGI_LPV_TWO_SIDED", ""});
+    const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp", variant);
     if (rsmSize > 0) {
         glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
         glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
@@ -300,7 +306,11 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
         gl::dispatch(fromRsm, rsmSize, rsmSize);
     }
     if (gb.linearDepth) {
-        const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", {{"RTGI_LPV_GV_GBUFFER", ""}});
+        const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", [&] {
+            gl::Defines d = variant;
+            d.push_back({"RTGI_LPV_GV_GBUFFER", ""});
+            return d;
+        }());
         glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth->id());
         glBindTextureUnit(RTGI_LPV_TEX_VIEW_NORMAL, gb.normal->id());
         glBindTextureUnit(RTGI_LPV_TEX_ALBEDO, gb.albedo->id());
@@ -311,6 +321,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
         programs.compute("lpv/pack.comp", [&] {
             gl::Defines d = formatDefines(v.format);
             d.push_back({"RTGI_LPV_PACK_GEOMETRY", ""});
+            if (twoSided) d.push_back({"RTGI_LPV_TWO_SIDED", ""});
             return d;
         }());
     // Producer: the geometry injection dispatches above (image atomics).
@@ -318,7 +329,8 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glBindImageTexture(RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_ALBEDO, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_AXES, v.geometryAxes.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    if (twoSided)
+        glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_AXES, v.geometryAxes.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 

@@ -33,7 +33,7 @@ struct Volumes {
     gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A); zero between frames
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
-    gl::Texture geometryAxes;    // RGBA16F: sum(A / s^2 |n|) (xyz), two-sided axis blocking (docs/lpv.md, "Leaks")
+    gl::Texture geometryAxes;    // RGBA16F: sum(A / s^2 |n|) (xyz), two-sided axis blocking (docs/lpv.md, "Leaks"); two-sided only
     gl::Texture visibility;      // RG16F (N X, N Y, Z): per-cell distance moments (lpv.lookup=visibility)
     gl::Texture sky;             // RGBA16F: band-1 SH of each cell's sky visibility (lpv.sky=visibility)
     std::array<Rgb, 2> history;  // temporal blend targets (format)
@@ -54,7 +54,9 @@ struct Volumes {
     // (Re)allocates the light volumes; returns true when they changed.
     bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format, int shOrder = 1);
     void ensureNear(gl::MemoryLedger& ledger);
-    void ensureGeometry(gl::MemoryLedger& ledger);
+    // twoSided (lpv.blocking=two-sided): also the axis blocking (3 more accumulation channels and
+    // geometryAxes); otherwise neither is allocated and injectGeometry runs the oriented variant.
+    void ensureGeometry(gl::MemoryLedger& ledger, bool twoSided = true);
     bool ensureVisibility(gl::MemoryLedger& ledger);  // true when (re)allocated
     bool ensureSky(gl::MemoryLedger& ledger);         // true when (re)allocated
     void ensureHistory(gl::MemoryLedger& ledger);
