@@ -575,6 +575,13 @@ TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of t
     // derivative damping on top the room stays dark.
     Settings defaults;
     MESSAGE("inside / outside LPV indirect with the defaults: " << run(defaults));
+    Settings visibilityBlocking;
+    visibilityBlocking.lpv.blocking = LpvSettings::Blocking::Visibility;
+    MESSAGE("inside / outside LPV indirect with the defaults + lpv.blocking=visibility: " << run(visibilityBlocking));
+    Settings geometryLookup;
+    geometryLookup.lpv.lookup = LpvSettings::Lookup::Geometry;
+    MESSAGE("inside / outside LPV indirect with the defaults + lpv.lookup=geometry (the defaults before): "
+            << run(geometryLookup));
     Settings leakProof;
     leakProof.lpv.blocking = LpvSettings::Blocking::TwoSided;
     leakProof.lpv.damping = true;
