@@ -8,6 +8,7 @@
 //   surface than in front of it came through the surface, scaled by front / back.
 #pragma once
 #include "lib/sh.glsl"
+#include "lib/lpv_shared.h"
 
 // Stencil of the trilinear lookup at q: cell k (k = 0..7, bit 0 x, bit 1 y, bit 2 z) is
 // lpvStencilBase(q) + lpvStencilOffset(k).
@@ -88,4 +89,57 @@ int lpvGeometryWeights(vec3 q, vec3 x, vec3 n, float blocked[8], out float w[8])
 float lpvDamping(float front, float back) { return back > front && back > 0.0 ? max(front, 0.0) / back : 1.0; }
 vec3 lpvDamping(vec3 front, vec3 back) {
     return vec3(lpvDamping(front.x, back.x), lpvDamping(front.y, back.y), lpvDamping(front.z, back.z));
+}
+
+// Per-cell visibility moments (lpv.lookup=visibility; docs/lpv.md, "Visibility moments"), as
+// DDGI's irradiance probes: every cell stores, per direction w of an N x N octahedral map, the
+// mean and mean square of the distance d (cell units, clamped to RTGI_LPV_VIS_MAX_DISTANCE) from
+// its centre to the first surface along w. Cell c's map is the tile [c.x N, c.x N + N) x
+// [c.y N, c.y N + N) of slice c.z of a (X N, Y N, Z) RG texture.
+
+// Octahedral map of the unit sphere onto [0, 1]^2 and back (upper hemisphere inside the
+// diamond |u| + |v| <= 1, the lower folded onto the corners).
+vec2 lpvOctEncode(vec3 w) {
+    vec3 a = w / (abs(w.x) + abs(w.y) + abs(w.z));
+    vec2 e = a.xy;
+    if (a.z < 0.0) e = (1.0 - abs(a.yx)) * vec2(a.x >= 0.0 ? 1.0 : -1.0, a.y >= 0.0 ? 1.0 : -1.0);
+    return e * 0.5 + 0.5;
+}
+vec3 lpvOctDecode(vec2 uv) {
+    vec2 e = uv * 2.0 - 1.0;
+    vec3 w = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    if (w.z < 0.0) w.xy = (1.0 - abs(w.yx)) * vec2(w.x >= 0.0 ? 1.0 : -1.0, w.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(w);
+}
+
+// One-sided Chebyshev bound on P(d >= r) from the moments m = (E[d], E[d^2]): 1 for r <= E[d],
+// else var / (var + (r - E[d])^2) with var = max(E[d^2] - E[d]^2, RTGI_LPV_VIS_MIN_VARIANCE).
+float lpvChebyshev(vec2 m, float r) {
+    if (r <= m.x) return 1.0;
+    float var = max(m.y - m.x * m.x, RTGI_LPV_VIS_MIN_VARIANCE);
+    float d = r - m.x;
+    return var / (var + d * d);
+}
+
+// Texture coordinate of cell c's moments in direction w: the octahedral coordinate, clamped
+// half a texel inside the cell's tile so the bilinear filter never reads a neighbour's tile;
+// z at the slice's centre.
+vec3 lpvVisibilityCoord(ivec3 c, vec3 w, ivec3 texSize) {
+    float n = float(RTGI_LPV_VIS_RES);
+    vec2 t = clamp(lpvOctEncode(w) * n, vec2(0.5), vec2(n - 0.5)) + vec2(c.xy) * n;
+    return vec3(t, float(c.z) + 0.5) / vec3(texSize);
+}
+
+// blocked[k] = 1 - P(d_k >= r_k) of the 8 stencil cells around q: d_k the distance from cell
+// k's centre c_k to geometry in the direction of q, r_k = |q - c_k| (cell units). Cells
+// outside the grid (clamped, as the light fetch) use the border cell's map.
+void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
+    ivec3 texSize = textureSize(moments, 0);
+    for (int k = 0; k < 8; ++k) {
+        vec3 c = lpvStencilCentre(q, k);
+        vec3 d = q - c;
+        float r = length(d);
+        ivec3 cell = clamp(lpvStencilBase(q) + lpvStencilOffset(k), ivec3(0), grid - 1);
+        blocked[k] = r > 0.0 ? 1.0 - lpvChebyshev(texture(moments, lpvVisibilityCoord(cell, d / r, texSize)).xy, r) : 0.0;
+    }
 }

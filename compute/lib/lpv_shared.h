@@ -21,8 +21,15 @@
 #define RTGI_UBO_LPV 1              // LpvUniforms
 #define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
 #define RTGI_LPV_MAX_CASCADES 6      // lpv.cascades range 1..6
-#define RTGI_LPV_GV_CHANNELS 11     // geometry accumulation: 4 SH of blocking, sum(A * albedo.rgb), sum(A),
-                                    // sum(A / s^2 |n|) (xyz: two-sided axis blocking, docs/lpv.md "Leaks")
+// Geometry accumulation channels: 4 SH of blocking, sum(A * albedo.rgb), sum(A), and with
+// lpv.blocking=two-sided (RTGI_LPV_TWO_SIDED) sum(A / s^2 |n|) (xyz: axis blocking, docs/lpv.md "Leaks").
+#define RTGI_LPV_GV_CHANNELS_ORIENTED 8
+#define RTGI_LPV_GV_CHANNELS_TWO_SIDED 11
+#ifdef RTGI_LPV_TWO_SIDED
+#define RTGI_LPV_GV_CHANNELS RTGI_LPV_GV_CHANNELS_TWO_SIDED
+#else
+#define RTGI_LPV_GV_CHANNELS RTGI_LPV_GV_CHANNELS_ORIENTED
+#endif
 // Cascades (near.comp, apply.comp with RTGI_LPV_CASCADED): texture units, image units, uniform locations.
 #define RTGI_LPV_TEX_SOURCE_R 0
 #define RTGI_LPV_TEX_SOURCE_G 1
@@ -228,5 +235,17 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_OUT_ACCUM_R 3
 #define RTGI_LPV_OUT_ACCUM_G 4
 #define RTGI_LPV_OUT_ACCUM_B 5
+
+// lpv.lookup=visibility (docs/lpv.md, "Visibility moments"): per-cell distance moments.
+#define RTGI_LPV_VIS_RES 6                  // N: each cell's octahedral map is N x N directions
+#define RTGI_LPV_VIS_SUBSAMPLES 2           // rays per map texel: S x S strata
+#define RTGI_LPV_VIS_MAX_DISTANCE 2.0       // cells: longer distances are stored as this (lookups reach sqrt(3))
+#define RTGI_LPV_VIS_MIN_VARIANCE 0.00390625  // cells^2: (1/16 cell)^2, floor of the Chebyshev variance
+#define RTGI_LPV_TEX_APPLY_VISIBILITY    24  // lpv/apply.comp with RTGI_LPV_LOOKUP_VISIBILITY: the cascade's moments
+#define RTGI_LPV_VIS_IMG_MOMENTS          0  // lpv/visibility.comp (BVH and scene buffers at their bvh_shared.h bindings)
+#define RTGI_LPV_VIS_IMG_SKY              1  // lpv/visibility.comp with RTGI_LPV_VIS_SKY: sky visibility SH per cell
+#define RTGI_LPV_SKY_STRATA               8  // lpv.sky=visibility: M x M rays per cell
+#define RTGI_LPV_TEX_PROPAGATE_VISIBILITY 10  // lpv/propagate.comp with RTGI_LPV_PROPAGATE_VISIBILITY (after axes 9)
+#define RTGI_LPV_TEX_APPLY_SKY           25  // lpv/apply.comp with RTGI_LPV_SKY: the cascade's sky visibility SH
 
 #endif

@@ -8,7 +8,8 @@
 // when a BRDF LUT exists (RTGI_LPV_BRDF_LUT), else times F0.
 // Leaks (docs/lpv.md, "Leaks"): RTGI_LPV_LOOKUP_GEOMETRY weights the 8 cells of the diffuse
 // lookup by side and geometry-volume blocking (lib/lpv_lookup.glsl); RTGI_LPV_DAMPING damps
-// it by the irradiance one cell behind the surface.
+// it by the irradiance one cell behind the surface; RTGI_LPV_LOOKUP_VISIBILITY weights them by
+// side and the cells' distance moments (lpv.visibility, Chebyshev as DDGI).
 // Hooks: RTGI_LPV_BENT_NORMAL looks up along the AO pass's bent normal;
 // RTGI_LPV_S3HO integrates against the SH visibility instead of the cosine.
 // lpv.sh_order=2 (RTGI_LPV_SH2): the volumes hold bands 0-2 (mat3, lib/sh.glsl);
@@ -136,6 +137,12 @@ vec2 lpvCascadeWeights(vec3 world) {
 layout(binding = RTGI_LPV_TEX_APPLY_GEOMETRY) uniform sampler3D uGeometry;  // corner lattice, (X+1, Y+1, Z+1)
 layout(binding = RTGI_LPV_TEX_APPLY_GEOMETRY_AXES) uniform sampler3D uGeometryAxes;
 #endif
+#ifdef RTGI_LPV_SKY
+layout(binding = RTGI_LPV_TEX_APPLY_SKY) uniform sampler3D uSky;  // band-1 SH of the cells' sky visibility
+#endif
+#ifdef RTGI_LPV_LOOKUP_VISIBILITY
+layout(binding = RTGI_LPV_TEX_APPLY_VISIBILITY) uniform sampler3D uVisibility;  // (X N, Y N, Z) distance moments
+#endif
 
 // Where a lookup reads: the trilinear texture coordinate, or (weighted) the 8 stencil cells
 // from `base` with weights w (lib/lpv_lookup.glsl).
@@ -160,6 +167,15 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     vec3 q = lpvCellCoord(world);
     float blocked[8];
     lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, blocked);
+    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
+    l.base = lpvStencilBase(q);
+    l.weighted = true;
+#elif defined(RTGI_LPV_LOOKUP_VISIBILITY)
+    // The same side test, the cells' own visibility (Chebyshev bound of their distance moments)
+    // instead of the geometry volume's blocking.
+    vec3 q = lpvCellCoord(world);
+    float blocked[8];
+    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
@@ -228,6 +244,9 @@ void main() {
     if (any(greaterThanEqual(p, frameSize()))) return;
     float d = texelFetch(uLinearDepth, p, 0).r;
     vec3 diffuse = vec3(0.0), specular = vec3(0.0), irradiance = vec3(0.0);
+    // lpv.sky=visibility: this cascade's cosine-weighted sky visibility at the lookup point and
+    // its cascade weight u_i (1 for a single volume); alpha of the indirect output (compose's sky term).
+    float skyVisible = 0.0, skyWeight = 0.0, skyAlpha = 1.0;
     if (!isSky(d)) {
         vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
         vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
@@ -245,7 +264,17 @@ void main() {
         LpvSh r, g, b;
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
         vec3 lookupAt = wp + 0.5 * lpvCellSize() * n;
-        if (lpvSample(lookupAt, lpvSurfaceLookup(lookupAt, wp, n), r, g, b)) {
+        LpvLookup lk = lpvSurfaceLookup(lookupAt, wp, n);
+        if (lpvSample(lookupAt, lk, r, g, b)) {
+#ifdef RTGI_LPV_SKY
+            // Not mirrored: V(w) is a function of the direction looked along, I(w) of the flow.
+            skyVisible = clamp(shCosineIntegral(lpvFetch(uSky, lk), n) * INV_PI, 0.0, 1.0);
+#ifdef RTGI_LPV_CASCADED
+            skyWeight = lpvCascadeWeights(lookupAt).x;
+#else
+            skyWeight = 1.0;
+#endif
+#endif
 #ifdef RTGI_LPV_S3HO
             // S3HO is band 1: the band-2 part of the light has no visibility to meet.
             vec4 w = shRotate(directionalAt(uv), mat3(frame.invView));
@@ -288,8 +317,16 @@ void main() {
 #endif
         }
 #ifdef RTGI_LPV_CASCADED
-        if (lpv.cascade.x > 0) irradiance += imageLoad(uSumE, p).rgb;
-        if (uLast == 0) imageStore(uSumE, p, vec4(irradiance, 0.0));
+        // .a: the running sum of u_i V_i (lpv.sky=visibility).
+        float skySum = skyWeight * skyVisible;
+        if (lpv.cascade.x > 0) {
+            vec4 prev = imageLoad(uSumE, p);
+            irradiance += prev.rgb;
+            skySum += prev.a;
+        }
+        if (uLast == 0) imageStore(uSumE, p, vec4(irradiance, skySum));
+        // Sum_i u_i = U of the last cascade: where no cascade covers the point the sky is not occluded.
+        skyAlpha = skySum + 1.0 - lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n).y;
         diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(irradiance, vec3(0.0));
 #endif
 #ifdef RTGI_LPV_SPECULAR
@@ -319,7 +356,15 @@ void main() {
 #ifdef RTGI_LPV_CASCADED
     if (uLast == 0) return;
 #endif
-    imageStore(uIndirect, p, vec4(diffuse * lpv.rsm.z, 1.0));
+    float alpha = 1.0;  // the fraction of compose's sky term that reaches the pixel (docs/lpv.md, "Sky visibility")
+#if defined(RTGI_LPV_SKY)
+#ifdef RTGI_LPV_CASCADED
+    alpha = clamp(skyAlpha, 0.0, 1.0);
+#else
+    alpha = skyWeight > 0.0 ? skyVisible : 1.0;
+#endif
+#endif
+    imageStore(uIndirect, p, vec4(diffuse * lpv.rsm.z, alpha));
 #ifdef RTGI_LPV_SPECULAR
     imageStore(uSpecular, p, vec4(specular, 1.0));
 #endif

@@ -45,7 +45,9 @@ void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
     v[7] = area;
     // Two-sided axis blocking (docs/lpv.md, "Leaks"): the surface's area projected on the
     // three axis planes, per s^2, whichever side it was seen from.
+#ifdef RTGI_LPV_TWO_SIDED
     for (int k = 0; k < 3; ++k) v[8 + k] = area * lpv.rsm.y * abs(n[k]);
+#endif
     lpvReduceAdd(lpvKeyOfCell(g, lpv.grid.xyz + 1), v);
 }
 

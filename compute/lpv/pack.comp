@@ -23,7 +23,9 @@ layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local
 layout(r32f, binding = RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM) uniform image3D uGeometryAccum;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_GEOMETRY) uniform writeonly image3D uGeometry;
 layout(rgba16f, binding = RTGI_LPV_IMG_GEOMETRY_ALBEDO) uniform writeonly image3D uGeometryAlbedo;
+#ifdef RTGI_LPV_TWO_SIDED
 layout(rgba16f, binding = RTGI_LPV_IMG_GEOMETRY_AXES) uniform writeonly image3D uGeometryAxes;
+#endif
 
 void main() {
     ivec3 g = ivec3(gl_GlobalInvocationID);
@@ -37,7 +39,9 @@ void main() {
     imageStore(uGeometry, g, lpvStorable(vec4(a[0], a[1], a[2], a[3])));
     vec3 albedo = a[7] > 0.0 ? clamp(vec3(a[4], a[5], a[6]) / a[7], 0.0, 1.0) : vec3(0.0);
     imageStore(uGeometryAlbedo, g, vec4(albedo, 1.0));
+#ifdef RTGI_LPV_TWO_SIDED
     imageStore(uGeometryAxes, g, vec4(min(vec3(a[8], a[9], a[10]), vec3(65504.0)), 0.0));
+#endif
 }
 #elif defined(RTGI_LPV_PACK_HI)
 // lpv.sh_order=2: coefficients 4-8 (a second dispatch; the first packs 0-3 as for band 1),

@@ -1,5 +1,6 @@
 // Composition and tonemapping:
-//   hdr = direct + diffuseAlbedo·sky·AO + indirectDiffuse·AO' + specular
+//   hdr = direct + diffuseAlbedo·sky·AO·V + indirectDiffuse·AO' + specular
+// V = indirectDiffuse.a: the room-scale sky visibility of lpv.sky=visibility (docs/lpv.md), else 1.
 // AO' = AO unless the LPV apply already used directional occlusion
 // (bent normals / S3HO), so occlusion is never applied twice.
 // RTGI_DIFFUSE_ONLY (ssr.diffuse_history): no specular term, no tonemapping,
@@ -35,8 +36,9 @@ void main() {
         vec3 albedo = texelFetch(uAlbedo, p, 0).rgb;
         float metallic = texelFetch(uMaterial, p, 0).g;
         float ao = uHave.z != 0 ? clamp(texelFetch(uAo, p, 0).r, 0.0, 1.0) : 1.0;
-        color += diffuseAlbedo(albedo, metallic) * frame.sky.rgb * ao;
-        if (uHave.x != 0) color += texelFetch(uIndirect, p, 0).rgb * (uHave.w != 0 ? 1.0 : ao);
+        vec4 indirect = uHave.x != 0 ? texelFetch(uIndirect, p, 0) : vec4(0.0, 0.0, 0.0, 1.0);
+        color += diffuseAlbedo(albedo, metallic) * frame.sky.rgb * ao * clamp(indirect.a, 0.0, 1.0);
+        color += indirect.rgb * (uHave.w != 0 ? 1.0 : ao);
 #ifndef RTGI_DIFFUSE_ONLY
         if (uHave.y != 0) color += texelFetch(uSpecular, p, 0).rgb;
 #endif

@@ -121,8 +121,21 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         const int cascades = s.lpv.path == LpvSettings::Path::Raster ? 1 : s.lpv.cascades;
         const double volumeTextures = s.lpv.shOrder == 2 ? 7.0 : 3.0;
         const double injectBytes = s.lpv.shOrder == 2 ? 108.0 : 48.0;
-        double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * (44.0 + fmt + 16.0)) +
+        // Geometry per corner: 8 R32F channels, the SH, albedo RGBA16F; two-sided blocking adds 3 R32F
+        // channels and the axes RGBA16F (only then allocated).
+        const bool twoSided = s.lpv.blocking == LpvSettings::Blocking::TwoSided;
+        const double geometryBytes = twoSided ? 44.0 + fmt + 16.0 : 32.0 + fmt + 8.0;
+        double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * geometryBytes) +
                      (cascades - 1) * cells * volumeTextures * fmt;
+        // lpv.visibility (docs/lpv.md, "Visibility moments", "Sky visibility"): per cascade the moments
+        // (N^2 RG16F per cell) and the sky visibility (RGBA16F per cell), and one BVH of the scene
+        // (48 bytes per triangle, at most 2 nodes of 32 bytes per triangle).
+        const bool moments = s.lpv.lookup == LpvSettings::Lookup::Visibility ||
+                             (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute);
+        const bool sky = s.lpv.sky == LpvSettings::Sky::Visibility;
+        if (moments) lpv += cascades * cells * RTGI_LPV_VIS_RES * RTGI_LPV_VIS_RES * 4.0;
+        if (sky) lpv += cascades * cells * 8.0;
+        if (moments || sky) lpv += double(r.scene().triangleCount()) * (48.0 + 64.0) + 64.0;
         // Temporal: two histories per cascade, and two of the near part for cascades i > 0.
         if (s.lpv.temporal > 0.0f) lpv += (2.0 * cascades - 1.0) * cells * 2.0 * volumeTextures * fmt;
         std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z

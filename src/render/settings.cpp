@@ -97,11 +97,12 @@ const char* const kRasterPath[] = {"hardware", "compute", "auto"};
 const char* const kLpvFormat[] = {"rgba16f", "rgba32f"};
 const char* const kLpvReemit[] = {"face", "flow"};
 const char* const kLpvSource[] = {"propagated", "probe"};
-const char* const kLpvLookup[] = {"trilinear", "geometry"};
+const char* const kLpvLookup[] = {"trilinear", "geometry", "visibility"};
 const char* const kLpvInjectSide[] = {"offset", "front"};
 const char* const kLpvFirstStep[] = {"free", "blocked"};
-const char* const kLpvBlocking[] = {"oriented", "two-sided"};
+const char* const kLpvBlocking[] = {"oriented", "two-sided", "visibility"};
 const char* const kLpvReflect[] = {"destination", "source"};
+const char* const kLpvSky[] = {"ambient", "visibility"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
@@ -215,7 +216,9 @@ std::vector<SettingKey> buildKeys() {
             "face|flow", s.lpv.reemit = parseEnum<LpvSettings::Reemit>("lpv.reemit", v, kLpvReemit),
             kLpvReemit[int(s.lpv.reemit)]),
         KEY("lpv.lookup", "apply: plain trilinear lookup, or geometry-aware (cells behind the surface or blocked by the "
-            "geometry volume get weight 0, renormalized; docs/lpv.md, \"Leaks\")", "trilinear|geometry",
+            "geometry volume get weight 0, renormalized; docs/lpv.md, \"Leaks\"), or visibility (the same side test, "
+            "each cell weighted by the Chebyshev bound of its ray-traced distance moments towards the lookup point, "
+            "as DDGI; docs/lpv.md, \"Visibility moments\")", "trilinear|geometry|visibility",
             s.lpv.lookup = parseEnum<LpvSettings::Lookup>("lpv.lookup", v, kLpvLookup), kLpvLookup[int(s.lpv.lookup)]),
         KEY("lpv.damping", "apply: damp light that is brighter one cell behind the surface than in front of it "
             "(KD10 derivative damping; docs/lpv.md, \"Leaks\")", "on|off",
@@ -225,9 +228,15 @@ std::vector<SettingKey> buildKeys() {
             s.lpv.injectSide = parseEnum<LpvSettings::InjectSide>("lpv.inject_side", v, kLpvInjectSide),
             kLpvInjectSide[int(s.lpv.injectSide)]),
         KEY("lpv.blocking", "geometry volume blocking: oriented (surfaces facing the light, KD10 band-1 SH) or two-sided "
-            "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\")", "oriented|two-sided",
+            "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\") or visibility (oriented, times the "
+            "Chebyshev visibility of the neighbour's centre from the source cell's ray-traced distance moments; "
+            "docs/lpv.md, \"Visibility moments\")", "oriented|two-sided|visibility",
             s.lpv.blocking = parseEnum<LpvSettings::Blocking>("lpv.blocking", v, kLpvBlocking),
             kLpvBlocking[int(s.lpv.blocking)]),
+        KEY("lpv.sky", "the sky term inside the volume: ambient (sky radiance times AO everywhere) or visibility "
+            "(also times the cosine-weighted fraction of rays from the lookup's cells that leave the scene; "
+            "docs/lpv.md, \"Sky visibility\")", "ambient|visibility",
+            s.lpv.sky = parseEnum<LpvSettings::Sky>("lpv.sky", v, kLpvSky), kLpvSky[int(s.lpv.sky)]),
         KEY("lpv.reflect", "lpv.bounce: the reflected flux goes into the cell behind the blocker (destination, seed 3.5.2) "
             "or back into the cell the light came from (source; docs/lpv.md, \"Leaks\")", "destination|source",
             s.lpv.reflect = parseEnum<LpvSettings::Reflect>("lpv.reflect", v, kLpvReflect), kLpvReflect[int(s.lpv.reflect)]),

@@ -84,12 +84,14 @@ struct LpvSettings {
     int probeDirections = 256;           // lpv.source=probe: traced directions per cell
     int shOrder = 1;                     // SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9)
     // Leak remedies (issue 22, docs/lpv.md "Leaks"; defaults chosen there on the worst view's gain).
-    enum class Lookup { Trilinear, Geometry } lookup = Lookup::Geometry;
+    enum class Lookup { Trilinear, Geometry, Visibility } lookup = Lookup::Visibility;
     bool damping = false;                // KD10 derivative damping of the lookup (darkens cornell's far half: docs/lpv.md)
     enum class InjectSide { Offset, Front } injectSide = InjectSide::Front;
     bool firstStepBlocked = true;        // geometry occlusion also in the first propagation step
-    enum class Blocking { Oriented, TwoSided } blocking = Blocking::Oriented;
+    enum class Blocking { Oriented, TwoSided, Visibility } blocking = Blocking::Oriented;
     enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
+    // Compose's sky term: uniform ambient times AO, or also times the cells' ray-traced sky visibility.
+    enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
 };
 
 struct AoSettings {

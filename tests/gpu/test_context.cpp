@@ -112,7 +112,10 @@ TEST_CASE("profiler: every pass is timed once per measured frame, in frame order
         CHECK(res[i].ms.min >= 0.0);
         CHECK(res[i].ms.min <= res[i].ms.median);
         CHECK(res[i].ms.median <= res[i].ms.max);
-        CHECK(res[i].dispatchesPerFrame >= 1.0);
+        // lpv.visibility traces only when a cascade is placed anew (docs/lpv.md, "Visibility
+        // moments"): the camera is static here, so it must not dispatch in the measured frames.
+        if (res[i].name == "lpv.visibility") CHECK(res[i].dispatchesPerFrame == 0.0);
+        else CHECK(res[i].dispatchesPerFrame >= 1.0);
     }
     CHECK(res.back().name == "frame");
     CHECK(res.back().ms.samples == 12);

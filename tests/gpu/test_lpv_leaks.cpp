@@ -3,12 +3,18 @@
 //   on the sunlit outside wall, with the default remedies;
 // - the geometry-aware lookup weights (compute/lib/lpv_lookup.glsl) on a hand-built geometry
 //   volume with a wall, against a CPU double implementation of the documented weights;
-// - the derivative damping on a uniform and a stepped SH field, against a CPU double one.
+// - the derivative damping on a uniform and a stepped SH field, against a CPU double one;
+// - the visibility-moment weights (lpv.lookup=visibility) on a hand-built moments volume of a
+//   wall, moments and Chebyshev weights written out here in double from the documented
+//   definitions (docs/lpv.md, "Visibility moments").
 #include "gpu_fixture.h"
 
 #include "gl/program.h"
+#include "compute/lib/lpv_shared.h"
 
 #include <array>
+#include <map>
+#include <string>
 #include <cmath>
 #include <vector>
 
@@ -307,6 +313,225 @@ TEST_CASE("LPV leaks: derivative damping leaves a uniform field unchanged and da
     CHECK(damped >= 3);  // the receivers within half a cell of the wall read the step
 }
 
+namespace {
+
+// Octahedral map (docs/lpv.md, "Visibility moments"), written out in double.
+glm::dvec2 octEncode(glm::dvec3 w) {
+    glm::dvec3 a = w / (std::abs(w.x) + std::abs(w.y) + std::abs(w.z));
+    glm::dvec2 e(a.x, a.y);
+    if (a.z < 0) e = glm::dvec2((1 - std::abs(a.y)) * (a.x >= 0 ? 1 : -1), (1 - std::abs(a.x)) * (a.y >= 0 ? 1 : -1));
+    return e * 0.5 + 0.5;
+}
+glm::dvec3 octDecode(glm::dvec2 uv) {
+    glm::dvec2 e = uv * 2.0 - 1.0;
+    glm::dvec3 w(e.x, e.y, 1 - std::abs(e.x) - std::abs(e.y));
+    if (w.z < 0) w = glm::dvec3((1 - std::abs(e.y)) * (e.x >= 0 ? 1 : -1), (1 - std::abs(e.x)) * (e.y >= 0 ? 1 : -1), w.z);
+    return glm::normalize(w);
+}
+double chebyshev(glm::dvec2 m, double r) {
+    if (r <= m.x) return 1.0;
+    double var = std::max(m.y - m.x * m.x, double(RTGI_LPV_VIS_MIN_VARIANCE)), d = r - m.x;
+    return var / (var + d * d);
+}
+
+const char* kVisibilitySource = R"(
+#include "lib/lpv_lookup.glsl"
+layout(local_size_x = 1) in;
+struct Case { vec4 q; vec4 x; vec4 n; };
+layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 results[]; };  // 4 per case
+layout(binding = 0) uniform sampler3D uMoments;
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    Case c = cases[i];
+    float blocked[8], w[8];
+    lpvVisibilityBlocking(uMoments, c.q.xyz, ivec3(2), blocked);
+    lpvGeometryWeights(c.q.xyz, c.x.xyz, c.n.xyz, blocked, w);
+    results[4u * i] = vec4(w[0], w[1], w[2], w[3]);
+    results[4u * i + 1u] = vec4(w[4], w[5], w[6], w[7]);
+    results[4u * i + 2u] = vec4(blocked[0], blocked[1], blocked[2], blocked[3]);
+    results[4u * i + 3u] = vec4(blocked[4], blocked[5], blocked[6], blocked[7]);
+}
+)";
+
+}  // namespace
+
+TEST_CASE("LPV leaks: visibility-moment lookup weights match a CPU double implementation on a 2x2x2 volume with a wall") {
+    GpuFixture gpu;
+    // 2x2x2 cells (cell coordinates), a wall in the plane x = 1.3: the cells x = 0 (centre 0.5)
+    // and x = 1 (centre 1.5) lie on its two sides. Each cell's N x N octahedral map holds the
+    // mean and mean square over S x S strata of the exact distance from its centre to the plane,
+    // clamped to the maximum distance (computed here, the hand-built volume).
+    const int N = RTGI_LPV_VIS_RES, S = RTGI_LPV_VIS_SUBSAMPLES;
+    const double D = RTGI_LPV_VIS_MAX_DISTANCE, wall = 1.3;
+    const glm::ivec3 tex(2 * N, 2 * N, 2);
+    std::vector<glm::dvec2> moments(std::size_t(tex.x * tex.y * tex.z));
+    for (int cz = 0; cz < 2; ++cz)
+        for (int cy = 0; cy < 2; ++cy)
+            for (int cx = 0; cx < 2; ++cx)
+                for (int v = 0; v < N; ++v)
+                    for (int u = 0; u < N; ++u) {
+                        const double c = cx + 0.5;
+                        glm::dvec2 m(0);
+                        for (int j = 0; j < S * S; ++j) {
+                            glm::dvec3 w = octDecode((glm::dvec2(u, v) + (glm::dvec2(j % S, j / S) + 0.5) / double(S)) / double(N));
+                            double t = (wall - c) / w.x;
+                            double d = w.x != 0 && t > 0 ? std::min(t, D) : D;
+                            m += glm::dvec2(d, d * d);
+                        }
+                        moments[std::size_t(cx * N + u + tex.x * (cy * N + v + tex.y * cz))] = m / double(S * S);
+                    }
+    std::vector<glm::vec2> upload(moments.size());
+    for (std::size_t i = 0; i < moments.size(); ++i) upload[i] = glm::vec2(moments[i]);
+    gl::MemoryLedger ledger;
+    gl::Texture mt(ledger, "test.visibility", {GL_TEXTURE_3D, GL_RG32F, tex.x, tex.y, tex.z});
+    mt.setSampling(GL_LINEAR, GL_LINEAR);
+    glTextureSubImage3D(mt.id(), 0, 0, 0, 0, tex.x, tex.y, tex.z, GL_RG, GL_FLOAT, upload.data());
+    // Bilinear filter of a cell's tile at the clamped octahedral coordinate (texel centres at i + 1/2).
+    auto fetch = [&](glm::ivec3 cell, glm::dvec3 w) {
+        glm::dvec2 t = glm::clamp(octEncode(w) * double(N), glm::dvec2(0.5), glm::dvec2(N - 0.5)) - 0.5;
+        glm::dvec2 b = glm::floor(t), f = t - b;
+        glm::dvec2 m(0);
+        for (int k = 0; k < 4; ++k) {
+            glm::ivec2 o(k & 1, k >> 1);
+            glm::ivec2 g = glm::min(glm::ivec2(b) + o, glm::ivec2(N - 1));
+            double wt = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y);
+            m += wt * moments[std::size_t(cell.x * N + g.x + tex.x * (cell.y * N + g.y + tex.y * cell.z))];
+        }
+        return m;
+    };
+    // Receivers on the x < 1.3 side: floors and ceilings beside the wall (normal +-y: the side
+    // test keeps the cells beyond the wall, only the visibility can drop them), the wall's
+    // own face (-x) and oblique normals; q = x + n / 2 as the apply does.
+    struct Case {
+        glm::vec4 q, x, n;
+    };
+    std::vector<Case> cases;
+    const glm::vec3 normals[] = {{0, 1, 0}, {0, -1, 0}, {-1, 0, 0}, glm::normalize(glm::vec3(-0.3f, 1, 0.4f))};
+    const glm::vec3 points[] = {{0.9f, 0.3f, 0.8f}, {1.1f, 0.6f, 1.2f}, {1.25f, 1.4f, 0.7f}, {0.7f, 1.1f, 1.05f}};
+    for (auto n : normals)
+        for (auto x : points) cases.push_back({glm::vec4(x + 0.5f * n, 0), glm::vec4(x, 0), glm::vec4(n, 0)});
+    gl::ProgramCache cache;
+    const gl::Program& p = cache.computeFromSource("test/lpv_visibility.comp", kVisibilitySource);
+    gl::Buffer bc(ledger, "test.cases", std::int64_t(cases.size() * sizeof(Case)), cases.data());
+    gl::Buffer out(ledger, "test.out", std::int64_t(cases.size() * 4 * sizeof(glm::vec4)));
+    glUseProgram(p.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bc.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glBindTextureUnit(0, mt.id());
+    gl::dispatch(p, int(cases.size()));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> r(cases.size() * 4);
+    out.download(r.data(), std::int64_t(r.size() * sizeof(glm::vec4)));
+    int beyond = 0, steep = 0, same = 0, free = 0;  // cells checked by the invariants below
+    double sumBeyond = 0, sumSame = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        glm::dvec3 q(cases[i].q), x(cases[i].x), n(cases[i].n);
+        glm::dvec3 base = glm::floor(q - 0.5), f = q - 0.5 - base;
+        std::array<double, 8> w{}, blocked{};
+        double sum = 0, gpuSum = 0;
+        for (int k = 0; k < 8; ++k) {
+            glm::ivec3 o(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+            glm::dvec3 c = base + glm::dvec3(o) + 0.5;
+            glm::ivec3 cell = glm::clamp(glm::ivec3(base) + o, glm::ivec3(0), glm::ivec3(1));
+            double rr = glm::length(q - c);
+            blocked[std::size_t(k)] = rr > 0 ? 1 - chebyshev(fetch(cell, (q - c) / rr), rr) : 0.0;
+            double t = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
+            w[std::size_t(k)] = (glm::dot(c - x, n) > 0 ? t : 0.0) * (1 - blocked[std::size_t(k)]);
+            sum += w[std::size_t(k)];
+        }
+        REQUIRE(sum > 1e-6);  // q = x + n / 2 on the wall's near side: a front cell is visible
+        for (int k = 0; k < 8; ++k) {
+            glm::dvec3 c = base + glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1) + 0.5;
+            double gw = r[4 * i + std::size_t(k / 4)][k % 4], gb = r[4 * i + 2 + std::size_t(k / 4)][k % 4];
+            gpuSum += gw;
+            // GL_LINEAR's reduced-precision filter weights (1/256) move the mean distance by up
+            // to 1/256 of a texel step, which the Chebyshev bound amplifies near r = mean.
+            CHECK(gb == doctest::Approx(blocked[std::size_t(k)]).scale(1).epsilon(0.02));
+            CHECK(gw == doctest::Approx(w[std::size_t(k)] / sum).scale(1).epsilon(0.02));
+            // A cell beyond the wall from q (the segment crosses x = 1.3): the bound only blocks
+            // where the filtered texels' mean distance is short of r, i.e. where the direction to q
+            // is steep to the wall (a texel spans ~30 degrees; towards grazing directions its rays run
+            // past q and the mean exceeds r: the Chebyshev bound's known softness, docs/lpv.md).
+            glm::dvec3 omega = (q - c) / glm::length(q - c);
+            if ((c.x - wall) * (q.x - wall) < 0) {
+                ++beyond;
+                sumBeyond += gb;
+                if (std::abs(omega.x) > 0.8) {
+                    ++steep;
+                    CHECK(gb > 0.5);
+                }
+            } else {
+                ++same;
+                sumSame += gb;
+            }
+            // A cell on q's side looking away from the wall (every ray of the filtered texels
+            // misses it within the maximum distance): moments (D, D^2), r <= sqrt(3) < D, visible.
+            if ((c.x - wall) * (q.x - wall) > 0 && q.x - c.x < -0.3 * glm::length(q - c)) {
+                ++free;
+                CHECK(gb == 0.0f);
+            }
+        }
+        CHECK(gpuSum == doctest::Approx(1.0).epsilon(1e-5));
+    }
+    MESSAGE(beyond << " stencil cells beyond the wall from their lookup point (" << steep << " steep, mean blocked "
+                   << sumBeyond / std::max(beyond, 1) << "), " << same << " on its side (mean blocked "
+                   << sumSame / std::max(same, 1) << "), " << free << " with a free view");
+    CHECK(beyond >= 8);
+    CHECK(steep >= 4);
+    // On average the wall blocks what lies beyond it more than what lies on q's side.
+    CHECK(sumBeyond / beyond > sumSame / std::max(same, 1) + 0.1);
+}
+
+TEST_CASE("LPV leaks: the axis blocking and the visibility volumes are allocated only by the settings that read them") {
+    // lpv.blocking=two-sided alone reads lpv.geometry_axes and the 3 extra accumulation channels;
+    // lpv.lookup / lpv.blocking / lpv.sky = visibility alone read lpv.visibility, lpv.sky_visibility
+    // and the BVH. The oracle is the ledger: what each frame allocated, by name and size.
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene scene = loadBuiltin("leak");
+    const glm::ivec2 size(32, 24);
+    auto allocated = [&](const Settings& s) {
+        auto r = renderFrames(scene, s, size, prof);
+        std::map<std::string, std::int64_t> m;
+        for (auto& [name, bytes] : r->ledger().entries()) m[name] += bytes;
+        return m;
+    };
+    auto has = [](const std::map<std::string, std::int64_t>& m, const std::string& prefix) {
+        for (auto& [name, bytes] : m)
+            if (name.rfind(prefix, 0) == 0 && bytes > 0) return true;
+        return false;
+    };
+    Settings oriented;
+    oriented.lpv.mode = Toggle::On;
+    oriented.lpv.grid = glm::ivec3(8);
+    oriented.lpv.lookup = LpvSettings::Lookup::Geometry;
+    oriented.lpv.sky = LpvSettings::Sky::Ambient;
+    oriented.lpv.blocking = LpvSettings::Blocking::Oriented;
+    auto a = allocated(oriented);
+    CHECK(has(a, "lpv.geometry_accum"));
+    CHECK_FALSE(has(a, "lpv.geometry_axes"));
+    CHECK_FALSE(has(a, "lpv.visibility"));
+    CHECK_FALSE(has(a, "lpv.sky_visibility"));
+    Settings twoSided = oriented;
+    twoSided.lpv.blocking = LpvSettings::Blocking::TwoSided;
+    auto b = allocated(twoSided);
+    CHECK(has(b, "lpv.geometry_axes"));
+    // 8 vs 11 R32F channels per corner of the (grid + 1)^3 lattice, per cascade.
+    const std::int64_t corners = 9 * 9 * 9;
+    const std::int64_t cascades = oriented.lpv.cascades;
+    CHECK(a["lpv.geometry_accum"] == cascades * corners * 8 * 4);
+    CHECK(b["lpv.geometry_accum"] == cascades * corners * 11 * 4);
+    Settings visibility = oriented;
+    visibility.lpv.lookup = LpvSettings::Lookup::Visibility;
+    visibility.lpv.sky = LpvSettings::Sky::Visibility;
+    auto c = allocated(visibility);
+    CHECK(has(c, "lpv.visibility.bvh"));
+    CHECK(c["lpv.visibility"] == cascades * 8 * 8 * 8 * RTGI_LPV_VIS_RES * RTGI_LPV_VIS_RES * 4);
+    CHECK(c["lpv.sky_visibility"] == cascades * 8 * 8 * 8 * 8);
+    CHECK_FALSE(has(c, "lpv.geometry_axes"));
+}
+
 TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of the outside wall's LPV light (two-sided blocking, damping)") {
     // builtin:leak: a closed box of 0.1 m walls (less than a cell), sunlit outside. The exact
     // indirect light inside is 0 (nothing enters); the LPV's is leakage. Its mean over the
@@ -366,6 +591,13 @@ TEST_CASE("LPV leaks: closed thin-walled room (builtin:leak) receives < 1 % of t
     // derivative damping on top the room stays dark.
     Settings defaults;
     MESSAGE("inside / outside LPV indirect with the defaults: " << run(defaults));
+    Settings visibilityBlocking;
+    visibilityBlocking.lpv.blocking = LpvSettings::Blocking::Visibility;
+    MESSAGE("inside / outside LPV indirect with the defaults + lpv.blocking=visibility: " << run(visibilityBlocking));
+    Settings geometryLookup;
+    geometryLookup.lpv.lookup = LpvSettings::Lookup::Geometry;
+    MESSAGE("inside / outside LPV indirect with the defaults + lpv.lookup=geometry (the defaults before): "
+            << run(geometryLookup));
     Settings leakProof;
     leakProof.lpv.blocking = LpvSettings::Blocking::TwoSided;
     leakProof.lpv.damping = true;

@@ -45,6 +45,7 @@ struct LpvCascade {
     const lpv::Rgb* nearResult = nullptr;  // cascades i > 0: the near part read by lpv.apply
     const lpv::Hi* nearResultHi = nullptr;
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
+    glm::vec4 visibilityFor{0.0f};     // origin (xyz) and cell size (w) the moments were traced for
 };
 
 struct LpvState {
@@ -64,11 +65,19 @@ struct LpvState {
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
     lpv::ProbeTracer probe;  // lpv.source=probe (docs/lpv.md, "Stage attribution")
+    lpv::SceneBvh visibilityBvh;  // lpv.lookup=visibility
     LpvCascade& first() { return cascades.front(); }
     const LpvCascade& first() const { return cascades.front(); }
 };
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
+
+// lpv.visibility's distance moments: for the lookup, or for the propagation's blocking (compute path, with occlusion).
+bool momentsNeeded(const Settings& s) {
+    return s.lpv.lookup == LpvSettings::Lookup::Visibility ||
+           (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
+            geometryNeeded(s));
+}
 
 // Cascades in use: the raster baseline is the seed's single volume.
 int cascadeCount(const LpvSettings& s) { return s.path == LpvSettings::Path::Raster ? 1 : s.cascades; }
@@ -413,7 +422,7 @@ public:
         // Blocking potential from the sun's orthographic RSM (its texel areas)
         // and the G-buffer; local lights' perspective RSMs are not used here.
         for (LpvCascade& c : st.cascades) {
-            c.volumes.ensureGeometry(ctx.ledger);
+            c.volumes.ensureGeometry(ctx.ledger, ctx.settings.lpv.blocking == LpvSettings::Blocking::TwoSided);
             lpv::injectGeometry(ctx.programs, c.ubo, st.rsm, st.sunRsm ? ctx.settings.lpv.rsm : 0, gb, c.volumes);
         }
     }
@@ -449,7 +458,8 @@ public:
             } else {
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
-                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0);
+                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
+                                                   ls.blocking == LpvSettings::Blocking::Visibility && geometryNeeded(ctx.settings));
             }
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
@@ -536,6 +546,46 @@ public:
     }
 };
 
+// lpv.visibility (lpv.lookup=visibility, lpv.sky=visibility; docs/lpv.md, "Visibility moments",
+// "Sky visibility"): each cascade's per-cell distance moments and sky visibility, traced against the scene's BVH when the cascade was placed
+// elsewhere (or first allocated); the scene is static, so otherwise nothing runs.
+class VisibilityPass final : public LpvPass {
+public:
+    using LpvPass::LpvPass;
+    std::string name() const override { return "lpv.visibility"; }
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        const bool moments = momentsNeeded(s), sky = s.lpv.sky == LpvSettings::Sky::Visibility;
+        if (!moments && !sky) return d.skip("neither lpv.lookup, lpv.blocking nor lpv.sky is visibility");
+        const LpvState* st = st_.get();
+        for (int i = 0; i < cascadeCount(s.lpv); ++i) {
+            const std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
+            if (moments)
+                d.output("lpv.visibility" + suffix, [st, i]() -> const gl::Texture* {
+                    return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.visibility : nullptr;
+                });
+            if (sky)
+                d.output("lpv.sky_visibility" + suffix, [st, i]() -> const gl::Texture* {
+                    return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.sky : nullptr;
+                }, Check::signedValues);
+        }
+    }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        const bool moments = momentsNeeded(ctx.settings);
+        const bool sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility;
+        for (LpvCascade& c : st.cascades) {
+            const glm::vec4 placed = c.uniforms.origin;
+            bool fresh = moments && c.volumes.ensureVisibility(ctx.ledger);
+            fresh = (sky && c.volumes.ensureSky(ctx.ledger)) || fresh;
+            if (!fresh && placed == c.visibilityFor) continue;
+            st.visibilityBvh.ensure(ctx, "lpv.visibility.bvh");
+            if (moments) lpv::visibilityMoments(ctx, c.ubo, st.visibilityBvh, c.volumes);
+            if (sky) lpv::skyVisibility(ctx, c.ubo, st.visibilityBvh, c.volumes);
+            c.visibilityFor = placed;
+        }
+    }
+};
+
 // lpv.apply: indirect diffuse (+ specular) radiance from the volume.
 class ApplyPass final : public LpvPass {
 public:
@@ -586,7 +636,10 @@ public:
             in.geometry = ctx.settings.lpv.lookup == LpvSettings::Lookup::Geometry && geometryNeeded(ctx.settings)
                               ? &c.volumes.geometry
                               : nullptr;
-            in.geometryAxes = in.geometry ? &c.volumes.geometryAxes : nullptr;
+            in.geometryAxes = in.geometry && c.volumes.geometryAxes ? &c.volumes.geometryAxes : nullptr;
+            in.visibility =
+                ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility ? &c.volumes.visibility : nullptr;
+            in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }
@@ -601,6 +654,7 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
     f.push_back(std::make_unique<InjectPass>(st));     // RSM texels -> SH (fp32 atomics | raster points)
     f.push_back(std::make_unique<PackPass>(st));       // fp32 -> lpv.format (compute path)
     f.push_back(std::make_unique<GeometryPass>(st));   // blocking potential (occlusion, bounce)
+    f.push_back(std::make_unique<VisibilityPass>(st)); // per-cell distance moments and sky visibility (BVH rays)
     f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
     f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
     f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
@@ -609,6 +663,9 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
 void validateLpvSettings(const Scene&, const Settings& s) {
     if (s.lpv.shOrder == 2 && s.lpv.path == LpvSettings::Path::Raster)
         throw ConfigError("lpv.sh_order=2 needs lpv.path=compute: the raster baseline is the seed's band-1 method");
+    if (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Raster)
+        throw ConfigError("lpv.blocking=visibility needs lpv.path=compute: the raster baseline propagates with the "
+                          "geometry volume's blocking only");
 }
 
 Need lpvFamily(const Scene& scene, const Settings& s) {

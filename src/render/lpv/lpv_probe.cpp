@@ -24,18 +24,50 @@ ProbeParams probeParams(const Settings& s, const Aabb&) {
     return p;
 }
 
-void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near) {
-    if (!nodes_) {
-        Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
-        if (bvh.triangles.empty()) {  // an empty scene: one leaf with an empty box, never hit
-            bvh.nodes.assign(1, gpu::BvhNode{glm::vec3(1e30f), 0, glm::vec3(-1e30f), 0});
-            bvh.triangles.assign(1, gpu::BvhTriangle{});
-        }
-        nodes_ = gl::Buffer(ctx.ledger, "lpv.probe.bvh.nodes", std::int64_t(bvh.nodes.size() * sizeof(gpu::BvhNode)),
-                            bvh.nodes.data(), 0);
-        triangles_ = gl::Buffer(ctx.ledger, "lpv.probe.bvh.triangles",
-                                std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
+void SceneBvh::ensure(FrameContext& ctx, const std::string& label) {
+    if (nodes) return;
+    Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
+    if (bvh.triangles.empty()) {  // an empty scene: one leaf with an empty box, never hit
+        bvh.nodes.assign(1, gpu::BvhNode{glm::vec3(1e30f), 0, glm::vec3(-1e30f), 0});
+        bvh.triangles.assign(1, gpu::BvhTriangle{});
     }
+    nodes = gl::Buffer(ctx.ledger, label + ".nodes", std::int64_t(bvh.nodes.size() * sizeof(gpu::BvhNode)),
+                       bvh.nodes.data(), 0);
+    triangles = gl::Buffer(ctx.ledger, label + ".triangles", std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)),
+                           bvh.triangles.data(), 0);
+}
+
+void SceneBvh::bind(FrameContext& ctx) const {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, triangles.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_VERTICES, ctx.gpuScene.vertices().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_INDICES, ctx.gpuScene.indices().id());
+}
+
+void visibilityMoments(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v) {
+    const gl::Program& prog = ctx.programs.compute("lpv/visibility.comp");
+    glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
+    bvh.bind(ctx);
+    glBindImageTexture(RTGI_LPV_VIS_IMG_MOMENTS, v.visibility.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RG16F);
+    // Producer: the previous lpv.apply's texture fetches of the same image (a new placement).
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    gl::dispatch(prog, v.grid.x * RTGI_LPV_VIS_RES, v.grid.y * RTGI_LPV_VIS_RES, v.grid.z);
+    // Consumer: lpv.apply's texture fetches.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+void skyVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v) {
+    const gl::Program& prog = ctx.programs.compute("lpv/visibility.comp", {{"RTGI_LPV_VIS_SKY", ""}});
+    glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
+    bvh.bind(ctx);
+    glBindImageTexture(RTGI_LPV_VIS_IMG_SKY, v.sky.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // producer: the previous lpv.apply's fetches
+    gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // consumer: lpv.apply
+}
+
+void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near) {
+    bvh_.ensure(ctx, "lpv.probe.bvh");
     const ProbeParams p = probeParams(ctx.settings, ctx.scene.bounds());
     // Lambert only, as the matching-bounce reference (reference.specular=off).
     gl::Defines defines = formatDefines(v.format, v.shOrder);
@@ -45,10 +77,7 @@ void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, boo
     if (ctx.settings.light.emissiveLights) defines.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
     const gl::Program& prog = ctx.programs.compute("lpv/probe.comp", defines);
     glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_NODES, nodes_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_BVH_TRIS, triangles_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_VERTICES, ctx.gpuScene.vertices().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_REF_INDICES, ctx.gpuScene.indices().id());
+    bvh_.bind(ctx);
     ctx.gpuScene.bindTables();
     for (GLuint c = 0; c < 3; ++c)
         glBindImageTexture(RTGI_LPV_PROBE_IMG_ACCUM_R + c, v.accum[c].id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);

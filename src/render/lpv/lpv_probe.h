@@ -25,6 +25,14 @@ struct ProbeParams {
 };
 ProbeParams probeParams(const Settings& settings, const Aabb& sceneBounds);
 
+// The scene's BVH on the GPU (bvh_shared.h layout), built on first use; bind() binds it and
+// the scene's vertex / index buffers at their bvh_shared.h bindings.
+struct SceneBvh {
+    gl::Buffer nodes, triangles;
+    void ensure(FrameContext& ctx, const std::string& label);
+    void bind(FrameContext& ctx) const;
+};
+
 // Owns the BVH buffers (built from the scene on first use).
 class ProbeTracer {
 public:
@@ -35,8 +43,16 @@ public:
     void fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near);
 
 private:
-    gl::Buffer nodes_, triangles_;
+    SceneBvh bvh_;
 };
+
+// lpv.lookup=visibility (docs/lpv.md, "Visibility moments"): per-cell distance moments of
+// the cascade whose uniform block is `ubo` (lpv/visibility.comp) into v.visibility
+// (v.ensureVisibility first).
+void visibilityMoments(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v);
+// lpv.sky=visibility (docs/lpv.md, "Sky visibility"): band-1 SH of each cell's sky visibility
+// into v.sky (v.ensureSky first).
+void skyVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v);
 
 // --reference: the run's indirect light again with lpv.source=probe (the same
 // scene, settings and view, no reference pass).

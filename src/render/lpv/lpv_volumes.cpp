@@ -155,17 +155,34 @@ void Volumes::ensureNear(gl::MemoryLedger& ledger) {
     if (shOrder == 2) ensureHi(ledger, nearHi, "lpv.near.hi", grid, format, true);
 }
 
-void Volumes::ensureGeometry(gl::MemoryLedger& ledger) {
+void Volumes::ensureGeometry(gl::MemoryLedger& ledger, bool twoSided) {
     glm::ivec3 c = grid + 1;
+    const int channels = twoSided ? RTGI_LPV_GV_CHANNELS_TWO_SIDED : RTGI_LPV_GV_CHANNELS_ORIENTED;
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
-    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, RTGI_LPV_GV_CHANNELS * c.x, c.y, c.z}))
+    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, channels * c.x, c.y, c.z}))
         geometryAccum.clear();
     // Linear: lpv.lookup=geometry samples it between corners (the propagation uses texelFetch).
     if (geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z}))
         geometry.setSampling(GL_LINEAR, GL_LINEAR);
     geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
-    if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
+    if (!twoSided) geometryAxes = gl::Texture();
+    else if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
         geometryAxes.setSampling(GL_LINEAR, GL_LINEAR);
+}
+
+bool Volumes::ensureVisibility(gl::MemoryLedger& ledger) {
+    // Linear within a cell's tile (lib/lpv_lookup.glsl keeps the lookup half a texel inside it).
+    const int n = RTGI_LPV_VIS_RES;
+    if (!visibility.ensure(ledger, "lpv.visibility", {GL_TEXTURE_3D, GL_RG16F, n * grid.x, n * grid.y, grid.z}))
+        return false;
+    visibility.setSampling(GL_LINEAR, GL_LINEAR);
+    return true;
+}
+
+bool Volumes::ensureSky(gl::MemoryLedger& ledger) {
+    if (!sky.ensure(ledger, "lpv.sky_visibility", {GL_TEXTURE_3D, GL_RGBA16F, grid.x, grid.y, grid.z})) return false;
+    sky.setSampling(GL_LINEAR, GL_LINEAR);  // trilinear, as the light volumes
+    return true;
 }
 
 namespace {
@@ -277,7 +294,11 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glBindImageTexture(RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE,
                        GL_R32F);
-    const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp");
+    // lpv.blocking=two-sided allocated the axis blocking (ensureGeometry): the variant that fills it.
+    const bool twoSided = bool(v.geometryAxes);
+    gl::Defines variant;
+    if (twoSided) variant.push_back({"RTGI_LPV_TWO_SIDED", ""});
+    const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp", variant);
     if (rsmSize > 0) {
         glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
         glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
@@ -285,7 +306,11 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
         gl::dispatch(fromRsm, rsmSize, rsmSize);
     }
     if (gb.linearDepth) {
-        const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", {{"RTGI_LPV_GV_GBUFFER", ""}});
+        const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", [&] {
+            gl::Defines d = variant;
+            d.push_back({"RTGI_LPV_GV_GBUFFER", ""});
+            return d;
+        }());
         glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth->id());
         glBindTextureUnit(RTGI_LPV_TEX_VIEW_NORMAL, gb.normal->id());
         glBindTextureUnit(RTGI_LPV_TEX_ALBEDO, gb.albedo->id());
@@ -296,6 +321,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
         programs.compute("lpv/pack.comp", [&] {
             gl::Defines d = formatDefines(v.format);
             d.push_back({"RTGI_LPV_PACK_GEOMETRY", ""});
+            if (twoSided) d.push_back({"RTGI_LPV_TWO_SIDED", ""});
             return d;
         }());
     // Producer: the geometry injection dispatches above (image atomics).
@@ -303,7 +329,8 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     glBindImageTexture(RTGI_LPV_PACK_IMG_GEOMETRY_ACCUM, v.geometryAccum.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY, v.geometry.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.format);
     glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_ALBEDO, v.geometryAlbedo.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_AXES, v.geometryAxes.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    if (twoSided)
+        glBindImageTexture(RTGI_LPV_IMG_GEOMETRY_AXES, v.geometryAxes.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
@@ -318,9 +345,12 @@ void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
 
 }  // namespace
 
-int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near) {
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
+                     bool visibility) {
     const bool sh2 = v.shOrder == 2;
-    const gl::Program& prog = programs.compute("lpv/propagate.comp", formatDefines(v.format, v.shOrder));
+    gl::Defines defines = formatDefines(v.format, v.shOrder);
+    if (visibility) defines.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
+    const gl::Program& prog = programs.compute("lpv/propagate.comp", defines);
     // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
     int nearK = 0;
     while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
@@ -361,6 +391,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
+        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.visibility.id());
         if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
@@ -458,7 +489,9 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
+    else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
+    if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -483,6 +516,8 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .texture(RTGI_LPV_TEX_LIGHT_HI_B, (*in.volumeHi)[2])
             .texture(RTGI_LPV_TEX_LIGHT_LAST, (*in.volumeHi)[3]);
     if (in.geometry) b.texture(RTGI_LPV_TEX_APPLY_GEOMETRY, *in.geometry).texture(RTGI_LPV_TEX_APPLY_GEOMETRY_AXES, in.geometryAxes);
+    if (!in.geometry && in.visibility) b.texture(RTGI_LPV_TEX_APPLY_VISIBILITY, *in.visibility);
+    if (in.sky) b.texture(RTGI_LPV_TEX_APPLY_SKY, *in.sky);
     if (in.rsm) b.texture(RTGI_LPV_TEX_APPLY_RSM_FLUX, in.rsm->flux).texture(RTGI_LPV_TEX_APPLY_RSM_DEPTH, in.rsm->depth);
     if (cascaded) {
         if (in.cascade > 0)

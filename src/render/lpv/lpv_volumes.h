@@ -43,7 +43,9 @@ struct Volumes {
     gl::Texture geometryAccum;   // R32F (8(X+1), Y+1, Z+1): blocking SH, sum(A albedo.rgb), sum(A); zero between frames
     gl::Texture geometry;        // format (X+1, Y+1, Z+1): blocking SH on the corner lattice
     gl::Texture geometryAlbedo;  // RGBA16F: mean albedo (rgb) of the blockers
-    gl::Texture geometryAxes;    // RGBA16F: sum(A / s^2 |n|) (xyz), two-sided axis blocking (docs/lpv.md, "Leaks")
+    gl::Texture geometryAxes;    // RGBA16F: sum(A / s^2 |n|) (xyz), two-sided axis blocking (docs/lpv.md, "Leaks"); two-sided only
+    gl::Texture visibility;      // RG16F (N X, N Y, Z): per-cell distance moments (lpv.lookup=visibility)
+    gl::Texture sky;             // RGBA16F: band-1 SH of each cell's sky visibility (lpv.sky=visibility)
     std::array<Rgb, 2> history;  // temporal blend targets (format)
     std::array<Rgb, 2> nearHistory;  // cascades i > 0: the near part's temporal blend targets (format)
     // lpv.sh_order=2 only (empty otherwise): the band-2 parts of inject, step, accum, near.
@@ -62,7 +64,11 @@ struct Volumes {
     // (Re)allocates the light volumes; returns true when they changed.
     bool ensureLight(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format, int shOrder = 1);
     void ensureNear(gl::MemoryLedger& ledger);
-    void ensureGeometry(gl::MemoryLedger& ledger);
+    // twoSided (lpv.blocking=two-sided): also the axis blocking (3 more accumulation channels and
+    // geometryAxes); otherwise neither is allocated and injectGeometry runs the oriented variant.
+    void ensureGeometry(gl::MemoryLedger& ledger, bool twoSided = true);
+    bool ensureVisibility(gl::MemoryLedger& ledger);  // true when (re)allocated
+    bool ensureSky(gl::MemoryLedger& ledger);         // true when (re)allocated
     void ensureHistory(gl::MemoryLedger& ledger);
     void ensureNearHistory(gl::MemoryLedger& ledger);
     void ensureRasterTargets();
@@ -97,8 +103,9 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 // Iterations 1..n; returns the index of step[] holding the last iteration.
 // `near` (cascades i > 0): also fills v.near with the steps weighted by
 // cascadeNearWeight (v.ensureNear first).
+// `visibility` (lpv.blocking=visibility): v.visibility holds the moments, which block the flow too.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
-                     bool near = false);
+                     bool near = false, bool visibility = false);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 // lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
 // `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
@@ -121,6 +128,8 @@ struct ApplyInputs {
     // Leaks (docs/lpv.md, "Leaks"): set: lpv.lookup=geometry with this cascade's geometry volume.
     const gl::Texture* geometry = nullptr;
     const gl::Texture* geometryAxes = nullptr;  // set with `geometry`: lpv.blocking=two-sided segments
+    const gl::Texture* visibility = nullptr;  // set: lpv.lookup=visibility with this cascade's moments
+    const gl::Texture* sky = nullptr;         // set: lpv.sky=visibility with this cascade's sky visibility
     bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
     gl::Texture* specular = nullptr;

@@ -1,0 +1,56 @@
+// lpv.visibility (lpv.lookup=visibility; docs/lpv.md, "Visibility moments"): per cell and
+// per texel of its N x N octahedral direction map, the mean and mean square of the distance
+// (cell units) from the cell centre to the first surface of the scene's BVH, over S x S rays
+// through the texel's strata centres (deterministic: the same scene and grid give the same
+// moments); a ray that meets nothing within RTGI_LPV_VIS_MAX_DISTANCE cells counts as that
+// distance. One invocation per texel of the (X N, Y N, Z) moments image.
+// RTGI_LPV_VIS_SKY (lpv.sky=visibility): per cell, band-1 SH of the sky visibility V(w) (1 where
+// a ray from the centre leaves the scene without meeting a surface), from K = M x M equal-area
+// strata centres of the sphere: p = (4 pi / K) sum_j V(w_j) Y(w_j), as lpv/probe.comp projects
+// radiance. One invocation per cell.
+#include "lpv/lpv_common.glsl"
+#include "lib/bvh_shared.h"
+#include "lib/bvh.glsl"
+#include "lib/lpv_lookup.glsl"
+#include "lib/sampling.glsl"
+
+layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
+
+#ifdef RTGI_LPV_VIS_SKY
+layout(rgba16f, binding = RTGI_LPV_VIS_IMG_SKY) uniform writeonly image3D uSky;
+
+void main() {
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lpvInside(cell, lpv.grid.xyz)) return;
+    vec3 o = lpv.origin.xyz + (vec3(cell) + 0.5) * lpvCellSize();
+    const int m = RTGI_LPV_SKY_STRATA;
+    vec4 p = vec4(0.0);
+    for (int j = 0; j < m * m; ++j) {
+        vec3 w = uniformSphere((vec2(j % m, j / m) + 0.5) / float(m));
+        if (!traceAny(o, w, 0.0, 0.5 * BVH_MISS)) p += shBasis(w);
+    }
+    imageStore(uSky, cell, p * (4.0 * PI / float(m * m)));
+}
+#else
+layout(rg16f, binding = RTGI_LPV_VIS_IMG_MOMENTS) uniform writeonly image3D uMoments;
+
+void main() {
+    ivec3 t = ivec3(gl_GlobalInvocationID);
+    const int n = RTGI_LPV_VIS_RES, s = RTGI_LPV_VIS_SUBSAMPLES;
+    ivec3 cell = ivec3(t.x / n, t.y / n, t.z);
+    if (!lpvInside(cell, lpv.grid.xyz)) return;
+    ivec2 bin = t.xy - cell.xy * n;
+    vec3 o = lpv.origin.xyz + (vec3(cell) + 0.5) * lpvCellSize();
+    float maxT = RTGI_LPV_VIS_MAX_DISTANCE * lpvCellSize();
+    vec2 m = vec2(0.0);
+    for (int j = 0; j < s * s; ++j) {
+        vec2 uv = (vec2(bin) + (vec2(j % s, j / s) + 0.5) / float(s)) / float(n);
+        vec3 w = lpvOctDecode(uv);
+        Hit hit;
+        float d = traceClosest(o, w, 0.0, maxT, hit) ? min(hit.t, maxT) : maxT;
+        d /= lpvCellSize();
+        m += vec2(d, d * d);
+    }
+    imageStore(uMoments, t, vec4(m / float(s * s), 0.0, 0.0));
+}
+#endif
