@@ -46,6 +46,7 @@ struct LpvCascade {
     const lpv::Hi* nearResultHi = nullptr;
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
     glm::vec4 visibilityFor{0.0f};     // origin (xyz) and cell size (w) the moments were traced for
+    std::uint64_t visibilityGeometry = 0;  // GpuScene::geometryVersion they were traced against
 };
 
 struct LpvState {
@@ -547,8 +548,9 @@ public:
 };
 
 // lpv.visibility (lpv.lookup=visibility, lpv.sky=visibility; docs/lpv.md, "Visibility moments",
-// "Sky visibility"): each cascade's per-cell distance moments and sky visibility, traced against the scene's BVH when the cascade was placed
-// elsewhere (or first allocated); the scene is static, so otherwise nothing runs.
+// "Sky visibility"): each cascade's per-cell distance moments and sky visibility, traced against the
+// scene's BVH when the cascade was placed elsewhere, first allocated or the geometry moved (issue 23);
+// otherwise nothing runs.
 class VisibilityPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
@@ -577,11 +579,13 @@ public:
             const glm::vec4 placed = c.uniforms.origin;
             bool fresh = moments && c.volumes.ensureVisibility(ctx.ledger);
             fresh = (sky && c.volumes.ensureSky(ctx.ledger)) || fresh;
-            if (!fresh && placed == c.visibilityFor) continue;
+            const std::uint64_t geometry = ctx.gpuScene.geometryVersion();
+            if (!fresh && placed == c.visibilityFor && geometry == c.visibilityGeometry) continue;
             st.visibilityBvh.ensure(ctx, "lpv.visibility.bvh");
             if (moments) lpv::visibilityMoments(ctx, c.ubo, st.visibilityBvh, c.volumes);
             if (sky) lpv::skyVisibility(ctx, c.ubo, st.visibilityBvh, c.volumes);
             c.visibilityFor = placed;
+            c.visibilityGeometry = geometry;
         }
     }
 };

@@ -25,7 +25,8 @@ ProbeParams probeParams(const Settings& s, const Aabb&) {
 }
 
 void SceneBvh::ensure(FrameContext& ctx, const std::string& label) {
-    if (nodes) return;
+    if (nodes && geometryVersion == ctx.gpuScene.geometryVersion()) return;
+    geometryVersion = ctx.gpuScene.geometryVersion();
     Bvh bvh = buildBvh(sceneTriangles(ctx.scene));
     if (bvh.triangles.empty()) {  // an empty scene: one leaf with an empty box, never hit
         bvh.nodes.assign(1, gpu::BvhNode{glm::vec3(1e30f), 0, glm::vec3(-1e30f), 0});

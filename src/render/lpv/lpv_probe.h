@@ -25,10 +25,12 @@ struct ProbeParams {
 };
 ProbeParams probeParams(const Settings& settings, const Aabb& sceneBounds);
 
-// The scene's BVH on the GPU (bvh_shared.h layout), built on first use; bind() binds it and
-// the scene's vertex / index buffers at their bvh_shared.h bindings.
+// The scene's BVH on the GPU (bvh_shared.h layout), built on first use and rebuilt when
+// the geometry moved (GpuScene::geometryVersion, issue 23); bind() binds it and the
+// scene's vertex / index buffers at their bvh_shared.h bindings.
 struct SceneBvh {
     gl::Buffer nodes, triangles;
+    std::uint64_t geometryVersion = 0;  // of the scene it was built from
     void ensure(FrameContext& ctx, const std::string& label);
     void bind(FrameContext& ctx) const;
 };
