@@ -301,17 +301,21 @@ def run_one(bench, path, render):
             "--out", os.path.join(os.path.dirname(path), "out-" + os.path.basename(path))]
     if not render:
         args.append("--validate-only")
+    # Bad input must end within 5 s (docs/STABILITY.md); a valid file that is
+    # rendered compiles every shader of the frame on llvmpipe, which under a
+    # loaded 2-core CI machine takes longer, so it gets 30 s.
+    limit = 30 if render else 5
     t0 = time.monotonic()
     try:
-        p = subprocess.run(args, capture_output=True, text=True, errors="replace", timeout=5)
+        p = subprocess.run(args, capture_output=True, text=True, errors="replace", timeout=limit)
     except subprocess.TimeoutExpired:
-        return "timeout (more than 5 s)", None, 5.0
+        return "timeout (more than %d s)" % limit, None, float(limit)
     dt = time.monotonic() - t0
     return p.returncode, p.stderr, dt
 
 
 def check(path, cls, label, rc, stderr, dt):
-    if rc == "timeout (more than 5 s)":
+    if isinstance(rc, str):  # a timeout
         return rc
     if rc < 0:
         return "killed by signal %d" % -rc

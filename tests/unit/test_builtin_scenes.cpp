@@ -1,6 +1,5 @@
 // Built-in scenes and the JSON scene builder (no GL). The analytic scenes are
 // checked for exactness because the AO tests integrate against them.
-#include "app/cli.h"
 #include "render/gpu_scene.h"
 #include "scene/builtin.h"
 #include "scene/scene.h"
@@ -455,7 +454,12 @@ TEST_CASE("automatic far plane: a moved framed camera still sees the farthest co
     // A model on builtin:plane gets a floor ten times its footprint and a camera
     // framing the model; a named view or --set camera.position moves that camera,
     // and its far plane must still reach the floor's far corner (not render it as sky).
-    Scene s = mergeScenes({"builtin:plane", "builtin:cornell"});
+    // mergeScenes frames the model only (rtgi::defaultCamera of the model's bounds,
+    // named "default"): here a framed camera whose far plane covers 2 m.
+    Scene s = loadBuiltin("box-on-plane");
+    Camera framed = defaultCamera(s);
+    framed.far = 2.0f;
+    s.cameras = {framed};
     Settings st;
     st.camera.position = glm::vec3(0.3f, 0.4f, 0.3f);
     st.camera.target = glm::vec3(0.0f, 0.2f, 0.0f);
@@ -468,6 +472,7 @@ TEST_CASE("automatic far plane: a moved framed camera still sees the farthest co
                 farthest = std::max(farthest, glm::length(glm::dvec3(x, y, z) - glm::dvec3(*st.camera.position)));
     CHECK(double(c.far) >= farthest);
     // An explicit far plane is kept.
+    st.camera.nearPlane = 0.01f;
     st.camera.farPlane = 3.0f;
     CHECK(resolveCamera(s, st).far == 3.0f);
 }
