@@ -221,8 +221,8 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         lit += r.lights;
     }
     j["scene_update_ms"] = {{"median", us.median}, {"max", us.max}, {"mean", us.mean},
-                            {"what", "CPU: scene state at t, vertex re-upload when geometry moved, light update; "
-                                     "glFinish included"}};
+                            {"what", "CPU: scene state at t, vertex re-upload when geometry moved, light update "
+                                     "(submission; the GPU copy is in the next frame's first pass)"}};
     j["frames_geometry_moved"] = moved;
     j["frames_lights_changed"] = lit;
     j["csv"] = "temporal.csv";

@@ -4,6 +4,8 @@
 #include "gl/program.h"
 #include "gl/profiler.h"
 
+#include <map>
+
 using namespace rtgi;
 using namespace rtgi::test;
 
@@ -126,3 +128,49 @@ TEST_CASE("profiler: every pass is timed once per measured frame, in frame order
     CHECK((std::string(prof.timer()) == "gpu" || std::string(prof.timer()) == "cpu"));
 }
 
+
+TEST_CASE("profiler: profile.dispatches times every dispatch inside its pass, and only then") {
+    GpuFixture gpu;
+    Scene s = floorScene(5, glm::vec3(0.5f), true);
+    for (bool on : {true, false}) {
+        gl::Profiler prof(gpu.info().timerQuery);
+        Settings st;
+        st.light.shadowCache = false;
+        st.post.profileDispatches = on;
+        auto r = renderFrames(s, st, {32, 24}, prof, 2);
+        prof.reset();
+        prof.setMeasuring(true);
+        Camera cam = resolveCamera(s, st);
+        for (int f = 0; f < 4; ++f) r->render(makeView(cam, {32, 24}, nullptr, unsigned(f)));
+        prof.flush();
+        std::map<std::string, double> passDispatches, subDispatches;
+        int subScopes = 0;
+        for (auto& t : prof.results()) {
+            auto slash = t.name.find('/');
+            if (slash == std::string::npos) {
+                passDispatches[t.name] = t.dispatchesPerFrame;
+                continue;
+            }
+            ++subScopes;
+            CHECK(t.ms.samples == 4);
+            subDispatches[t.name.substr(0, slash)] += t.dispatchesPerFrame;
+        }
+        if (!on) {
+            CHECK(subScopes == 0);
+            continue;
+        }
+        // A compute dispatch is counted once in exactly one sub-step of its pass
+        // (draws of the hardware rasterizer count in the pass only).
+        for (auto& [pass, n] : subDispatches) {
+            INFO(pass);
+            REQUIRE(passDispatches.count(pass) == 1);
+            CHECK(n > 0.0);
+            CHECK(n <= passDispatches[pass]);
+        }
+        for (const char* compute : {"direct", "post.compose"}) {
+            INFO(compute);
+            CHECK(subDispatches[compute] == passDispatches[compute]);
+            CHECK(subDispatches[compute] >= 1.0);
+        }
+    }
+}
