@@ -5,6 +5,7 @@
 #include <glad/egl.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -19,8 +20,10 @@ void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum seve
     (void)id;
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
     if (type == GL_DEBUG_TYPE_ERROR) ++gDebugErrors;
-    // Performance chatter from drivers is not an error; print only the rest.
-    if (type == GL_DEBUG_TYPE_PERFORMANCE || type == GL_DEBUG_TYPE_OTHER) return;
+    // Performance chatter from drivers is not an error; print only the rest
+    // (all of it with RTGI_TRACE=1).
+    static const bool all = std::getenv("RTGI_TRACE") && std::string(std::getenv("RTGI_TRACE")) != "0";
+    if (!all && (type == GL_DEBUG_TYPE_PERFORMANCE || type == GL_DEBUG_TYPE_OTHER)) return;
     std::fprintf(stderr, "GL debug: %s\n", msg);
 }
 

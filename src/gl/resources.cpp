@@ -1,5 +1,6 @@
 #include "gl/resources.h"
 
+#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 
@@ -61,6 +62,14 @@ std::int64_t textureBytes(const TextureDesc& d) {
         bytes += w * h * z * bytesPerTexel(d.format);
     }
     return bytes;
+}
+
+bool poisonNewResources() {
+    static const bool on = [] {
+        const char* v = std::getenv("RTGI_POISON");
+        return v && *v && std::string(v) != "0";
+    }();
+    return on;
 }
 
 namespace {
@@ -161,6 +170,13 @@ Buffer::Buffer(MemoryLedger& ledger, std::string label, std::int64_t bytes, cons
     handle_ = BufferHandle(id);
     glNamedBufferStorage(id, std::max<std::int64_t>(bytes, 4), data, flags);
     checkAllocation("buffer '" + label_ + "'", bytes);
+    if (!data && poisonNewResources()) {
+        // A driver hands out recycled memory (NVIDIA) where llvmpipe gives
+        // zeros: with RTGI_POISON=1 every new buffer starts as 0xA5 bytes, so
+        // a pass that reads before it writes fails on llvmpipe too.
+        const std::uint32_t poison = 0xA5A5A5A5u;
+        glClearNamedBufferData(id, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &poison);
+    }
     handle_.label(label_);
     entry_ = LedgerEntry(&ledger, label_, bytes);
 }
@@ -169,6 +185,9 @@ void Buffer::upload(const void* data, std::int64_t bytes, std::int64_t offset) c
     glNamedBufferSubData(id(), offset, bytes, data);
 }
 void Buffer::download(void* data, std::int64_t bytes, std::int64_t offset) const {
+    // Shader writes reach glGetBufferSubData only after this barrier (GL 4.5
+    // §7.12.2); without it NVIDIA returned stale bytes of a fresh buffer.
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(id(), offset, bytes, data);
 }
 void Buffer::clearZero() const {

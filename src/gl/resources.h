@@ -57,6 +57,10 @@ struct TextureDesc {
     bool operator==(const TextureDesc&) const = default;
 };
 
+// RTGI_POISON=1 in the environment: new buffers start filled with 0xA5
+// bytes instead of whatever the driver gives (tests of read-before-write).
+bool poisonNewResources();
+
 // Bytes of a texture's storage, every level (what the ledger registers).
 std::int64_t textureBytes(const TextureDesc& desc);
 

@@ -7,11 +7,33 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
 
 namespace rtgi {
+
+namespace {
+// RTGI_TRACE=1: every pass is finished (glFinish) and its end printed with the
+// seconds since the process's first traced step, to find a stall or a hang
+// on a driver where nothing else says where the time goes.
+bool traceSteps() {
+    static const bool on = [] {
+        const char* v = std::getenv("RTGI_TRACE");
+        return v && *v && std::string(v) != "0";
+    }();
+    return on;
+}
+void traceStep(const std::string& what) {
+    if (!traceSteps()) return;
+    static const auto t0 = std::chrono::steady_clock::now();
+    glFinish();
+    std::fprintf(stderr, "trace %9.3f s  %s\n",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), what.c_str());
+}
+}  // namespace
 
 std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const FrameResources& r) {
     std::vector<std::pair<std::string, const gl::Texture*>> out;
@@ -21,8 +43,10 @@ std::vector<std::pair<std::string, const gl::Texture*>> namedResources(const Fra
 
 Renderer::Renderer(const Scene& scene, const Settings& settings, gl::Profiler& profiler)
     : scene_(scene), profiler_(profiler) {
+    traceStep("renderer: construction begins");
     frameUbo_ = gl::Buffer(ledger_, "frame.uniforms", sizeof(gpu::FrameUniforms), nullptr, GL_DYNAMIC_STORAGE_BIT);
     configure(settings);
+    traceStep("renderer: constructed");
 }
 
 Renderer::~Renderer() = default;
@@ -241,7 +265,9 @@ void Renderer::setLocalLight(int light, const LocalLight& l) {
     lightSchedule_.lightChanged(light);
 }
 
+
 void Renderer::render(const View& view) {
+    traceStep("frame begins");
     allocateShared(view);
     for (int i = 0; i < R::count; ++i) previousValid_[i] = writtenLastFrame_[i] && !view.cut;
     uploadFrameUniforms(view);
@@ -259,6 +285,7 @@ void Renderer::render(const View& view) {
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_FRAME, frameUbo_.id());
             pass.execute(ctx);
         }
+        traceStep(pass.name());
         if (check_) checkOutputs(pass);
     }
     profiler_.endFrame();
