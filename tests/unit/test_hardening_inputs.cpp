@@ -285,3 +285,16 @@ TEST_CASE("hardening: sweep and config mistakes that were accepted silently are 
     expectExit("--scene builtin:cornell --validate-only --config " + (d / "twice.json").string(), 2,
                "twice.json: 'lpv.cascades' is given twice (nested and dotted); give it once");
 }
+
+TEST_CASE("hardening: --validate-only refuses an unknown named view with the run's sentence") {
+    // The view is resolved without GL; before, only a rendering run reported it.
+    const std::string sentence = "setting 'view': no view named 'nope' for scene builtin:cornell in benchmarks/views/";
+    expectExit("--scene builtin:cornell --validate-only --set view=nope", 2, sentence);
+    fs::path d = scratch("views");
+    expectExit("--scene builtin:cornell --res 32x32 --frames 1 --warmup 0 --no-images --set view=nope --out " +
+                   (d / "out").string(), 2, sentence);
+    auto ok = runBench("--scene builtin:gallery --validate-only --set view=red-wall");  // a view of benchmarks/views/
+    CAPTURE(ok.err);
+    CHECK(ok.rc == 0);
+    expectExit("--scene builtin:gallery --validate-only --set view=Red-Wall", 2, "no view named 'Red-Wall'");
+}
