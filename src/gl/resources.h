@@ -60,6 +60,12 @@ struct TextureDesc {
 // Bytes of a texture's storage, every level (what the ledger registers).
 std::int64_t textureBytes(const TextureDesc& desc);
 
+// A texture by its ledger label and the descriptor it is allocated from.
+struct NamedTextureDesc {
+    std::string label;
+    TextureDesc desc;
+};
+
 class Texture {
 public:
     Texture() = default;
