@@ -163,6 +163,7 @@ int main(int argc, char** argv) {
         if (cl.validateOnly) {
             // The scene's suggested settings must be valid too, and the frame must build from them.
             (void)FramePlan::build(frameScript(), frameFamilies(), scene, settingsFor(scene, cl));
+            (void)resolveCamera(scene, settingsFor(scene, cl));  // an unknown view: the run's sentence (issue 28)
             std::printf("rtgi-bench: %s: valid (%zu triangles)\n", scene.name.c_str(), scene.triangleCount());
             return 0;
         }

@@ -64,6 +64,12 @@ bool poisonNewResources();
 // Bytes of a texture's storage, every level (what the ledger registers).
 std::int64_t textureBytes(const TextureDesc& desc);
 
+// A texture by its ledger label and the descriptor it is allocated from.
+struct NamedTextureDesc {
+    std::string label;
+    TextureDesc desc;
+};
+
 class Texture {
 public:
     Texture() = default;

@@ -6,14 +6,33 @@ namespace rtgi {
 
 namespace {
 gl::Defines formatDefines(const FilterFormat& fmt) { return {{"FILTER_FORMAT", fmt.glsl}}; }
+gl::TextureDesc valueDesc(const FilterFormat& fmt, glm::ivec2 size) { return {GL_TEXTURE_2D, fmt.internal, size.x, size.y}; }
 }  // namespace
+
+std::vector<gl::NamedTextureDesc> blurTextures(const std::string& label, const FilterFormat& fmt, glm::ivec2 size) {
+    return {{label + ".tmp", valueDesc(fmt, size)}, {label, valueDesc(fmt, size)}};
+}
+
+std::vector<gl::NamedTextureDesc> temporalTextures(const std::string& label, const FilterFormat& fmt, glm::ivec2 size) {
+    std::vector<gl::NamedTextureDesc> t;
+    for (const char* ab : {".a", ".b"}) {
+        t.push_back({label + ab, valueDesc(fmt, size)});
+        t.push_back({label + ab + ".depth", {GL_TEXTURE_2D, GL_R32F, size.x, size.y}});
+    }
+    return t;
+}
+
+gl::NamedTextureDesc upsampleTexture(const std::string& label, const FilterFormat& fmt, glm::ivec2 fullSize) {
+    return {label, valueDesc(fmt, fullSize)};
+}
 
 void separableBlur(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
                    const FilterFormat& fmt, const gl::Texture& in, const gl::Texture& depth,
                    const gl::Texture& normal, gl::Texture& tmp, gl::Texture& out, BlurThresholds t) {
     const int w = in.width(), h = in.height();
-    tmp.ensure(ledger, label + ".tmp", {GL_TEXTURE_2D, fmt.internal, w, h});
-    out.ensure(ledger, label, {GL_TEXTURE_2D, fmt.internal, w, h});
+    const auto own = blurTextures(label, fmt, {w, h});
+    tmp.ensure(ledger, own[0].label, own[0].desc);
+    out.ensure(ledger, own[1].label, own[1].desc);
     const gl::Program& prog = programs.compute("filter/blur.comp", formatDefines(fmt));
     prog.set(RTGI_FILTER_LOC_DEPTH_THRESHOLD, t.depth);
     prog.set(RTGI_FILTER_LOC_NORMAL_THRESHOLD, t.normal);
@@ -37,10 +56,10 @@ const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLed
                                        const gl::Texture& velocity, bool reset) {
     const int w = current.width(), h = current.height();
     bool fresh = false;
+    const auto t = temporalTextures(label, fmt, {w, h});
     for (int i = 0; i < 2; ++i) {
-        std::string n = label + (i == 0 ? ".a" : ".b");
-        fresh |= value_[i].ensure(ledger, n, {GL_TEXTURE_2D, fmt.internal, w, h});
-        fresh |= depth_[i].ensure(ledger, n + ".depth", {GL_TEXTURE_2D, GL_R32F, w, h});
+        fresh |= value_[i].ensure(ledger, t[std::size_t(2 * i)].label, t[std::size_t(2 * i)].desc);
+        fresh |= depth_[i].ensure(ledger, t[std::size_t(2 * i + 1)].label, t[std::size_t(2 * i + 1)].desc);
         value_[i].setSampling(GL_LINEAR, GL_LINEAR);
         depth_[i].setSampling(GL_LINEAR, GL_LINEAR);
     }
@@ -66,7 +85,8 @@ const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLed
 void upsample(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
               const FilterFormat& fmt, const gl::Texture& low, const gl::Texture& lowDepth,
               const gl::Texture& fullDepth, gl::Texture& out, bool depthAware) {
-    out.ensure(ledger, label, {GL_TEXTURE_2D, fmt.internal, fullDepth.width(), fullDepth.height()});
+    const gl::NamedTextureDesc t = upsampleTexture(label, fmt, {fullDepth.width(), fullDepth.height()});
+    out.ensure(ledger, t.label, t.desc);
     gl::Defines defs = formatDefines(fmt);
     defs.push_back({"UPSAMPLE_DEPTH_AWARE", depthAware ? "1" : "0"});
     const gl::Program& prog = programs.compute("filter/upsample.comp", defs);

@@ -7,6 +7,7 @@
 #include "gl/resources.h"
 
 #include <string>
+#include <vector>
 
 namespace rtgi {
 
@@ -19,6 +20,15 @@ struct BlurThresholds {
     float depth = 0.05f;   // relative depth difference above which a tap is dropped
     float normal = 0.8f;   // minimum cosine between centre and tap normals
 };
+
+// The textures the filters allocate for values of `size`, by ledger label
+// (they allocate from these; the memory estimate sums them): the blur's
+// temporary `label.tmp` and output `label`, the temporal filter's two values
+// and depths `label.a`, `label.a.depth`, `label.b`, `label.b.depth`, the
+// upsampled output `label`.
+std::vector<gl::NamedTextureDesc> blurTextures(const std::string& label, const FilterFormat& fmt, glm::ivec2 size);
+std::vector<gl::NamedTextureDesc> temporalTextures(const std::string& label, const FilterFormat& fmt, glm::ivec2 size);
+gl::NamedTextureDesc upsampleTexture(const std::string& label, const FilterFormat& fmt, glm::ivec2 fullSize);
 
 // out = vertical(horizontal(in)); tmp and out are (re)allocated at in's size.
 void separableBlur(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,

@@ -98,9 +98,12 @@ Camera resolveCamera(const Scene& scene, const Settings& s) {
     }
     if (s.camera.nearPlane) c.near = *s.camera.nearPlane;
     if (s.camera.farPlane) c.far = *s.camera.farPlane;
-    if (!(c.far > c.near)) throw ConfigError("camera: far plane must lie beyond the near plane");
+    // Named with the scene: the camera may be the file's (a node far from the
+    // origin leaves no float between position and target) or the settings'.
+    const std::string which = "camera '" + c.name + "' of " + scene.name;
+    if (!(c.far > c.near)) throw ConfigError(which + ": far plane must lie beyond the near plane");
     if (glm::length(c.target - c.position) <= 0.0f)
-        throw ConfigError("camera: position and target coincide");
+        throw ConfigError(which + ": position and target coincide (in float)");
     return c;
 }
 

@@ -11,6 +11,9 @@
 #include "render/noise.h"
 #include "render/ao/ao_params.h"
 #include "render/renderer.h"
+#include "render/ssr/ssr_constants.h"
+#include "scene/bvh.h"
+#include "scene/emitters.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -20,18 +23,13 @@ namespace rtgi {
 
 namespace {
 
-// Private screen-sized targets of the pass families (bytes per pixel; the
-// shared ones are counted from their descriptors, Renderer::sharedTextureDesc).
-// AO at its own resolution: half depth 4, half normal 8, radius scale 2 and
-// colour 4, raw 2, blur temporary + output 4, temporal value and depth (two
-// each) 12; at full resolution: near-field 4.
-constexpr double kAoBytesPerAoPixel = 36, kAoBytesPerPixel = 4;
-// SSR at the trace resolution: hit 4, confidence 2, distance 2, trace depth 4
-// and normal 8, resolved 8, blur temporary + output 16, temporal value and
-// depth (two each) 24; full resolution: HiZ with mips 4 * 4/3, direct-diffuse temporary 8.
-constexpr double kSsrBytesPerTracePixel = 68, kSsrBytesPerPixel = 8 + 4.0 * 4 / 3;
-// Reference: mean, standard error, accumulation and its square (RGBA32F), ldr.
-constexpr double kReferenceBytesPerPixel = 68;
+// A BVH of the scene's triangles (the reference's, lpv.visibility's): every
+// triangle once in leaf order and at most 2n - 1 nodes (scene/bvh.h, buildBvh).
+double bvhBytesBound(std::int64_t triangles) {
+    const double n = double(std::max<std::int64_t>(triangles, 1));
+    return n * double(sizeof(gpu::BvhTriangle)) + (2.0 * n - 1.0) * double(sizeof(gpu::BvhNode));
+}
+
 bool hasFamily(const Renderer& r, const std::string& prefix) {
     for (auto& p : r.passes())
         if (p->name().rfind(prefix, 0) == 0) return true;
@@ -61,8 +59,6 @@ std::string formatBytes(std::int64_t bytes) {
 MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     const Settings& s = r.settings();
     std::map<std::string, double> by;  // setting -> bytes
-    const double pixels = double(res.x) * double(res.y);
-    auto half = [](glm::ivec2 v) { return double(std::max((v.x + 1) / 2, 1)) * double(std::max((v.y + 1) / 2, 1)); };
     const std::string resKey = "--res " + resolutionText(res);
 
     // Shared resources: the descriptors the renderer allocates from.
@@ -81,15 +77,37 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
             case Extent::brdfLut: by["the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)"] += bytes; break;
         }
     }
-    double screen = 0;
-    if (hasFamily(r, "ao.nearfield")) screen += kAoBytesPerPixel * pixels;
-    if (hasFamily(r, "ao.")) screen += kAoBytesPerAoPixel * (s.ao.halfResolution ? half(res) : pixels);
-    if (hasFamily(r, "ssr.")) screen += kSsrBytesPerPixel * pixels + kSsrBytesPerTracePixel * (s.ssr.halfResolution ? half(res) : pixels);
-    if (hasFamily(r, "ref.")) screen += kReferenceBytesPerPixel * pixels;
-    by[resKey] += screen;
+    // The passes' private textures: the descriptors their execute() allocates
+    // from (Pass::privateTextures); the LPV's volumes go to lpv.grid, the
+    // screen-sized targets of AO, SSR, the reference and lpv.apply to --res.
+    const std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
+                                    ? std::to_string(s.lpv.grid.x)
+                                    : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +
+                                          std::to_string(s.lpv.grid.z);
+    MemoryEstimate e;
+    for (auto& p : r.passes()) {
+        const bool volume = p->name().rfind("lpv.", 0) == 0 && p->name() != "lpv.apply";
+        for (auto& t : p->privateTextures(s, res)) {
+            const std::int64_t bytes = gl::textureBytes(t.desc);
+            e.privateTextures[t.label] += bytes;
+            by[volume ? "lpv.grid=" + gridKey : resKey] += double(bytes);
+        }
+    }
     const std::string fixedKey = "the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)";
     if (hasFamily(r, "ao.") || hasFamily(r, "ssr.")) by[fixedKey] += double(gl::textureBytes(blueNoiseDesc()));
-    if (hasFamily(r, "ao.")) by[fixedKey] += double(sizeof(gpu::AoParams));
+    // The AoParams block: one for the AO chain, one for ao.nearfield's own.
+    for (auto& p : r.passes())
+        if (p->name() == "ao.nearfield" || p->name() == "ao." + std::string(toString(s.ao.variant)))
+            by[fixedKey] += double(sizeof(gpu::AoParams));
+    if (hasFamily(r, "ssr.")) by[fixedKey] += double(sizeof(gpu::SsrUniforms));
+    // The reference: its BVH, the emitter table (two words per emissive
+    // triangle, at least one entry) and one ray counter per sample.
+    const std::int64_t triangleCount = std::int64_t(r.scene().triangleCount());
+    if (hasFamily(r, "ref.")) {
+        const std::size_t emitters = emissiveTriangles(r.scene(), resolveMaterials(r.scene(), s)).size();
+        by[fixedKey] += bvhBytesBound(triangleCount) + 8.0 * double(std::max<std::size_t>(emitters, 1)) +
+                        4.0 * double(s.reference.spp);
+    }
 
     // The compute rasterizer's visibility buffer and bins, per rasterized view
     // (src/render/visibility/visibility.cpp, visibilityCapacity).
@@ -106,47 +124,12 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     }
     if (hasFamily(r, "lpv.") && useComputeRasterLightViews(s)) by["lpv.rsm=" + std::to_string(s.lpv.rsm)] += visibility(glm::ivec2(s.lpv.rsm));
     if (hasFamily(r, "lpv.")) {
-        const glm::dvec3 g(s.lpv.grid);
-        const double cells = g.x * g.y * g.z, geometryCells = (g.x + 1) * (g.y + 1) * (g.z + 1);
-        const double fmt = s.lpv.format == LpvSettings::Format::Rgba32f ? 16.0 : 8.0;
-        // src/render/lpv/lpv_volumes.cpp: inject 3 x R32F x 4 (fp32 accumulation),
-        // two propagation steps and the accumulation (3 channels each), the
-        // temporal history (two, when lpv.temporal > 0); geometry volume
-        // (grid + 1)^3: 11 R32F accumulation channels, the SH in the volume
-        // format, albedo and two-sided axis blocking RGBA16F.
-        // Per cascade (lpv.cascades, compute path; the raster path has one volume); cascades
-        // i > 0 keep a near part (3 channels). lpv.sh_order=2 adds per volume 4 more textures
-        // (coefficients 4-7 of r, g, b and 8 of r, g, b) and the fp32 accumulation of
-        // coefficients 4-8 (15 R32F) (docs/lpv.md, "Second-order SH").
+        // The volumes are private textures (above). lpv.visibility traces
+        // against one BVH of the scene (docs/lpv.md, "Visibility moments").
         const int cascades = s.lpv.path == LpvSettings::Path::Raster ? 1 : s.lpv.cascades;
-        const double volumeTextures = s.lpv.shOrder == 2 ? 7.0 : 3.0;
-        const double injectBytes = s.lpv.shOrder == 2 ? 108.0 : 48.0;
-        // Geometry per corner: 8 R32F channels, the SH, albedo RGBA16F; two-sided blocking adds 3 R32F
-        // channels and the axes RGBA16F (only then allocated).
-        const bool twoSided = s.lpv.blocking == LpvSettings::Blocking::TwoSided;
-        const double geometryBytes = twoSided ? 44.0 + fmt + 16.0 : 32.0 + fmt + 8.0;
-        double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * geometryBytes) +
-                     (cascades - 1) * cells * volumeTextures * fmt;
-        // lpv.visibility (docs/lpv.md, "Visibility moments", "Sky visibility"): per cascade the moments
-        // (N^2 RG16F per cell) and the sky visibility (RGBA16F per cell), and one BVH of the scene
-        // (48 bytes per triangle, at most 2 nodes of 32 bytes per triangle).
-        const bool moments = s.lpv.lookup == LpvSettings::Lookup::Visibility ||
-                             (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute);
-        const bool sky = s.lpv.sky == LpvSettings::Sky::Visibility;
-        if (moments) lpv += cascades * cells * RTGI_LPV_VIS_RES * RTGI_LPV_VIS_RES * 4.0;
-        if (sky) lpv += cascades * cells * 8.0;
-        if (moments || sky) lpv += double(r.scene().triangleCount()) * (48.0 + 64.0) + 64.0;
-        // Temporal: two histories per cascade, and two of the near part for cascades i > 0.
-        if (s.lpv.temporal > 0.0f) lpv += (2.0 * cascades - 1.0) * cells * 2.0 * volumeTextures * fmt;
-        std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z
-                                  ? std::to_string(s.lpv.grid.x)
-                                  : std::to_string(s.lpv.grid.x) + "x" + std::to_string(s.lpv.grid.y) + "x" +
-                                        std::to_string(s.lpv.grid.z);
-        by["lpv.grid=" + gridKey] += lpv;
-        // The uniform block of every cascade and the dropped-texel counter;
-        // lpv.apply's two running sums over cascades.
+        if (hasFamily(r, "lpv.visibility")) by["lpv.grid=" + gridKey] += bvhBytesBound(triangleCount);
+        // The uniform block of every cascade and the dropped-texel counter.
         by[fixedKey] += double(cascades) * double(sizeof(gpu::LpvUniforms)) + 4.0;
-        if (cascades > 1 && hasFamily(r, "lpv.apply")) by[resKey] += 2.0 * double(gl::textureBytes(lpv::applySumDesc(res)));
         // The sun's RSM and one per face of every local light (spot 1, point
         // / area 6, render/lights.h) at FrameResources::localRsmSize, each
         // with one LPV uniform block per cascade: the descriptors lpv.rsm
@@ -168,7 +151,6 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     auto& ledger = const_cast<Renderer&>(r).ledger();
     by["the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)"] += double(ledger.total());
 
-    MemoryEstimate e;
     for (auto& [k, v] : by) e.items.push_back({k, std::int64_t(std::min(v, 9.0e18))});
     std::sort(e.items.begin(), e.items.end(), [](auto& a, auto& b) { return a.bytes > b.bytes; });
     return e;

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@ struct MemoryItem {
 
 struct MemoryEstimate {
     std::vector<MemoryItem> items;  // one per setting, largest first
+    // The passes' private textures by ledger label (summed over cascades), a part of `items`.
+    std::map<std::string, std::int64_t> privateTextures;
     std::int64_t total() const;
 };
 

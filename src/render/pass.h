@@ -133,6 +133,11 @@ public:
     // Values a pass wants in results.json under "stats" (counters, e.g.
     // texels dropped outside the LPV). Read back once after measuring.
     virtual std::vector<std::pair<std::string, double>> stats() { return {}; }
+    // The private textures execute() allocates for a view of `viewSize`, by
+    // ledger label, from the descriptors execute() allocates from (not the
+    // shared resources): the memory estimate sums them over the frame's
+    // passes. A texture several passes use is listed by one of them.
+    virtual std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 /*viewSize*/) const { return {}; }
 };
 
 }  // namespace rtgi

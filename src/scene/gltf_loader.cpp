@@ -1346,7 +1346,7 @@ private:
         if (gl.intensity >= 0.0)
             l.intensity = float(gl.intensity);
         else
-            warn(which + " has a negative intensity; using 1");
+            warn(at + "intensity is " + num(gl.intensity) + ", which glTF does not allow (intensity must be >= 0); using 1");
         double brightest = double(std::max({l.color.x, l.color.y, l.color.z})) * double(l.intensity);
         if (!(brightest <= kMaxRadiance))
             fail(at + "color x intensity = " + num(brightest) + " exceeds " + num(kMaxRadiance) +
@@ -1355,7 +1355,7 @@ private:
         if (gl.range >= 0.0)
             l.range = float(gl.range);
         else
-            warn(which + " has an invalid range; using infinite");
+            warn(at + "range is " + num(gl.range) + ", which glTF does not allow (range must be > 0); the light has no range (infinite)");
         l.position = glm::vec3(world[3]);
         l.direction = worldDirection(world, glm::dvec3(0, 0, -1), glm::vec3(0, 0, -1));
         if (l.type == LightType::Spot) {

@@ -42,6 +42,29 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate matches the 
         {"gallery, local lights + lpv", "gallery", {"lpv=on", "lpv.rsm=64", "shadow.local_size=64"}, {48, 32}},
         {"gallery, budget 4 (smaller local RSMs)", "gallery", {"lpv=on", "lpv.rsm=64", "shadow.local_size=64", "light.budget=4"}, {48, 32}},
         {"gallery, compute light views", "gallery", {"raster.path=compute", "lpv=on", "lpv.rsm=32", "shadow.local_size=32"}, {48, 32}},
+        // The private textures of AO, SSR, the reference and the LPV volumes
+        // (Pass::privateTextures): every variant of each family's chain; a
+        // small sun map, so that they are most of the total.
+        {"ssao-disk full, blur only", "cornell", {"ao=ssao-disk", "ao.resolution=full", "ao.temporal=off", "lpv=off", "shadow.size=256"}, {40, 30}},
+        {"ssao-hemisphere, no filter (estimate writes ao)", "cornell",
+         {"ao=ssao-hemisphere", "ao.resolution=full", "ao.blur=off", "ao.temporal=off", "ao.directional=s3ho", "lpv=off", "shadow.size=256"}, {40, 30}},
+        {"vo half, dynamic radius, blur-temporal-blur", "cornell",
+         {"ao=vo", "ao.resolution=half", "ao.radius_mode=dynamic2", "ao.filter_chain=blur-temporal-blur", "lpv=off", "shadow.size=256"}, {41, 29}},
+        {"gtao full, blur-temporal-blur (blur2 writes ao)", "cornell",
+         {"ao=gtao", "ao.resolution=full", "ao.filter_chain=blur-temporal-blur", "lpv=off", "shadow.size=256"}, {40, 30}},
+        {"ssao-sphere full, temporal only + near field", "cornell",
+         {"ao=ssao-sphere", "ao.resolution=full", "ao.blur=off", "ao.nearfield=1", "lpv=off", "shadow.size=256"}, {40, 30}},
+        {"ssr linear full + diffuse history", "cornell", {"ssr=linear", "floor.roughness=0.1", "ssr.diffuse_history=on", "lpv=off", "shadow.size=256"}, {48, 32}},
+        {"ssr hiz half", "cornell", {"ssr=hiz", "ssr.resolution=half", "floor.roughness=0.1", "lpv=off", "ao=off", "shadow.size=256"}, {47, 33}},
+        {"lpv 3 cascades temporal two-sided", "cornell",
+         {"lpv=on", "lpv.grid=8", "lpv.cascades=3", "lpv.temporal=0.5", "lpv.blocking=two-sided", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
+        {"lpv band 2, 2 cascades, temporal, fp32", "cornell",
+         {"lpv=on", "lpv.grid=8", "lpv.sh_order=2", "lpv.cascades=2", "lpv.temporal=0.5", "lpv.format=rgba32f", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
+        {"lpv visibility lookup + sky, non-cubic", "cornell",
+         {"lpv=on", "lpv.grid=8x4x6", "lpv.lookup=visibility", "lpv.sky=visibility", "lpv.cascades=2", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
+        {"lpv raster path", "cornell", {"lpv=on", "lpv.path=raster", "lpv.grid=8", "lpv.temporal=0.5", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
+        {"reference full", "cornell", {"reference=full", "reference.spp=2", "reference.cache=off", "lpv=off", "shadow.size=256"}, {32, 24}},
+        {"reference ao", "cornell", {"reference=ao", "reference.spp=2", "reference.cache=off", "lpv=off", "shadow.size=256"}, {32, 24}},
     };
     for (auto& c : cases) {
         const std::string name = c.name;
@@ -51,7 +74,8 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate matches the 
         for (auto& a : c.set) applyAssignment(s, a);
         gl::Profiler prof(info().timerQuery);
         Renderer r(scene, s, prof);
-        std::int64_t estimate = estimateFrameMemory(r, c.res).total();
+        const MemoryEstimate e = estimateFrameMemory(r, c.res);
+        const std::int64_t estimate = e.total();
         // Enough frames for the light budget to draw every face (each face's RSM exists then).
         View prev;
         for (int f = 0; f < 8; ++f) {
@@ -63,6 +87,14 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate matches the 
         MESSAGE(name << ": estimate " << estimate << " bytes, ledger " << actual);
         CHECK(double(estimate) >= 0.95 * double(actual));
         CHECK(double(estimate) <= 1.05 * double(actual));
+        // Every private texture the estimate lists is in the ledger with the
+        // same bytes (labels are summed over cascades on both sides).
+        for (auto& [label, bytes] : e.privateTextures) {
+            CAPTURE(label);
+            auto it = r.ledger().entries().find(label);
+            REQUIRE(it != r.ledger().entries().end());
+            CHECK(it->second == bytes);
+        }
     }
 }
 

@@ -233,6 +233,10 @@ TEST_CASE("hardening: accepted-but-wrong lights and materials are warnings or er
          "lights[0].range is 0, which glTF does not allow (range must be > 0)"},
         {"negative colour", {{"type", "point"}, {"color", {-9e29, 1, 1}}}, json::object(),
          "lights[0].color [-9e+29, 1, 1] has a negative component (glTF colours are 0..1); clamped to 0"},
+        {"range -5", {{"type", "spot"}, {"range", -5}, {"spot", json::object()}}, json::object(),
+         "lights[0].range is -5, which glTF does not allow (range must be > 0); the light has no range (infinite)"},
+        {"intensity -2", {{"type", "point"}, {"intensity", -2}}, json::object(),
+         "lights[0].intensity is -2, which glTF does not allow (intensity must be >= 0); using 1"},
         {"point with spot", {{"type", "point"}, {"spot", {{"outerConeAngle", 0.5}}}}, json::object(),
          "lights[0] is a point light but has a \"spot\" object, which is ignored"},
         {"scaled spot", {{"type", "spot"}, {"spot", json::object()}}, {{"scale", {1e39, 1e39, 1e39}}},
@@ -284,4 +288,17 @@ TEST_CASE("hardening: sweep and config mistakes that were accepted silently are 
     writeFile(d / "twice.json", R"({"lpv": {"cascades": 6}, "lpv.cascades": 1})");
     expectExit("--scene builtin:cornell --validate-only --config " + (d / "twice.json").string(), 2,
                "twice.json: 'lpv.cascades' is given twice (nested and dotted); give it once");
+}
+
+TEST_CASE("hardening: --validate-only refuses an unknown named view with the run's sentence") {
+    // The view is resolved without GL; before, only a rendering run reported it.
+    const std::string sentence = "setting 'view': no view named 'nope' for scene builtin:cornell in benchmarks/views/";
+    expectExit("--scene builtin:cornell --validate-only --set view=nope", 2, sentence);
+    fs::path d = scratch("views");
+    expectExit("--scene builtin:cornell --res 32x32 --frames 1 --warmup 0 --no-images --set view=nope --out " +
+                   (d / "out").string(), 2, sentence);
+    auto ok = runBench("--scene builtin:gallery --validate-only --set view=red-wall");  // a view of benchmarks/views/
+    CAPTURE(ok.err);
+    CHECK(ok.rc == 0);
+    expectExit("--scene builtin:gallery --validate-only --set view=Red-Wall", 2, "no view named 'Red-Wall'");
 }

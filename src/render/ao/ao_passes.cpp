@@ -36,6 +36,21 @@ Stage lastStage(const AoSettings& a) {
     return Stage::Estimate;
 }
 
+// The AO resolution (half: rounded up, at least 1).
+glm::ivec2 aoSizeFor(const AoSettings& s, glm::ivec2 view) { return s.halfResolution ? glm::max((view + 1) / 2, glm::ivec2(1)) : view; }
+// The chain's own textures at AO resolution `a` (the near field at the view's):
+// execute() allocates from these, privateTextures() lists them for the memory estimate.
+gl::NamedTextureDesc halfDepthTex(glm::ivec2 a) { return {"ao.half.depth", {GL_TEXTURE_2D, GL_R32F, a.x, a.y}}; }
+gl::NamedTextureDesc halfNormalTex(glm::ivec2 a) { return {"ao.half.normal", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y}}; }
+gl::NamedTextureDesc radiusScaleTex(glm::ivec2 a) { return {"ao.radius.scale", {GL_TEXTURE_2D, GL_R16F, a.x, a.y}}; }
+gl::NamedTextureDesc radiusColorTex(glm::ivec2 a) { return {"ao.radius.color", {GL_TEXTURE_2D, GL_RGBA8, a.x, a.y}}; }
+gl::NamedTextureDesc rawTex(glm::ivec2 a) { return {"ao.raw", {GL_TEXTURE_2D, kAoFormat.internal, a.x, a.y}}; }
+gl::NamedTextureDesc nearFieldTex(glm::ivec2 v) { return {"ao.nearfield", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, v.x, v.y}}; }
+// The label of a blur's output: res.ao ("ao") when it is the chain's last stage.
+std::string blurLabel(const AoSettings& s, bool second) {
+    return lastStage(s) == (second ? Stage::Blur2 : Stage::Blur) ? "ao" : second ? "ao.blur2" : "ao.blur";
+}
+
 struct AoChain {
     gl::Texture halfDepth, halfNormal;       // ao.downsample
     gl::Texture radiusScale, radiusColor;    // ao.radius
@@ -58,10 +73,7 @@ struct AoChain {
     glm::ivec4 lastSizes{-1};
     float lastFov = -1;
 
-    glm::ivec2 aoSize(const FrameContext& ctx) const {
-        glm::ivec2 s = ctx.view.size;
-        return ctx.settings.ao.halfResolution ? glm::max((s + 1) / 2, glm::ivec2(1)) : s;
-    }
+    glm::ivec2 aoSize(const FrameContext& ctx) const { return aoSizeFor(ctx.settings.ao, ctx.view.size); }
     const gl::Texture& depth(const FrameContext& ctx) const {
         return ctx.settings.ao.halfResolution ? halfDepth : ctx.res.gbuffer.linearDepth;
     }
@@ -126,8 +138,8 @@ public:
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         glm::ivec2 a = c.aoSize(ctx);
-        c.halfDepth.ensure(ctx.ledger, "ao.half.depth", {GL_TEXTURE_2D, GL_R32F, a.x, a.y});
-        c.halfNormal.ensure(ctx.ledger, "ao.half.normal", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y});
+        c.halfDepth.ensure(ctx.ledger, halfDepthTex(a).label, halfDepthTex(a).desc);
+        c.halfNormal.ensure(ctx.ledger, halfNormalTex(a).label, halfNormalTex(a).desc);
         const gl::Program& prog = ctx.programs.compute("ao/downsample.comp");
         // Producer: gbuffer (framebuffer writes).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
@@ -136,6 +148,10 @@ public:
         glBindImageTexture(RTGI_AO_IMG_HALF_DEPTH, c.halfDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glBindImageTexture(RTGI_AO_IMG_HALF_NORMAL, c.halfNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, a.x, a.y);
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        const glm::ivec2 a = aoSizeFor(s.ao, view);
+        return {halfDepthTex(a), halfNormalTex(a)};
     }
 };
 
@@ -152,8 +168,8 @@ public:
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         glm::ivec2 a = c.aoSize(ctx);
-        c.radiusScale.ensure(ctx.ledger, "ao.radius.scale", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
-        c.radiusColor.ensure(ctx.ledger, "ao.radius.color", {GL_TEXTURE_2D, GL_RGBA8, a.x, a.y});
+        c.radiusScale.ensure(ctx.ledger, radiusScaleTex(a).label, radiusScaleTex(a).desc);
+        c.radiusColor.ensure(ctx.ledger, radiusColorTex(a).label, radiusColorTex(a).desc);
         int alg = int(ctx.settings.ao.radiusMode) - int(AoSettings::RadiusMode::Dynamic1) + 1;
         const gl::Program& prog = ctx.programs.compute("ao/radius.comp", {{"AO_RADIUS_ALG", std::to_string(alg)}});
         c.bindParams(ctx);
@@ -164,6 +180,10 @@ public:
         glBindImageTexture(RTGI_AO_IMG_SCALE, c.radiusScale.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
         glBindImageTexture(RTGI_AO_IMG_SCALE_COLOR, c.radiusColor.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
         gl::dispatch(prog, a.x, a.y);
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        const glm::ivec2 a = aoSizeFor(s.ao, view);
+        return {radiusScaleTex(a), radiusColorTex(a)};
     }
 };
 
@@ -189,7 +209,7 @@ public:
         const AoSettings& s = ctx.settings.ao;
         glm::ivec2 a = c.aoSize(ctx);
         gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
-        if (&out == &c.raw) out.ensure(ctx.ledger, "ao.raw", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
+        if (&out == &c.raw) out.ensure(ctx.ledger, rawTex(a).label, rawTex(a).desc);
         int directional = int(s.directional);
         gl::Texture* dirTex = directional == 1 ? &ctx.res.bentNormal : directional == 2 ? &ctx.res.s3ho : nullptr;
         bool light = s.depthSource == AoSettings::DepthSource::Light;
@@ -226,6 +246,10 @@ public:
         }
         c.current = &out;
     }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        if (lastStage(s.ao) == Stage::Estimate) return {};  // writes res.ao
+        return {rawTex(aoSizeFor(s.ao, view))};
+    }
 
 private:
     Variant variant_;
@@ -257,9 +281,17 @@ public:
         AoChain& c = *chain_;
         gl::Texture& own = second_ ? c.blurred2 : c.blurred;
         gl::Texture& out = c.target(ctx, second_ ? Stage::Blur2 : Stage::Blur, own);
-        separableBlur(ctx.programs, ctx.ledger, &out == &ctx.res.ao ? "ao" : name(), kAoFormat, *c.current,
+        separableBlur(ctx.programs, ctx.ledger, blurLabel(ctx.settings.ao, second_), kAoFormat, *c.current,
                       c.depth(ctx), c.normal(ctx), c.blurTmp, out);
         c.current = &out;
+    }
+    // The temporary (shared by both blurs, listed by the first) and the output unless it is res.ao.
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        const auto t = blurTextures(blurLabel(s.ao, second_), kAoFormat, aoSizeFor(s.ao, view));
+        std::vector<gl::NamedTextureDesc> own;
+        if (!second_) own.push_back(t[0]);
+        if (t[1].label != "ao") own.push_back(t[1]);
+        return own;
     }
 
 private:
@@ -293,6 +325,9 @@ public:
                                filtered.width(), filtered.height(), 1);
             c.current = &ctx.res.ao;
         }
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        return temporalTextures("ao.temporal", kAoFormat, aoSizeFor(s.ao, view));
     }
 };
 
@@ -329,7 +364,7 @@ public:
         AoChain& c = *chain_;
         FrameResources& r = ctx.res;
         const glm::ivec2 s = ctx.view.size;
-        c.nearField.ensure(ctx.ledger, "ao.nearfield", {GL_TEXTURE_2D, GL_R11F_G11F_B10F, s.x, s.y});
+        c.nearField.ensure(ctx.ledger, nearFieldTex(s).label, nearFieldTex(s).desc);
         // The frame decides: add when an earlier pass (lpv.apply) wrote the indirect term.
         bool accumulate = ctx.accumulates(R::indirectDiffuse);
         const gl::Program& prog = ctx.programs.compute("ao/nearfield.comp");
@@ -351,6 +386,9 @@ public:
             .image(RTGI_AO_IMG_NEAR_FIELD, c.nearField, GL_WRITE_ONLY, GL_R11F_G11F_B10F)
             .image(RTGI_AO_IMG_INDIRECT, r.indirectDiffuse, GL_READ_WRITE, GL_RGBA16F);
         gl::dispatch(prog, s.x, s.y);
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 view) const override {
+        return {nearFieldTex(view)};
     }
 };
 

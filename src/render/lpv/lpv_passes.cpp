@@ -124,6 +124,16 @@ void outputCascadesRgb(PassDecl& d, const LpvState* st, const LpvSettings& s, co
         });
 }
 
+// The volumes' grid and format for the settings (lpv::placeVolume clamps the grid to >= 1).
+glm::ivec3 volumeGrid(const Settings& s) { return glm::max(s.lpv.grid, glm::ivec3(1)); }
+GLenum volumeFormat(const Settings& s) { return s.lpv.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F; }
+// `list` once per cascade in [first, cascades) (the memory estimate's privateTextures).
+std::vector<gl::NamedTextureDesc> perCascade(const Settings& s, const std::vector<gl::NamedTextureDesc>& list, int first = 0) {
+    std::vector<gl::NamedTextureDesc> t;
+    for (int i = first; i < cascadeCount(s.lpv); ++i) t.insert(t.end(), list.begin(), list.end());
+    return t;
+}
+
 class LpvPass : public Pass {
 public:
     explicit LpvPass(std::shared_ptr<LpvState> st) : st_(std::move(st)) {}
@@ -318,6 +328,9 @@ class InjectPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.inject"; }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
+        return perCascade(s, lpv::lightTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder));
+    }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
@@ -400,6 +413,9 @@ class GeometryPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.inject_geometry"; }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
+        return perCascade(s, lpv::geometryTextures(volumeGrid(s), volumeFormat(s), s.lpv.blocking == LpvSettings::Blocking::TwoSided));
+    }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (!geometryNeeded(s)) return d.skip("lpv.occlusion and lpv.bounce are off");
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
@@ -449,6 +465,10 @@ class PropagatePass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.propagate"; }
+    // Cascades i > 0 keep their near part (compute path; the raster path has one volume).
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
+        return perCascade(s, lpv::nearTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder), 1);
+    }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
@@ -509,6 +529,12 @@ class TemporalPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.temporal"; }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
+        auto t = perCascade(s, lpv::historyTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder, false));
+        auto near = perCascade(s, lpv::historyTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder, true), 1);
+        t.insert(t.end(), near.begin(), near.end());
+        return t;
+    }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (s.lpv.temporal <= 0.0f) return d.skip("lpv.temporal = 0");
         const LpvState* st = st_.get();
@@ -555,6 +581,12 @@ class VisibilityPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.visibility"; }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
+        std::vector<gl::NamedTextureDesc> t;
+        if (momentsNeeded(s)) t.push_back(lpv::visibilityTexture(volumeGrid(s)));
+        if (s.lpv.sky == LpvSettings::Sky::Visibility) t.push_back(lpv::skyTexture(volumeGrid(s)));
+        return perCascade(s, t);
+    }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         const bool moments = momentsNeeded(s), sky = s.lpv.sky == LpvSettings::Sky::Visibility;
         if (!moments && !sky) return d.skip("neither lpv.lookup, lpv.blocking nor lpv.sky is visibility");
@@ -595,6 +627,11 @@ class ApplyPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.apply"; }
+    // The running sums over cascades (C > 1).
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        if (cascadeCount(s.lpv) < 2) return {};
+        return {{"lpv.apply.sum_irradiance", lpv::applySumDesc(view)}, {"lpv.apply.sum_specular", lpv::applySumDesc(view)}};
+    }
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
         d.readIfWritten(R::bentNormal).readIfWritten(R::s3ho);  // directional occlusion of the lookup

@@ -12,6 +12,24 @@ namespace {
 
 const char* kChannel[3] = {"r", "g", "b"};
 
+// The descriptors the ensure functions allocate from (and the *Textures lists below name).
+gl::TextureDesc volumeDesc(glm::ivec3 g, GLenum fmt) { return {GL_TEXTURE_3D, fmt, g.x, g.y, g.z}; }
+gl::TextureDesc injectDesc(glm::ivec3 g) { return {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}; }      // coefficient k at 4x + k
+gl::TextureDesc injectLastDesc(glm::ivec3 g) { return {GL_TEXTURE_3D, GL_R32F, 3 * g.x, g.y, g.z}; }  // colour c at 3x + c
+gl::TextureDesc geometryAccumDesc(glm::ivec3 g, bool twoSided) {
+    const int channels = twoSided ? RTGI_LPV_GV_CHANNELS_TWO_SIDED : RTGI_LPV_GV_CHANNELS_ORIENTED;
+    return {GL_TEXTURE_3D, GL_R32F, channels * (g.x + 1), g.y + 1, g.z + 1};
+}
+gl::TextureDesc cornerDesc(glm::ivec3 g, GLenum fmt) { return volumeDesc(g + 1, fmt); }  // the (grid + 1)^3 corner lattice
+
+void addRgb(std::vector<gl::NamedTextureDesc>& t, const std::string& label, const gl::TextureDesc& d) {
+    for (const char* c : kChannel) t.push_back({label + "." + c, d});
+}
+void addHi(std::vector<gl::NamedTextureDesc>& t, const std::string& label, glm::ivec3 g, GLenum fmt) {
+    addRgb(t, label, volumeDesc(g, fmt));
+    t.push_back({label + ".last", volumeDesc(g, fmt)});
+}
+
 // Returns true when a texture was (re)allocated.
 bool ensureRgb(gl::MemoryLedger& ledger, Rgb& t, const std::string& label, const gl::TextureDesc& d, bool linear) {
     bool changed = false;
@@ -49,8 +67,7 @@ static_assert(RTGI_LPV_INJECT_IMG_INJECT_HI_B == RTGI_LPV_INJECT_IMG_INJECT_HI_R
 bool ensureHi(gl::MemoryLedger& ledger, Hi& t, const std::string& label, glm::ivec3 g, GLenum fmt, bool linear) {
     bool changed = false;
     for (int c = 0; c < 4; ++c) {
-        changed |= t[std::size_t(c)].ensure(ledger, label + "." + (c < 3 ? kChannel[c] : "last"),
-                                            {GL_TEXTURE_3D, fmt, g.x, g.y, g.z});
+        changed |= t[std::size_t(c)].ensure(ledger, label + "." + (c < 3 ? kChannel[c] : "last"), volumeDesc(g, fmt));
         t[std::size_t(c)].setSampling(linear ? GL_LINEAR : GL_NEAREST, linear ? GL_LINEAR : GL_NEAREST);
     }
     return changed;
@@ -124,9 +141,9 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt, in
     format = fmt;
     shOrder = order;
     if (order == 2) {
-        if (ensureRgb(ledger, injectHi, "lpv.inject_hi", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false))
+        if (ensureRgb(ledger, injectHi, "lpv.inject_hi", injectDesc(g), false))
             for (auto& t : injectHi) t.clear();
-        if (injectLast.ensure(ledger, "lpv.inject_last", {GL_TEXTURE_3D, GL_R32F, 3 * g.x, g.y, g.z})) injectLast.clear();
+        if (injectLast.ensure(ledger, "lpv.inject_last", injectLastDesc(g))) injectLast.clear();
         for (int k = 0; k < 2; ++k) ensureHi(ledger, stepHi[std::size_t(k)], "lpv.step" + std::to_string(k) + ".hi", g, fmt, false);
         ensureHi(ledger, accumHi, "lpv.accum.hi", g, fmt, true);
     } else {  // band 1: no band-2 memory
@@ -137,12 +154,11 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt, in
     }
     // The fp32 accumulation is zero between frames (lpv.pack zeroes what it consumes): cleared
     // once here, when allocated.
-    if (ensureRgb(ledger, inject, "lpv.inject", {GL_TEXTURE_3D, GL_R32F, 4 * g.x, g.y, g.z}, false))
+    if (ensureRgb(ledger, inject, "lpv.inject", injectDesc(g), false))
         for (auto& t : inject) t.clear();
     for (int k = 0; k < 2; ++k)
-        ensureRgb(ledger, step[std::size_t(k)], "lpv.step" + std::to_string(k), {GL_TEXTURE_3D, fmt, g.x, g.y, g.z},
-                  false);
-    ensureRgb(ledger, accum, "lpv.accum", {GL_TEXTURE_3D, fmt, g.x, g.y, g.z}, true);
+        ensureRgb(ledger, step[std::size_t(k)], "lpv.step" + std::to_string(k), volumeDesc(g, fmt), false);
+    ensureRgb(ledger, accum, "lpv.accum", volumeDesc(g, fmt), true);
     if (changed) {
         injectFbo = {};
         propagateFbo = {};
@@ -151,36 +167,34 @@ bool Volumes::ensureLight(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum fmt, in
 }
 
 void Volumes::ensureNear(gl::MemoryLedger& ledger) {
-    ensureRgb(ledger, near, "lpv.near", {GL_TEXTURE_3D, format, grid.x, grid.y, grid.z}, true);
+    ensureRgb(ledger, near, "lpv.near", volumeDesc(grid, format), true);
     if (shOrder == 2) ensureHi(ledger, nearHi, "lpv.near.hi", grid, format, true);
 }
 
 void Volumes::ensureGeometry(gl::MemoryLedger& ledger, bool twoSided) {
-    glm::ivec3 c = grid + 1;
-    const int channels = twoSided ? RTGI_LPV_GV_CHANNELS_TWO_SIDED : RTGI_LPV_GV_CHANNELS_ORIENTED;
     // Zero between frames (the geometry pack zeroes what it consumes): cleared once, when allocated.
-    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", {GL_TEXTURE_3D, GL_R32F, channels * c.x, c.y, c.z}))
+    if (geometryAccum.ensure(ledger, "lpv.geometry_accum", geometryAccumDesc(grid, twoSided)))
         geometryAccum.clear();
     // Linear: lpv.lookup=geometry samples it between corners (the propagation uses texelFetch).
-    if (geometry.ensure(ledger, "lpv.geometry", {GL_TEXTURE_3D, format, c.x, c.y, c.z}))
+    if (geometry.ensure(ledger, "lpv.geometry", cornerDesc(grid, format)))
         geometry.setSampling(GL_LINEAR, GL_LINEAR);
-    geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z});
+    geometryAlbedo.ensure(ledger, "lpv.geometry_albedo", cornerDesc(grid, GL_RGBA16F));
     if (!twoSided) geometryAxes = gl::Texture();
-    else if (geometryAxes.ensure(ledger, "lpv.geometry_axes", {GL_TEXTURE_3D, GL_RGBA16F, c.x, c.y, c.z}))
+    else if (geometryAxes.ensure(ledger, "lpv.geometry_axes", cornerDesc(grid, GL_RGBA16F)))
         geometryAxes.setSampling(GL_LINEAR, GL_LINEAR);
 }
 
 bool Volumes::ensureVisibility(gl::MemoryLedger& ledger) {
     // Linear within a cell's tile (lib/lpv_lookup.glsl keeps the lookup half a texel inside it).
-    const int n = RTGI_LPV_VIS_RES;
-    if (!visibility.ensure(ledger, "lpv.visibility", {GL_TEXTURE_3D, GL_RG16F, n * grid.x, n * grid.y, grid.z}))
-        return false;
+    const gl::NamedTextureDesc t = visibilityTexture(grid);
+    if (!visibility.ensure(ledger, t.label, t.desc)) return false;
     visibility.setSampling(GL_LINEAR, GL_LINEAR);
     return true;
 }
 
 bool Volumes::ensureSky(gl::MemoryLedger& ledger) {
-    if (!sky.ensure(ledger, "lpv.sky_visibility", {GL_TEXTURE_3D, GL_RGBA16F, grid.x, grid.y, grid.z})) return false;
+    const gl::NamedTextureDesc t = skyTexture(grid);
+    if (!sky.ensure(ledger, t.label, t.desc)) return false;
     sky.setSampling(GL_LINEAR, GL_LINEAR);  // trilinear, as the light volumes
     return true;
 }
@@ -190,8 +204,7 @@ namespace {
 void ensureHistoryPair(gl::MemoryLedger& ledger, const Volumes& v, std::array<Rgb, 2>& rgb, std::array<Hi, 2>& hi,
                        const std::string& label) {
     for (int k = 0; k < 2; ++k) {
-        ensureRgb(ledger, rgb[std::size_t(k)], label + std::to_string(k), {GL_TEXTURE_3D, v.format, v.grid.x, v.grid.y, v.grid.z},
-                  true);
+        ensureRgb(ledger, rgb[std::size_t(k)], label + std::to_string(k), volumeDesc(v.grid, v.format), true);
         if (v.shOrder == 2) ensureHi(ledger, hi[std::size_t(k)], label + std::to_string(k) + ".hi", v.grid, v.format, true);
     }
 }
@@ -200,7 +213,53 @@ void ensureHistoryPair(gl::MemoryLedger& ledger, const Volumes& v, std::array<Rg
 void Volumes::ensureHistory(gl::MemoryLedger& ledger) { ensureHistoryPair(ledger, *this, history, historyHi, "lpv.history"); }
 
 void Volumes::ensureNearHistory(gl::MemoryLedger& ledger) {
-    ensureHistoryPair(ledger, *this, nearHistory, nearHistoryHi, "lpv.near_history");
+    ensureHistoryPair(ledger, *this, nearHistory, nearHistoryHi, "lpv.near_history");  // label: historyTextures(near)
+}
+
+std::vector<gl::NamedTextureDesc> lightTextures(glm::ivec3 g, GLenum format, int shOrder) {
+    std::vector<gl::NamedTextureDesc> t;
+    if (shOrder == 2) {
+        addRgb(t, "lpv.inject_hi", injectDesc(g));
+        t.push_back({"lpv.inject_last", injectLastDesc(g)});
+        for (int k = 0; k < 2; ++k) addHi(t, "lpv.step" + std::to_string(k) + ".hi", g, format);
+        addHi(t, "lpv.accum.hi", g, format);
+    }
+    addRgb(t, "lpv.inject", injectDesc(g));
+    for (int k = 0; k < 2; ++k) addRgb(t, "lpv.step" + std::to_string(k), volumeDesc(g, format));
+    addRgb(t, "lpv.accum", volumeDesc(g, format));
+    return t;
+}
+
+std::vector<gl::NamedTextureDesc> nearTextures(glm::ivec3 g, GLenum format, int shOrder) {
+    std::vector<gl::NamedTextureDesc> t;
+    addRgb(t, "lpv.near", volumeDesc(g, format));
+    if (shOrder == 2) addHi(t, "lpv.near.hi", g, format);
+    return t;
+}
+
+std::vector<gl::NamedTextureDesc> geometryTextures(glm::ivec3 g, GLenum format, bool twoSided) {
+    std::vector<gl::NamedTextureDesc> t{{"lpv.geometry_accum", geometryAccumDesc(g, twoSided)},
+                                        {"lpv.geometry", cornerDesc(g, format)},
+                                        {"lpv.geometry_albedo", cornerDesc(g, GL_RGBA16F)}};
+    if (twoSided) t.push_back({"lpv.geometry_axes", cornerDesc(g, GL_RGBA16F)});
+    return t;
+}
+
+gl::NamedTextureDesc visibilityTexture(glm::ivec3 g) {
+    const int n = RTGI_LPV_VIS_RES;  // an N x N tile of moments per cell
+    return {"lpv.visibility", {GL_TEXTURE_3D, GL_RG16F, n * g.x, n * g.y, g.z}};
+}
+
+gl::NamedTextureDesc skyTexture(glm::ivec3 g) { return {"lpv.sky_visibility", volumeDesc(g, GL_RGBA16F)}; }
+
+std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 g, GLenum format, int shOrder, bool near) {
+    std::vector<gl::NamedTextureDesc> t;
+    const std::string label = near ? "lpv.near_history" : "lpv.history";
+    for (int k = 0; k < 2; ++k) {
+        addRgb(t, label + std::to_string(k), volumeDesc(g, format));
+        if (shOrder == 2) addHi(t, label + std::to_string(k) + ".hi", g, format);
+    }
+    return t;
 }
 
 void Volumes::ensureRasterTargets() {

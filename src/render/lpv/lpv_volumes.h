@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <vector>
 
 namespace rtgi::lpv {
 
@@ -32,6 +33,17 @@ inline gl::TextureDesc applySumDesc(glm::ivec2 view) { return {GL_TEXTURE_2D, GL
 inline RsmDescs rsmDescs(int n) {
     return {{GL_TEXTURE_2D, GL_RGBA32F, n, n}, {GL_TEXTURE_2D, GL_RGBA16F, n, n}, {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}};
 }
+
+// The textures Volumes allocates, by ledger label, for a grid, volume format
+// and SH order (the ensure functions allocate from the same descriptors; the
+// memory estimate sums these lists, one per cascade): ensureLight, ensureNear,
+// ensureGeometry, ensureVisibility, ensureSky, ensureHistory / ensureNearHistory.
+std::vector<gl::NamedTextureDesc> lightTextures(glm::ivec3 grid, GLenum format, int shOrder);
+std::vector<gl::NamedTextureDesc> nearTextures(glm::ivec3 grid, GLenum format, int shOrder);
+std::vector<gl::NamedTextureDesc> geometryTextures(glm::ivec3 grid, GLenum format, bool twoSided);
+gl::NamedTextureDesc visibilityTexture(glm::ivec3 grid);
+gl::NamedTextureDesc skyTexture(glm::ivec3 grid);
+std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 grid, GLenum format, int shOrder, bool near);
 
 struct Volumes {
     glm::ivec3 grid{0};

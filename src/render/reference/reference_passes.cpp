@@ -279,8 +279,7 @@ private:
     // Running moments from a finished reference: mean and n, M2 = SE²·n·(n−1).
     void resumeMoments(FrameContext& ctx, const CachedReference& r, int n) {
         const glm::ivec2 s = ctx.view.size;
-        accum_.ensure(ctx.ledger, name() + ".accum", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        accumSq_.ensure(ctx.ledger, name() + ".accum_sq", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        ensureAccumulation(ctx, s);
         FloatImage meanN = r.mean, m2 = r.standardError;
         meanN.channels = m2.channels = 4;
         const std::size_t pixels = std::size_t(s.x) * std::size_t(s.y);
@@ -333,13 +332,34 @@ private:
         spp_ = samplesDone_;
     }
 
+    // The pass's textures for a view of size s (privateTextures lists them):
+    // mean, standard error, the running sums of x and x² (RGBA32F), the LDR image (ref.path only).
+    enum { kMean, kStdErr, kAccum, kAccumSq, kLdr };
+    std::vector<gl::NamedTextureDesc> textures(glm::ivec2 s) const {
+        std::vector<gl::NamedTextureDesc> t;
+        for (const char* n : {".mean", ".stderr", ".accum", ".accum_sq"})
+            t.push_back({name() + n, {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y}});
+        if (!ao_) t.push_back({name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y}});
+        return t;
+    }
+    void ensureAccumulation(FrameContext& ctx, glm::ivec2 s) {
+        const auto t = textures(s);
+        accum_.ensure(ctx.ledger, t[kAccum].label, t[kAccum].desc);
+        accumSq_.ensure(ctx.ledger, t[kAccumSq].label, t[kAccumSq].desc);
+    }
+
+public:
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 view) const override { return textures(view); }
+
+private:
     // Outputs for the frame's view and size, and that view remembered.
     void beginView(FrameContext& ctx) {
         const View& v = ctx.view;
         const glm::ivec2 s = v.size;
-        mean_.ensure(ctx.ledger, name() + ".mean", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        se_.ensure(ctx.ledger, name() + ".stderr", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        if (!ao_) ldr_.ensure(ctx.ledger, name() + ".ldr", {GL_TEXTURE_2D, GL_RGBA8, s.x, s.y});
+        const auto t = textures(s);
+        mean_.ensure(ctx.ledger, t[kMean].label, t[kMean].desc);
+        se_.ensure(ctx.ledger, t[kStdErr].label, t[kStdErr].desc);
+        if (!ao_) ldr_.ensure(ctx.ledger, t[kLdr].label, t[kLdr].desc);
         doneSize_ = v.size;
         doneView_ = v.view;
         doneProj_ = v.proj;
@@ -352,8 +372,7 @@ private:
     // `clear`), then resolve.
     void trace(FrameContext& ctx, const ReferenceConstants& c, int begin, int count, bool clear) {
         const glm::ivec2 s = ctx.view.size;
-        accum_.ensure(ctx.ledger, name() + ".accum", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
-        accumSq_.ensure(ctx.ledger, name() + ".accum_sq", {GL_TEXTURE_2D, GL_RGBA32F, s.x, s.y});
+        ensureAccumulation(ctx, s);
         if (clear) {
             accum_.clear();
             accumSq_.clear();

@@ -22,6 +22,18 @@ namespace {
 // The reflection's value format in the shared filter chain: premultiplied (L·c, c).
 const FilterFormat kSsrFormat{GL_RGBA16F, "rgba16f"};
 
+// The family's own textures (view size `v`, trace size `t`): execute() allocates
+// from these, privateTextures() lists them for the memory estimate.
+gl::NamedTextureDesc hizTex(glm::ivec2 v) { return {"ssr.hiz", {GL_TEXTURE_2D, GL_R32F, v.x, v.y, 1, hizLevelCount(v)}}; }
+gl::NamedTextureDesc hitTex(glm::ivec2 t) { return {"ssr.hit", {GL_TEXTURE_2D, GL_RG16F, t.x, t.y}}; }
+gl::NamedTextureDesc confidenceTex(glm::ivec2 t) { return {"ssr.confidence", {GL_TEXTURE_2D, GL_R16F, t.x, t.y}}; }
+gl::NamedTextureDesc hitDistanceTex(glm::ivec2 t) { return {"ssr.hit_distance", {GL_TEXTURE_2D, GL_R16F, t.x, t.y}}; }
+gl::NamedTextureDesc traceDepthTex(glm::ivec2 t) { return {"ssr.trace.depth", {GL_TEXTURE_2D, GL_R32F, t.x, t.y}}; }
+gl::NamedTextureDesc traceNormalTex(glm::ivec2 t) { return {"ssr.trace.normal", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y}}; }
+gl::NamedTextureDesc resolvedTex(glm::ivec2 t) { return {"ssr.resolved", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y}}; }
+gl::NamedTextureDesc directDiffuseTex(glm::ivec2 v) { return {"ssr.direct_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, v.x, v.y}}; }
+glm::ivec2 traceSizeFor(const Settings& s, glm::ivec2 view) { return ssrTraceSize(view, s.ssr.halfResolution); }
+
 struct SsrState {
     gl::Texture hiz;                           // R32F min-depth pyramid (full resolution, all levels)
     gl::Texture hit, confidence, hitDistance;  // trace outputs
@@ -94,8 +106,9 @@ public:
     }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
-        const int levels = hizLevelCount(s);
-        st_->hiz.ensure(ctx.ledger, "ssr.hiz", {GL_TEXTURE_2D, GL_R32F, s.x, s.y, 1, levels});
+        const gl::NamedTextureDesc hiz = hizTex(s);
+        const int levels = hiz.desc.levels;
+        st_->hiz.ensure(ctx.ledger, hiz.label, hiz.desc);
         const gl::Program& copy = ctx.programs.compute("ssr/hiz.comp", {{"RTGI_HIZ_COPY", ""}});
         const gl::Program& reduce = ctx.programs.compute("ssr/hiz.comp");
         // Producer: gbuffer (framebuffer writes of linearDepth).
@@ -112,6 +125,7 @@ public:
             gl::dispatch(reduce, ls.x, ls.y);
         }
     }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 view) const override { return {hizTex(view)}; }
 };
 
 // ---- ssr.trace -------------------------------------------------------------
@@ -129,13 +143,13 @@ public:
     }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 t = st_->traceSize(ctx);
-        st_->hit.ensure(ctx.ledger, "ssr.hit", {GL_TEXTURE_2D, GL_RG16F, t.x, t.y});
-        st_->confidence.ensure(ctx.ledger, "ssr.confidence", {GL_TEXTURE_2D, GL_R16F, t.x, t.y});
-        st_->hitDistance.ensure(ctx.ledger, "ssr.hit_distance", {GL_TEXTURE_2D, GL_R16F, t.x, t.y});
+        st_->hit.ensure(ctx.ledger, hitTex(t).label, hitTex(t).desc);
+        st_->confidence.ensure(ctx.ledger, confidenceTex(t).label, confidenceTex(t).desc);
+        st_->hitDistance.ensure(ctx.ledger, hitDistanceTex(t).label, hitDistanceTex(t).desc);
         const bool half = ctx.settings.ssr.halfResolution;
         if (half) {
-            st_->traceDepth.ensure(ctx.ledger, "ssr.trace.depth", {GL_TEXTURE_2D, GL_R32F, t.x, t.y});
-            st_->traceNormal.ensure(ctx.ledger, "ssr.trace.normal", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y});
+            st_->traceDepth.ensure(ctx.ledger, traceDepthTex(t).label, traceDepthTex(t).desc);
+            st_->traceNormal.ensure(ctx.ledger, traceNormalTex(t).label, traceNormalTex(t).desc);
         }
         SsrSettings::Tracer tracer = st_->tracer(ctx);
         gl::Defines defs{{"RTGI_SSR_TRACER", std::to_string(ssrTracerId(tracer))}};
@@ -161,6 +175,12 @@ public:
         }
         gl::dispatch(prog, t.x, t.y);
     }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        const glm::ivec2 t = traceSizeFor(s, view);
+        std::vector<gl::NamedTextureDesc> own{hitTex(t), confidenceTex(t), hitDistanceTex(t)};
+        if (s.ssr.halfResolution) own.insert(own.end(), {traceDepthTex(t), traceNormalTex(t)});
+        return own;
+    }
 };
 
 // ---- ssr.resolve -----------------------------------------------------------
@@ -176,7 +196,7 @@ public:
     void execute(FrameContext& ctx) override {
         const glm::ivec2 t = st_->traceSize(ctx);
         const bool diffuse = ctx.settings.ssr.diffuseHistory;
-        st_->resolved.ensure(ctx.ledger, "ssr.resolved", {GL_TEXTURE_2D, GL_RGBA16F, t.x, t.y});
+        st_->resolved.ensure(ctx.ledger, resolvedTex(t).label, resolvedTex(t).desc);
         const gl::Texture& history = diffuse ? ctx.res.diffuseHistory : ctx.res.history;
         bool have = ctx.hasPrevious(diffuse ? R::diffuseHistory : R::history);
         st_->resolvedHadHistory = have;
@@ -192,6 +212,9 @@ public:
         glBindImageTexture(RTGI_SSR_IMG_RESOLVED, st_->resolved.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, t.x, t.y);
     }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        return {resolvedTex(traceSizeFor(s, view))};
+    }
 };
 
 // ---- ssr.blur --------------------------------------------------------------
@@ -206,6 +229,9 @@ public:
         using F = SsrFilterConstants;
         separableBlur(ctx.programs, ctx.ledger, "ssr.blur", kSsrFormat, st_->resolved, st_->depth(ctx),
                       st_->normal(ctx), st_->blurTemp, st_->blurred, {F::kDepthThreshold, F::kNormalThreshold});
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        return blurTextures("ssr.blur", kSsrFormat, traceSizeFor(s, view));
     }
 };
 
@@ -228,6 +254,9 @@ public:
         st_->temporalHasReflections = st_->resolvedHadHistory;
         st_->reflection = &out;
     }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
+        return temporalTextures("ssr.temporal", kSsrFormat, traceSizeFor(s, view));
+    }
 };
 
 // ---- ssr.upsample ----------------------------------------------------------
@@ -244,6 +273,9 @@ public:
         upsample(ctx.programs, ctx.ledger, "ssr.upsample", kSsrFormat, *st_->reflection, st_->traceDepth,
                  ctx.res.gbuffer.linearDepth, st_->upsampled, true);
         st_->reflection = &st_->upsampled;
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 view) const override {
+        return {upsampleTexture("ssr.upsample", kSsrFormat, view)};
     }
 };
 
@@ -297,10 +329,13 @@ public:
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
         FrameResources& r = ctx.res;
-        st_->directDiffuse.ensure(ctx.ledger, "ssr.direct_diffuse", {GL_TEXTURE_2D, GL_RGBA16F, s.x, s.y});
+        st_->directDiffuse.ensure(ctx.ledger, directDiffuseTex(s).label, directDiffuseTex(s).desc);
         dispatchDirect(ctx, st_->directDiffuse, true);
         // Producer: the diffuse-only direct dispatch above (barrier inside dispatchCompose).
         dispatchCompose(ctx, st_->directDiffuse, r.diffuseHistory, nullptr, true);
+    }
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 view) const override {
+        return {directDiffuseTex(view)};
     }
 };
 
