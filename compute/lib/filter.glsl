@@ -28,6 +28,39 @@ float temporalAlpha(float depthDifference, vec2 velocity, vec2 reprojectedUv) {
     return alpha;
 }
 
+// Disocclusion (docs/temporal.md, "Disocclusion"). Depth change per pixel of
+// a linear-depth texture at p: per axis the smaller one-sided difference (a
+// silhouette beside p does not widen its tolerance), sky neighbours ignored.
+float depthSlopePerPixel(sampler2D depthTex, ivec2 p, ivec2 size, float depth) {
+    float slope = 0.0;
+    for (int axis = 0; axis < 2; ++axis) {
+        float s = 1e30;
+        for (int k = -1; k <= 1; k += 2) {
+            ivec2 q = p;
+            q[axis] += k;
+            if (q[axis] < 0 || q[axis] >= size[axis]) continue;
+            float dq = texelFetch(depthTex, q, 0).r;
+            if (dq > 0.0) s = min(s, abs(dq - depth));
+        }
+        slope += s > 1e29 ? 0.0 : s;
+    }
+    return slope;
+}
+
+// True when the previous frame's depth sampled (bilinearly) at the
+// reprojected position is another surface than the point of current depth
+// `depth` whose depth in the previous view is `expected`. Tolerance: the depth
+// slope over the reprojection's position error (1 pixel of bilinear footprint
+// and resolution change, plus the RG16F velocity's 2^-10 relative rounding),
+// scaled to the previous depth, plus the stored depth's relative precision.
+bool historyDisoccluded(float historyDepth, float expected, float depth, float slopePerPixel,
+                        vec2 velocityPixels, float relativePrecision) {
+    if (!(historyDepth > 0.0)) return true;  // sky there in the previous frame
+    float radius = 1.0 + exp2(-10.0) * length(velocityPixels);
+    float tolerance = radius * slopePerPixel * max(expected, 0.0) / depth + relativePrecision * abs(expected);
+    return !(abs(historyDepth - expected) <= tolerance);
+}
+
 // Joint bilateral upsampling weight of one low-resolution tap: bilinear
 // weight times a depth similarity 1 / (eps + |dz|/z).
 float upsampleWeight(float bilinear, float depthFull, float depthLow) {
