@@ -113,13 +113,13 @@ TEST_CASE("path run: PNG frames, video when ffmpeg exists, disocclusion columns,
     CHECK(pareto == 1);
     // The table's mean flicker of each run is the mean of its CSV column (%.4g).
     const std::string md = slurp(dir / "report" / "report.md");
-    for (const char* run : {"temporal-on", "temporal-off"}) {
-        double mean = columnMean(dir / run / "temporal.csv", "flicker", rows);
+    for (const char* runDir : {"temporal-on", "temporal-off"}) {
+        double mean = columnMean(dir / runDir / "temporal.csv", "flicker", rows);
         REQUIRE(mean >= 0.0);
         char text[32];
         std::snprintf(text, sizeof text, "%.4g", mean);
-        CAPTURE(run);
-        CHECK(md.find(std::string("| ") + run + " |") != std::string::npos);
+        CAPTURE(runDir);
+        CHECK(md.find(std::string("| ") + runDir + " |") != std::string::npos);
         CHECK(md.find(text) != std::string::npos);
     }
     fs::remove_all(dir);
