@@ -111,7 +111,7 @@ TEST_CASE("motion: a quad moved by a known offset has the analytic velocity at e
     GpuFixture gpu;
     const Scene rest = quadScene();
     const glm::vec3 d(0.25f, 0.1f, -0.3f);  // the quad's world offset between frames 0 and 1
-    const glm::ivec2 size(48, 32);
+    const glm::ivec2 size(64, 48);
     for (auto path : {RasterSettings::Path::Hardware, RasterSettings::Path::Compute}) {
         CAPTURE(int(path));
         Settings st;

@@ -106,8 +106,9 @@ TEST_CASE("path run: PNG frames, video when ffmpeg exists, disocclusion columns,
     int frames = 0, pareto = 0;
     for (auto& e : fs::directory_iterator(dir / "report")) {
         const std::string n = e.path().filename().string();
-        if (n.rfind("path_pareto_", 0) == 0) ++pareto, CHECK(pngSize(e.path()).first > 0);
-        else if (n.rfind("path_", 0) == 0) ++frames, CHECK(pngSize(e.path()).first > 0);
+        if (n.rfind("path_", 0) != 0) continue;
+        CHECK(pngSize(e.path()).first > 0);
+        (n.rfind("path_pareto_", 0) == 0 ? pareto : frames)++;
     }
     CHECK(frames == 1);  // one path, both runs in one figure
     CHECK(pareto == 1);
