@@ -215,7 +215,7 @@ TEST_CASE("temporal filter: disoccluded history is rejected and counted, no othe
     const glm::ivec2 s(64, 48);
     const FilterFormat fmt{GL_R16F, "r16f"};
     struct Motion {
-        const char* name;
+        std::string name;
         glm::vec3 step;  // camera translation per frame
     };
     // 0.3 px per frame of parallax on the square; 0.03 px (listing 11 alone keeps ~60 % of the
