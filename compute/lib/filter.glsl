@@ -47,18 +47,25 @@ float depthSlopePerPixel(sampler2D depthTex, ivec2 p, ivec2 size, float depth) {
     return slope;
 }
 
+// How far a previous depth may lie from `expected`, the depth in the previous
+// view of the point whose current depth is `depth`, and still be that surface:
+// the depth slope over the reprojection's position error (1 pixel of bilinear
+// footprint or tap offset and resolution change, plus the RG16F velocity's
+// 2^-10 relative rounding), scaled to the previous depth, plus the stored
+// depth's relative precision.
+float disocclusionTolerance(float expected, float depth, float slopePerPixel, vec2 velocityPixels,
+                            float relativePrecision) {
+    float radius = 1.0 + exp2(-10.0) * length(velocityPixels);
+    return radius * slopePerPixel * max(expected, 0.0) / depth + relativePrecision * abs(expected);
+}
+
 // True when the previous frame's depth sampled (bilinearly) at the
-// reprojected position is another surface than the point of current depth
-// `depth` whose depth in the previous view is `expected`. Tolerance: the depth
-// slope over the reprojection's position error (1 pixel of bilinear footprint
-// and resolution change, plus the RG16F velocity's 2^-10 relative rounding),
-// scaled to the previous depth, plus the stored depth's relative precision.
+// reprojected position is another surface than that point.
 bool historyDisoccluded(float historyDepth, float expected, float depth, float slopePerPixel,
                         vec2 velocityPixels, float relativePrecision) {
     if (!(historyDepth > 0.0)) return true;  // sky there in the previous frame
-    float radius = 1.0 + exp2(-10.0) * length(velocityPixels);
-    float tolerance = radius * slopePerPixel * max(expected, 0.0) / depth + relativePrecision * abs(expected);
-    return !(abs(historyDepth - expected) <= tolerance);
+    return !(abs(historyDepth - expected) <=
+             disocclusionTolerance(expected, depth, slopePerPixel, velocityPixels, relativePrecision));
 }
 
 // Joint bilateral upsampling weight of one low-resolution tap: bilinear
