@@ -6,6 +6,10 @@ comparison tables (seed 003 table 6.3 layout, seed 000 section 6.4 per-pass
 timings side by side with ours). Format and reading: docs/benchmarks-howto.md.
 
 usage: report.py DIR [DIR ...] [--out OUTDIR] [--title TEXT]
+A DIR may also be a path run (`rtgi-bench --path P --reference --out DIR`:
+results.json and temporal.csv) or hold path runs one level down: their error
+and flicker per frame, and Pareto plots of mean error and mean flicker against
+frame time (docs/temporal.md, "Plots").
 Needs only Python 3, numpy and matplotlib (Debian python3-matplotlib,
 python3-numpy). Run it with any python3: when that interpreter lacks
 matplotlib (a virtualenv, a conda python), the script re-executes itself under
@@ -86,11 +90,22 @@ WORK = OrderedDict([
 FAMILIES = ("lpv", "ao", "ssr")
 
 
+def path_run_dirs(d):
+    """Path runs in d: d itself when it holds temporal.csv, else its subdirectories that do (sorted)."""
+    if os.path.exists(os.path.join(d, "temporal.csv")):
+        return [d]
+    if not os.path.isdir(d):
+        return []
+    return sorted(os.path.join(d, e) for e in os.listdir(d) if os.path.exists(os.path.join(d, e, "temporal.csv")))
+
+
 def load(dirs):
     """Last successful line per configuration id, in first-seen order; failed lines listed apart."""
     results, failed, unreadable = OrderedDict(), OrderedDict(), 0
     for d in dirs:
         path = os.path.join(d, "results.jsonl")
+        if not os.path.exists(path) and path_run_dirs(d):
+            continue  # path runs only (load_path_runs)
         if not os.path.exists(path):
             sys.exit("report.py: %s does not exist (run rtgi-bench --sweep FILE --out %s first)" % (path, d))
         with open(path) as f:
@@ -462,6 +477,138 @@ def gi_suite_table(results):
     return "\n\n".join(out)
 
 
+def _number(text):
+    try:
+        v = float(text)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def load_path_runs(dirs):
+    """One record per path run: its results.json and the per-frame columns of temporal.csv."""
+    import csv
+    runs = []
+    for d in dirs:
+        for run in path_run_dirs(d):
+            try:
+                with open(os.path.join(run, "results.json")) as f:
+                    res = json.load(f)
+            except (OSError, ValueError) as e:
+                print("report.py: skipping %s: results.json unreadable (%s)" % (run, e), file=sys.stderr)
+                continue
+            if isinstance(res, list):  # one object per scene
+                res = res[0] if res else {}
+            with open(os.path.join(run, "temporal.csv")) as f:
+                rows = list(csv.DictReader(f))
+            cols = defaultdict(list)
+            for row in rows:
+                for k, v in row.items():
+                    cols[k].append(_number(v))
+            runs.append({"dir": run, "label": os.path.basename(os.path.normpath(run)), "res": res, "cols": cols,
+                         "path": (res.get("path") or {}).get("name", "?"), "scene": res.get("scene", "?")})
+    return runs
+
+
+def _mean(values):
+    v = [x for x in values if x is not None]
+    return sum(v) / len(v) if v else None
+
+
+def path_run_summary(run):
+    """(mean frame ms, mean rmse, mean flicker) over the path's frames; None where not measured."""
+    c = run["cols"]
+    return _mean(c.get("frame_ms", [])), _mean(c.get("rmse", [])), _mean(c.get("flicker", []))
+
+
+def plot_path_frames(runs, outdir):
+    """Per path: error and flicker over the frames, one line per run (configuration)."""
+    made = []
+    by_path = defaultdict(list)
+    for r in runs:
+        by_path[(r["scene"], r["path"])].append(r)
+    for (scene, path), sel in sorted(by_path.items()):
+        fig, axes = plt.subplots(2, 1, figsize=(8.5, 6.0), sharex=True)
+        plotted = False
+        for i, r in enumerate(sel):
+            frames = r["cols"].get("frame", [])
+            for ax, key in zip(axes, ("rmse", "flicker")):
+                pts = [(f, v) for f, v in zip(frames, r["cols"].get(key, [])) if f is not None and v is not None]
+                if pts:
+                    ax.plot([p[0] for p in pts], [p[1] for p in pts], ".-", ms=3, lw=1,
+                            color=plt.cm.tab10(i % 10), label=r["label"])
+                    plotted = True
+        if not plotted:
+            plt.close(fig)
+            continue
+        events = ((sel[0]["res"].get("path") or {}).get("temporal") or {}).get("lag") or []
+        for ax in axes:
+            for e in events:
+                if isinstance(e, dict) and e.get("event_frame") is not None:
+                    ax.axvline(e["event_frame"], color="k", ls=":", lw=0.8)
+            ax.grid(True, alpha=0.3)
+        axes[0].set_ylabel("rmse against the reference")
+        axes[1].set_ylabel("flicker (RMS of unexplained change)")
+        axes[1].set_xlabel("path frame")
+        axes[0].set_title("%s: %s" % (scene, path))
+        axes[0].legend(fontsize=7)
+        fig.tight_layout()
+        name = "path_%s_%s.png" % (slug(scene), slug(path))
+        fig.savefig(os.path.join(outdir, name), dpi=90)
+        plt.close(fig)
+        made.append(("%s: %s" % (scene, path), name))
+    return made
+
+
+def plot_path_pareto(runs, outdir):
+    """Per path: mean error and mean flicker against mean frame time, each with its Pareto front."""
+    made = []
+    by_path = defaultdict(list)
+    for r in runs:
+        t, e, fl = path_run_summary(r)
+        if t is not None and (e is not None or fl is not None):
+            by_path[(r["scene"], r["path"])].append((r["label"], t, e, fl))
+    for (scene, path), pts in sorted(by_path.items()):
+        fig, axes = plt.subplots(1, 2, figsize=(10.4, 4.2), squeeze=False)
+        for ax, idx, what in ((axes[0][0], 2, "mean rmse"), (axes[0][1], 3, "mean flicker")):
+            sel = [(p[0], p[1], p[idx]) for p in pts if p[idx] is not None]
+            for i, (label, t, v) in enumerate(sel):
+                ax.scatter([t], [v], s=20, color=plt.cm.tab10(i % 10))
+                ax.annotate(label, (t, v), textcoords="offset points", xytext=(3, 3), fontsize=6, alpha=0.8)
+            front = pareto_front([(p[1], p[2]) for p in sel])
+            if front:
+                ax.plot([f[0] for f in front], [f[1] for f in front], "k-", lw=1, label="Pareto front")
+                ax.legend(fontsize=7)
+            ax.set_xlabel("mean frame time [ms]")
+            ax.set_ylabel(what)
+            ax.set_title("%s: %s, %s vs time" % (scene, path, what))
+            ax.grid(True, alpha=0.3)
+        fig.tight_layout()
+        name = "path_pareto_%s_%s.png" % (slug(scene), slug(path))
+        fig.savefig(os.path.join(outdir, name), dpi=90)
+        plt.close(fig)
+        made.append(("%s: %s" % (scene, path), name))
+    return made
+
+
+def path_runs_table(runs):
+    """Markdown table: per run its path, mean frame time, error, flicker and the lags of its events."""
+    lines = ["| run | scene | path | frames | frame ms | mean rmse | p95 rmse | mean flicker | disoccluded | lag (frames) |",
+             "|---|---|---|---:|---:|---:|---:|---:|---:|---|"]
+    fmt = lambda v, f="%.4g": "—" if v is None else f % v  # noqa: E731
+    for r in runs:
+        t, e, fl = path_run_summary(r)
+        tj = (r["res"].get("path") or {}).get("temporal") or r["res"].get("temporal") or {}
+        p95 = (tj.get("rmse") or {}).get("p95") if isinstance(tj.get("rmse"), dict) else None
+        dis = (tj.get("disoccluded_fraction") or {}).get("mean") if isinstance(tj.get("disoccluded_fraction"), dict) else None
+        lags = ", ".join("—" if not isinstance(x, dict) or x.get("frames") is None else str(x["frames"])
+                         for x in (tj.get("lag") or []))
+        lines.append("| %s | %s | %s | %d | %s | %s | %s | %s | %s | %s |" % (
+            r["label"], r["scene"], r["path"], len(r["cols"].get("frame", [])), fmt(t, "%.3f"), fmt(e), fmt(p95),
+            fmt(fl), fmt(dis, "%.3f"), lags or "—"))
+    return "\n".join(lines)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+", help="sweep output directories (each with results.jsonl)")
@@ -471,8 +618,35 @@ def main():
     outdir = a.out or os.path.join(a.dirs[0], "report")
     os.makedirs(outdir, exist_ok=True)
     results, failed, unreadable = load(a.dirs)
+    runs = load_path_runs(a.dirs)
 
     md = ["# %s" % a.title, ""]
+    if runs and not results:
+        # Path runs only: the temporal report.
+        r0 = runs[0]["res"]
+        md += ["- device: %s (%s)" % (r0.get("device", "?"), r0.get("driver", "?")),
+               "- path runs: %d" % len(runs),
+               "- generated: %s by benchmarks/report.py from %s" % (
+                   datetime.datetime.now().strftime("%Y-%m-%d %H:%M"), ", ".join(a.dirs)), ""]
+    if runs:
+        md += ["## Paths: error and flicker over the frames", "",
+               "rmse and flicker (docs/temporal.md) of every referenced frame; dotted lines mark step events.", ""]
+        frames_plots = plot_path_frames(runs, outdir)
+        for title, name in frames_plots:
+            md += ["### %s" % title, "", "![%s](%s)" % (title, name), ""]
+        if not frames_plots:
+            md += ["No path run has referenced frames (run rtgi-bench --path P --reference).", ""]
+        md += ["## Paths: mean error and flicker against time", ""]
+        pareto_paths = plot_path_pareto(runs, outdir)
+        for title, name in pareto_paths:
+            md += ["### %s" % title, "", "![%s](%s)" % (title, name), ""]
+        md += [path_runs_table(runs), ""]
+        if not results:
+            with open(os.path.join(outdir, "report.md"), "w") as f:
+                f.write("\n".join(md))
+            print("report.py: wrote %s (%d plots)" % (os.path.join(outdir, "report.md"),
+                                                     len(frames_plots) + len(pareto_paths)))
+            return 0
     if results:
         r0 = results[0]
         md += ["- device: %s (%s)" % (r0.get("device", "?"), r0.get("driver", "?")),

@@ -8,6 +8,7 @@
 #include "lib/ao_shared.h"
 #include "lib/ao.glsl"
 #include "lib/noise.glsl"
+#include "lib/filter.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
@@ -58,9 +59,16 @@ void main() {
             // V(w_i) = 0 (occluded): the blocker visible there is the sender.
             if (zScene >= uvS.z - 0.02 * R) continue;
             vec3 sender = viewPositionFromDepth(uvS.xy, zScene, tanHalf, aspect);
-            vec2 uvPrev = uvS.xy + texelFetch(uVelocity, q, 0).xy;
+            vec2 velocity = texelFetch(uVelocity, q, 0).xy;
+            vec2 uvPrev = uvS.xy + velocity;
             if (any(lessThan(uvPrev, vec2(0.0))) || any(greaterThanEqual(uvPrev, vec2(1.0)))) continue;
-            vec3 radiance = texture(uHistory, uvPrev).rgb;
+            vec4 history = texture(uHistory, uvPrev);  // a: the previous frame's linear depth (post.history)
+            // A sender whose history is another surface (disoccluded) sends nothing this frame.
+            float expected = -(frame.prevView * vec4(viewToWorldPoint(sender), 1.0)).z;
+            if (historyDisoccluded(history.a, expected, zScene, depthSlopePerPixel(uDepth, q, size, zTexel),
+                                   velocity * vec2(size), exp2(-10.0)))
+                continue;
+            vec3 radiance = history.rgb;
             L += nearFieldSample(rho, radiance, sender - P, nS, n, senderArea, R);
         }
         L *= ao.misc.y;  // strength (seed used 3)

@@ -28,6 +28,46 @@ float temporalAlpha(float depthDifference, vec2 velocity, vec2 reprojectedUv) {
     return alpha;
 }
 
+// Disocclusion (docs/temporal.md, "Disocclusion"). Depth change per pixel of
+// a linear-depth texture at p: per axis the smaller one-sided difference (a
+// silhouette beside p does not widen its tolerance), sky neighbours ignored.
+float depthSlopePerPixel(sampler2D depthTex, ivec2 p, ivec2 size, float depth) {
+    float slope = 0.0;
+    for (int axis = 0; axis < 2; ++axis) {
+        float s = 1e30;
+        for (int k = -1; k <= 1; k += 2) {
+            ivec2 q = p;
+            q[axis] += k;
+            if (q[axis] < 0 || q[axis] >= size[axis]) continue;
+            float dq = texelFetch(depthTex, q, 0).r;
+            if (dq > 0.0) s = min(s, abs(dq - depth));
+        }
+        slope += s > 1e29 ? 0.0 : s;
+    }
+    return slope;
+}
+
+// How far a previous depth may lie from `expected`, the depth in the previous
+// view of the point whose current depth is `depth`, and still be that surface:
+// the depth slope over the reprojection's position error (1 pixel of bilinear
+// footprint or tap offset and resolution change, plus the RG16F velocity's
+// 2^-10 relative rounding), scaled to the previous depth, plus the stored
+// depth's relative precision.
+float disocclusionTolerance(float expected, float depth, float slopePerPixel, vec2 velocityPixels,
+                            float relativePrecision) {
+    float radius = 1.0 + exp2(-10.0) * length(velocityPixels);
+    return radius * slopePerPixel * max(expected, 0.0) / depth + relativePrecision * abs(expected);
+}
+
+// True when the previous frame's depth sampled (bilinearly) at the
+// reprojected position is another surface than that point.
+bool historyDisoccluded(float historyDepth, float expected, float depth, float slopePerPixel,
+                        vec2 velocityPixels, float relativePrecision) {
+    if (!(historyDepth > 0.0)) return true;  // sky there in the previous frame
+    return !(abs(historyDepth - expected) <=
+             disocclusionTolerance(expected, depth, slopePerPixel, velocityPixels, relativePrecision));
+}
+
 // Joint bilateral upsampling weight of one low-resolution tap: bilinear
 // weight times a depth similarity 1 / (eps + |dz|/z).
 float upsampleWeight(float bilinear, float depthFull, float depthLow) {

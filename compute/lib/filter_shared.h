@@ -21,10 +21,14 @@
 // image units
 #define RTGI_FILTER_IMG_OUT       0  // filter/blur.comp filter/temporal.comp filter/upsample.comp
 #define RTGI_FILTER_IMG_OUT_DEPTH 1  // filter/temporal.comp
+// storage buffers
+#define RTGI_FILTER_SSBO_COUNTS 3  // filter/temporal.comp: uint disoccluded pixels of the run
 // uniform locations
 #define RTGI_FILTER_LOC_DIRECTION        0  // filter/blur.comp
 #define RTGI_FILTER_LOC_DEPTH_THRESHOLD  1  // filter/blur.comp
 #define RTGI_FILTER_LOC_NORMAL_THRESHOLD 2  // filter/blur.comp
 #define RTGI_FILTER_LOC_RESET            0  // filter/temporal.comp
+#define RTGI_FILTER_LOC_CUR_TO_PREV_VIEW 1  // filter/temporal.comp: mat4, locations 1-4
+#define RTGI_FILTER_LOC_PROJ_SCALE       5  // filter/temporal.comp: vec2
 
 #endif

@@ -14,6 +14,8 @@
 #define RTGI_POST_TEX_SPECULAR         4  // post/compose.comp
 #define RTGI_POST_TEX_AO               5  // post/compose.comp
 #define RTGI_POST_TEX_SOURCE           0  // post/copy.comp post/finite_check.comp
+#define RTGI_POST_COPY_TEX_LINEAR_DEPTH 1  // post/copy.comp (POST_COPY_DEPTH_ALPHA)
+#define RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH 6  // post/compose.comp (RTGI_DIFFUSE_ONLY): depth into the history's alpha
 #define RTGI_POST_TEX_LINEAR_DEPTH     0  // post/direct.comp
 #define RTGI_POST_TEX_NORMAL           1  // post/direct.comp
 #define RTGI_POST_DIRECT_TEX_ALBEDO    2  // post/direct.comp

@@ -305,6 +305,8 @@ struct VisSurface {
     vec2 uv, dUvDx, dUvDy;
     uint material;
     bool front;
+    uvec3 vertices;  // the triangle's vertex indices
+    vec3 bary;       // perspective-correct barycentrics at the pixel centre
 };
 
 VisSurface visSurface(uint id, ivec2 pixel) {
@@ -323,5 +325,7 @@ VisSurface visSurface(uint id, ivec2 pixel) {
     s.dUvDy = b.by.x * t0 + b.by.y * t1 + b.by.z * t2 - s.uv;
     s.material = visMaterial(v.x);
     s.front = b.front;
+    s.vertices = v;
+    s.bary = b.b;
     return s;
 }

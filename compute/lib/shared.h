@@ -27,6 +27,7 @@ using uint = std::uint32_t;
 #define RTGI_ATTR_NORMAL 1
 #define RTGI_ATTR_UV 2
 #define RTGI_ATTR_MATERIAL 3
+#define RTGI_ATTR_PREV_POSITION 4  // the position the previous frame rendered (object motion)
 
 // Per-frame camera and lighting constants (std140).
 RTGI_STRUCT(FrameUniforms) {

@@ -37,6 +37,7 @@ RTGI_STRUCT(SsrUniforms) {
 #define RTGI_SSR_TEX_CONFIDENCE         1  // ssr/resolve.comp
 #define RTGI_SSR_TEX_VELOCITY           2  // ssr/resolve.comp
 #define RTGI_SSR_TEX_HISTORY            3  // ssr/resolve.comp
+#define RTGI_SSR_RESOLVE_TEX_LINEAR_DEPTH 4  // ssr/resolve.comp
 #define RTGI_SSR_TEX_REFLECTION         0  // ssr/shade.comp
 #define RTGI_SSR_TEX_BRDF_LUT           1  // ssr/shade.comp
 #define RTGI_SSR_SHADE_TEX_LINEAR_DEPTH 2  // ssr/shade.comp

@@ -13,6 +13,7 @@
 #define RTGI_VISIBILITY_SSBO_NODES 8      // uvec2 per bin entry: (large triangle, next node)
 #define RTGI_VISIBILITY_SSBO_COUNTERS 9   // VisCounters
 #define RTGI_VISIBILITY_SSBO_HITS 10      // uint per pixel: fragments written (tests only, RTGI_VISIBILITY_COUNT_HITS)
+#define RTGI_VISIBILITY_SSBO_PREV_VERTICES 11  // GpuVertex[] of the previous frame (visibility/resolve.comp: object motion)
 // ---- images written by the resolves --------------------------------------------
 #define RTGI_VISIBILITY_IMG_LINEAR_DEPTH 0
 #define RTGI_VISIBILITY_IMG_NORMAL 1

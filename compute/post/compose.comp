@@ -20,6 +20,7 @@ layout(binding = RTGI_POST_TEX_SPECULAR) uniform sampler2D uSpecular;
 layout(binding = RTGI_POST_TEX_AO) uniform sampler2D uAo;
 #ifdef RTGI_DIFFUSE_ONLY
 layout(rgba16f, binding = RTGI_POST_IMG_HDR) uniform writeonly image2D uHdr;
+layout(binding = RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;  // into alpha (disocclusion)
 #else
 layout(rgba32f, binding = RTGI_POST_IMG_HDR) uniform writeonly image2D uHdr;
 layout(rgba8, binding = RTGI_POST_IMG_LDR) uniform writeonly image2D uLdr;
@@ -43,7 +44,11 @@ void main() {
         if (uHave.y != 0) color += texelFetch(uSpecular, p, 0).rgb;
 #endif
     }
+#ifdef RTGI_DIFFUSE_ONLY
+    imageStore(uHdr, p, vec4(color, texelFetch(uLinearDepth, p, 0).r));
+#else
     imageStore(uHdr, p, vec4(color, 1.0));
+#endif
 #ifndef RTGI_DIFFUSE_ONLY
     imageStore(uLdr, p, vec4(tonemap(color, frame.sky.a), 1.0));
 #endif

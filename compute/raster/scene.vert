@@ -7,6 +7,7 @@ layout(location = RTGI_ATTR_POSITION) in vec3 inPosition;
 layout(location = RTGI_ATTR_NORMAL) in vec3 inNormal;
 layout(location = RTGI_ATTR_UV) in vec2 inUv;
 layout(location = RTGI_ATTR_MATERIAL) in uint inMaterial;
+layout(location = RTGI_ATTR_PREV_POSITION) in vec3 inPrevPosition;  // = inPosition unless the object moved
 
 layout(location = RTGI_RASTER_LOC_LIGHT_VIEW_PROJ) uniform mat4 uLightViewProj;  // used by shadow/RSM variants
 
@@ -29,6 +30,6 @@ void main() {
 #else
     gl_Position = frame.viewProj * vec4(inPosition, 1.0);
     vCurClip = gl_Position;
-    vPrevClip = frame.prevViewProj * vec4(inPosition, 1.0);
+    vPrevClip = frame.prevViewProj * vec4(inPrevPosition, 1.0);  // camera and object motion
 #endif
 }

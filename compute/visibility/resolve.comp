@@ -14,6 +14,11 @@ layout(binding = RTGI_VISIBILITY_IMG_ALBEDO, rgba8) uniform writeonly image2D ou
 layout(binding = RTGI_VISIBILITY_IMG_MATERIAL, rgba8) uniform writeonly image2D outMaterial;
 layout(binding = RTGI_VISIBILITY_IMG_EMISSIVE, r11f_g11f_b10f) uniform writeonly image2D outEmissive;
 layout(binding = RTGI_VISIBILITY_IMG_VELOCITY, rg16f) uniform writeonly image2D outVelocity;
+// The previous frame's vertices (GpuScene::previousVertices: the vertex buffer
+// itself when nothing moved), for object motion in the velocity.
+layout(std430, binding = RTGI_VISIBILITY_SSBO_PREV_VERTICES) readonly buffer VisPrevVertices { float visPrevVertexData[]; };
+
+vec3 prevPosition(uint v) { return vec3(visPrevVertexData[9 * v], visPrevVertexData[9 * v + 1], visPrevVertexData[9 * v + 2]); }
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -24,8 +29,12 @@ void main() {
     if (visRead(uint(pixel.y) * uint(uSize.x) + uint(pixel.x), depth, id)) {
         VisSurface s = visSurface(id, pixel);
         vec4 base = materialBaseColorGrad(s.material, s.uv, s.dUvDx, s.dUvDy);
+        // The same barycentrics on the previous positions: the hardware path's
+        // interpolated RTGI_ATTR_PREV_POSITION.
+        vec3 prev = s.bary.x * prevPosition(s.vertices.x) + s.bary.y * prevPosition(s.vertices.y) +
+                    s.bary.z * prevPosition(s.vertices.z);
         g = gbufferTexel(s.position, s.normal, s.front, s.material, base, frame.viewProj * vec4(s.position, 1.0),
-                         frame.prevViewProj * vec4(s.position, 1.0));
+                         frame.prevViewProj * vec4(prev, 1.0));
     }
     imageStore(outLinearDepth, pixel, vec4(g.linearDepth));
     imageStore(outNormal, pixel, g.normal);

@@ -40,6 +40,9 @@ const OptionSpec kOptions[] = {
      "on a path with --reference: reference every K-th frame (+ the frame before it\n"
      "and the frames around step events); default 1, and 8 at the small default size of a\n"
      "path reference without --res (192x108, reference.spp=64; docs/temporal.md)"},
+    {"--path-frames", nullptr, kBench,
+     "with --path: write every path frame as <out>/frames/frame_NNNN.png and, when\n"
+     "ffmpeg is on PATH, <out>/path.mp4 (H.264, the path's fps)"},
     {"--device", "N", kBench, "EGL device index (default: NVIDIA if present, else Mesa)"},
     {"--out", "DIR", kBench, "output directory for images and results (default out)"},
     {"--set", "key=value", kBoth, "configuration (repeatable; see the keys below)"},
@@ -120,6 +123,7 @@ void checkCommandLine(const CommandLine& c) {
         throw ConfigError("--shard applies only to --sweep (no sweep file given)");
     if (c.run.referenceEvery > 0 && c.run.path.empty())
         throw ConfigError("--reference-every applies only to --path (no path given)");
+    if (c.run.pathFrames && c.run.path.empty()) throw ConfigError("--path-frames applies only to --path (no path given)");
     if (!c.sweep.empty() && !c.run.path.empty())
         throw ConfigError("--path does not apply to --sweep (a sweep runs still frames; run one rtgi-bench --path per configuration)");
     if (!c.sweep.empty() && c.scenesGiven)
@@ -189,6 +193,7 @@ CommandLine parseCommandLine(Host host, int argc, char** argv) {
         } else if (a == "--check") c.run.check = true;
         else if (a == "--debug") c.debug = true;
         else if (a == "--no-images") c.run.writeImages = false;
+        else if (a == "--path-frames") c.run.pathFrames = true;
         else if (a == "--reference") (host == Host::Bench ? c.run.reference : c.liveReference) = true;
         else if (a == "--list-devices") c.listDevices = true;
         else if (a == "--print-frame") c.printFrame = true;

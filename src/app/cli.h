@@ -39,6 +39,9 @@ struct RunOptions {
     // --reference-every K on a path: a reference for every K-th frame and the one
     // before it (flicker), and every frame around a step event (0: the default, docs/temporal.md).
     int referenceEvery = 0;
+    // --path-frames: the LDR image of every path frame as <out>/frames/frame_NNNN.png,
+    // and <out>/path.mp4 through ffmpeg when it is on PATH (docs/temporal.md).
+    bool pathFrames = false;
     std::int64_t maxMemory = 0;  // --max-memory: GPU memory budget in bytes (0 = what the device reports)
     // Provenance recorded in results.json (SPEC 12: any figure can be reproduced).
     std::string commandLine;  // the exact argv, shell-quoted

@@ -11,7 +11,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -37,6 +40,7 @@ struct FrameRecord {
     bool geometry = false, lights = false;
     bool referenced = false, fromCache = false;
     std::optional<double> rmse, rmseDebiased, flicker, rmseVisible, rmseDisoccluded, disoccludedFraction;
+    std::map<std::string, double> filterDisoccluded;  // temporal pass -> pixels whose history it rejected
 };
 
 nlohmann::json summaryJson(const std::vector<std::optional<double>>& v) {
@@ -51,6 +55,55 @@ std::string csvNumber(const std::optional<double>& v) {
     o.precision(9);
     o << *v;
     return o.str();
+}
+
+// The directory of PATH holding an executable `name`, or "" (no shell involved).
+std::string findOnPath(const std::string& name) {
+    const char* env = std::getenv("PATH");
+    std::string paths = env ? env : "";
+    std::size_t start = 0;
+    while (start <= paths.size()) {
+        std::size_t end = paths.find(':', start);
+        if (end == std::string::npos) end = paths.size();
+        std::string dir = paths.substr(start, end - start);
+        std::error_code ec;
+        auto st = std::filesystem::status(std::filesystem::path(dir.empty() ? "." : dir) / name, ec);
+        if (!ec && std::filesystem::is_regular_file(st) &&
+            (st.permissions() & std::filesystem::perms::others_exec) != std::filesystem::perms::none)
+            return (std::filesystem::path(dir.empty() ? "." : dir) / name).string();
+        start = end + 1;
+    }
+    return "";
+}
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// --path-frames: path.mp4 from the PNG sequence through Debian's ffmpeg (H.264;
+// odd sizes padded by one pixel). Returns the results.json entry.
+nlohmann::json encodeVideo(const std::string& outDir, double fps) {
+    const std::string ffmpeg = findOnPath("ffmpeg");
+    if (ffmpeg.empty()) {
+        std::fprintf(stderr, "rtgi-bench: --path-frames: ffmpeg is not on PATH, so no path.mp4 (the PNG sequence is "
+                             "in %s/frames; apt-get install ffmpeg for the video)\n", outDir.c_str());
+        return {{"frames", "frames/frame_%04d.png"}, {"mp4", nullptr}, {"why", "ffmpeg is not on PATH"}};
+    }
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%.6g", fps);
+    const std::string cmd = shellQuote(ffmpeg) + " -y -loglevel error -framerate " + rate + " -i " +
+                            shellQuote(outDir + "/frames/frame_%04d.png") +
+                            " -vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -c:v libx264 -pix_fmt yuv420p " +
+                            shellQuote(outDir + "/path.mp4");
+    const int rc = std::system(cmd.c_str());
+    if (rc != 0) {
+        std::fprintf(stderr, "rtgi-bench: --path-frames: ffmpeg failed (exit status %d), so no path.mp4: %s\n", rc,
+                     cmd.c_str());
+        return {{"frames", "frames/frame_%04d.png"}, {"mp4", nullptr}, {"why", "ffmpeg failed"}};
+    }
+    return {{"frames", "frames/frame_%04d.png"}, {"mp4", "path.mp4"}};
 }
 
 }  // namespace
@@ -107,6 +160,21 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         if (progress::wantsSteps()) glFinish();
         if (warm) continue;
         FrameRecord& r = rec[std::size_t(i)];
+        if (opts.pathFrames) {
+            char name[32];
+            std::snprintf(name, sizeof name, "/frame_%04d.png", i);
+            std::filesystem::create_directories(opts.outDir + "/frames");
+            writePng(opts.outDir + "/frames" + name, readTexture(renderer.resources().ldr));
+        }
+        // History rejected by the reprojecting filters (docs/temporal.md, "Disocclusion").
+        for (const char* pass : {"ao.temporal", "ssr.temporal"}) {
+            Pass* p = renderer.findPass(pass);
+            bool skipped = !p;
+            for (auto& sk : renderer.skipped()) skipped = skipped || sk.name == pass;
+            if (skipped) continue;
+            for (auto& [k, val] : p->stats())
+                if (k == "disoccluded_pixels") r.filterDisoccluded[pass] = val;
+        }
         r.time = t;
         r.updateMs = renderer.lastSceneUpdate().ms;
         r.geometry = renderer.lastSceneUpdate().geometry;
@@ -184,7 +252,10 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
     std::ostringstream csv;
     csv << "frame,time,frame_ms,scene_update_ms,geometry_moved,lights_changed";
     for (auto& n : passNames) csv << ",ms." << n;
-    csv << ",referenced,reference_from_cache,rmse,rmse_debiased,flicker,disoccluded_fraction,rmse_visible,rmse_disoccluded\n";
+    csv << ",referenced,reference_from_cache,rmse,rmse_debiased,flicker,disoccluded_fraction,rmse_visible,rmse_disoccluded";
+    const char* filters[] = {"ao.temporal", "ssr.temporal"};
+    for (const char* f : filters) csv << ",disoccluded." << f;
+    csv << "\n";
     std::vector<double> updateMs;
     for (int i = 0; i < frames; ++i) {
         const FrameRecord& r = rec[std::size_t(i)];
@@ -199,7 +270,12 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         for (auto& n : passNames) csv << "," << csvNumber(ms(n));
         csv << "," << int(r.referenced) << "," << int(r.fromCache) << "," << csvNumber(r.rmse) << ","
             << csvNumber(r.rmseDebiased) << "," << csvNumber(r.flicker) << "," << csvNumber(r.disoccludedFraction) << ","
-            << csvNumber(r.rmseVisible) << "," << csvNumber(r.rmseDisoccluded) << "\n";
+            << csvNumber(r.rmseVisible) << "," << csvNumber(r.rmseDisoccluded);
+        for (const char* f : filters) {
+            auto it = r.filterDisoccluded.find(f);
+            csv << "," << (it == r.filterDisoccluded.end() ? std::string() : csvNumber(it->second));
+        }
+        csv << "\n";
         updateMs.push_back(r.updateMs);
     }
     std::filesystem::create_directories(opts.outDir);
@@ -226,6 +302,7 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
     j["frames_geometry_moved"] = moved;
     j["frames_lights_changed"] = lit;
     j["csv"] = "temporal.csv";
+    if (opts.pathFrames) j["video"] = encodeVideo(opts.outDir, path.fps);
     if (!opts.reference) return j;
 
     std::vector<std::optional<double>> rmse, deb, flick, vis, dis, frac;

@@ -2,6 +2,9 @@
 
 #include "compute/lib/filter_shared.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace rtgi {
 
 namespace {
@@ -50,10 +53,26 @@ void separableBlur(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const s
     }
 }
 
+TemporalCamera temporalCamera(const View& view) {
+    TemporalCamera c;
+    c.curToPrevView = view.prevView * glm::inverse(view.view);
+    const float t = std::tan(0.5f * view.fovY);
+    c.projScale = {t * float(view.size.x) / float(std::max(view.size.y, 1)), t};
+    return c;
+}
+
+std::uint32_t TemporalFilter::disoccludedPixels() const {
+    if (!counts_) return 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: the last run's atomics
+    std::uint32_t n = 0;
+    counts_.download(&n, sizeof(n));
+    return n;
+}
+
 const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLedger& ledger,
                                        const std::string& label, const FilterFormat& fmt,
                                        const gl::Texture& current, const gl::Texture& depth,
-                                       const gl::Texture& velocity, bool reset) {
+                                       const gl::Texture& velocity, bool reset, const TemporalCamera& camera) {
     const int w = current.width(), h = current.height();
     bool fresh = false;
     const auto t = temporalTextures(label, fmt, {w, h});
@@ -74,6 +93,11 @@ const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLed
     glBindTextureUnit(RTGI_FILTER_TEX_HISTORY_DEPTH, depth_[prev].id());
     glBindTextureUnit(RTGI_FILTER_TEX_VELOCITY, velocity.id());
     prog.set(RTGI_FILTER_LOC_RESET, (reset || !valid_) ? 1 : 0);
+    prog.set(RTGI_FILTER_LOC_CUR_TO_PREV_VIEW, camera.curToPrevView);
+    prog.set(RTGI_FILTER_LOC_PROJ_SCALE, camera.projScale);
+    if (!counts_) counts_ = gl::Buffer(ledger, label + ".disoccluded", sizeof(std::uint32_t));
+    counts_.clearZero();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_FILTER_SSBO_COUNTS, counts_.id());
     glBindImageTexture(RTGI_FILTER_IMG_OUT, value_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
     glBindImageTexture(RTGI_FILTER_IMG_OUT_DEPTH, depth_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     gl::dispatch(prog, w, h);

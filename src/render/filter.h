@@ -5,6 +5,9 @@
 // (compute/filter/*.comp are parameterized by FILTER_FORMAT, not copied).
 #include "gl/program.h"
 #include "gl/resources.h"
+#include "render/view.h"
+
+#include <cstdint>
 
 #include <string>
 #include <vector>
@@ -35,18 +38,33 @@ void separableBlur(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const s
                    const FilterFormat& fmt, const gl::Texture& in, const gl::Texture& depth,
                    const gl::Texture& normal, gl::Texture& tmp, gl::Texture& out, BlurThresholds t = {});
 
+// The camera motion the temporal filter's disocclusion test needs: current
+// view space -> previous view space, and the projection's tan(fovY/2)·aspect,
+// tan(fovY/2). The default is a still camera.
+struct TemporalCamera {
+    glm::mat4 curToPrevView{1.0f};
+    glm::vec2 projScale{1.0f};
+};
+TemporalCamera temporalCamera(const View& view);
+
 // Temporal filter with its own ping-pong history (value + linear depth).
 class TemporalFilter {
 public:
     // Blends `current` with the reprojected history; returns this frame's
     // output (valid until the next run). reset: camera cut or no history.
+    // History whose depth disagrees with the reprojected surface is rejected
+    // (docs/temporal.md, "Disocclusion").
     const gl::Texture& run(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
                            const FilterFormat& fmt, const gl::Texture& current, const gl::Texture& depth,
-                           const gl::Texture& velocity, bool reset);
+                           const gl::Texture& velocity, bool reset, const TemporalCamera& camera = {});
     const gl::Texture& output() const { return value_[cur_]; }
+    // Pixels of the last run whose history was rejected (disoccluded or
+    // reprojected off-screen); 0 after a reset. Reads back from the GPU (a stall).
+    std::uint32_t disoccludedPixels() const;
 
 private:
     gl::Texture value_[2], depth_[2];
+    gl::Buffer counts_;
     int cur_ = 0;
     bool valid_ = false;
 };

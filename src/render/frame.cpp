@@ -23,14 +23,16 @@ class HistoryPass final : public Pass {
 public:
     std::string name() const override { return "post.history"; }
     void declare(PassDecl& d, const Scene&, const Settings&) const override {
-        d.read(R::hdr).write(R::history).onlyIfRead();
+        d.read(R::hdr).read(R::linearDepth).write(R::history).onlyIfRead();
     }
     void execute(FrameContext& ctx) override {
         const glm::ivec2 s = ctx.view.size;
-        const gl::Program& prog = ctx.programs.compute("post/copy.comp");
+        // Alpha: the linear depth, for the readers' disocclusion test.
+        const gl::Program& prog = ctx.programs.compute("post/copy.comp", {{"POST_COPY_DEPTH_ALPHA", ""}});
         // Producer: post.compose (image store into hdr).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         glBindTextureUnit(RTGI_POST_TEX_SOURCE, ctx.res.hdr.id());
+        glBindTextureUnit(RTGI_POST_COPY_TEX_LINEAR_DEPTH, ctx.res.gbuffer.linearDepth.id());
         glBindImageTexture(RTGI_POST_IMG_TARGET, ctx.res.history.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, s.x, s.y);
     }

@@ -183,7 +183,7 @@ std::vector<gpu::GpuLight> gpuLights(const Scene& scene) {
 
 }  // namespace
 
-GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings) {
+GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings) : ledger_(&ledger) {
     std::vector<GpuVertex> verts = gpuVertices(scene);
     // Dynamic storage: a moving scene rewrites it (updateVertices).
     vbo_ = gl::Buffer(ledger, "scene.vertices", std::int64_t(verts.size() * sizeof(GpuVertex)), verts.data(),
@@ -213,6 +213,11 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     attrib(RTGI_ATTR_NORMAL, 3, GL_FLOAT, offsetof(GpuVertex, normal));
     attrib(RTGI_ATTR_UV, 2, GL_FLOAT, offsetof(GpuVertex, uv));
     attrib(RTGI_ATTR_MATERIAL, 1, GL_UNSIGNED_INT, offsetof(GpuVertex, material));
+    // The previous frame's position: its own buffer binding (beginFrame).
+    glVertexArrayVertexBuffer(vao, 1, vbo_.id(), 0, sizeof(GpuVertex));
+    glEnableVertexArrayAttrib(vao, RTGI_ATTR_PREV_POSITION);
+    glVertexArrayAttribFormat(vao, RTGI_ATTR_PREV_POSITION, 3, GL_FLOAT, GL_FALSE, GLuint(offsetof(GpuVertex, position)));
+    glVertexArrayAttribBinding(vao, RTGI_ATTR_PREV_POSITION, 1);
 
     std::vector<Material> mats = resolveMaterials(scene, settings);
     std::vector<gpu::GpuMaterial> gm;
@@ -252,6 +257,13 @@ void GpuScene::updateVertices(const Scene& scene) {
     std::vector<GpuVertex> verts = gpuVertices(scene);
     if (std::int64_t(verts.size() * sizeof(GpuVertex)) != vbo_.size())
         throw std::logic_error("GpuScene::updateVertices: the vertex count changed");
+    // The first rewrite since a rendered frame keeps that frame's geometry
+    // (a GPU copy, ordered before the upload): later rewrites before the next
+    // frame replace states that were never rendered.
+    if (rendered_ && geometryVersion_ == renderedVersion_) {
+        if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size(), nullptr, 0);
+        glCopyNamedBufferSubData(vbo_.id(), prevVbo_.id(), 0, 0, vbo_.size());
+    }
     vbo_.upload(verts.data(), vbo_.size());
     ++geometryVersion_;
     ++stateVersion_;
@@ -262,6 +274,16 @@ void GpuScene::updateLights(const Scene& scene) {
     if (int(gls.size()) != lightCount_) throw std::logic_error("GpuScene::updateLights: the light count changed");
     if (!gls.empty()) lights_.upload(gls.data(), std::int64_t(gls.size() * sizeof(gpu::GpuLight)));
     ++stateVersion_;  // also when only the sun changed (it lives in the frame uniforms)
+}
+
+void GpuScene::beginFrame() {
+    prevDistinct_ = rendered_ && geometryVersion_ != renderedVersion_;
+    glVertexArrayVertexBuffer(vao_.id(), 1, previousVertices().id(), 0, sizeof(GpuVertex));
+}
+
+void GpuScene::endFrame() {
+    rendered_ = true;
+    renderedVersion_ = geometryVersion_;
 }
 
 void GpuScene::draw() const {

@@ -41,8 +41,19 @@ public:
     // A moving scene (issue 23): rewrites the vertex buffer (positions,
     // normals) or the punctual lights from the scene's current state; the
     // counts must not change.
+    // Object motion: before the first rewrite after a rendered frame, the
+    // buffer is copied on the GPU into previousVertices() (allocated on the
+    // first move), so the G-buffer velocity holds camera and object motion.
     void updateVertices(const Scene& scene);
     void updateLights(const Scene& scene);
+    // Brackets one rendered frame: beginFrame points previousVertices() (and
+    // the VAO's RTGI_ATTR_PREV_POSITION) at the geometry the last frame
+    // rendered: the copy when it has moved since, else the vertex buffer itself.
+    void beginFrame();
+    void endFrame();
+    const gl::Buffer& previousVertices() const { return prevDistinct_ ? prevVbo_ : vbo_; }
+    // True while this frame's geometry differs from the last frame's (beginFrame).
+    bool objectMotion() const { return prevDistinct_; }
     // Counts updateVertices calls: a pass that built something from the
     // geometry (the reference's BVH) rebuilds it when this changed.
     std::uint64_t geometryVersion() const { return geometryVersion_; }
@@ -65,7 +76,11 @@ public:
 
 private:
     gl::VertexArrayHandle vao_;
+    gl::MemoryLedger* ledger_ = nullptr;
     gl::Buffer vbo_, ibo_, materials_, lights_;
+    gl::Buffer prevVbo_;  // the last rendered frame's vertices while they differ from vbo_
+    bool rendered_ = false, prevDistinct_ = false;
+    std::uint64_t renderedVersion_ = 0;  // geometryVersion_ of the last rendered frame
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
     std::uint64_t geometryVersion_ = 0, stateVersion_ = 0;

@@ -271,6 +271,7 @@ void Renderer::render(const View& view) {
     allocateShared(view);
     for (int i = 0; i < R::count; ++i) previousValid_[i] = writtenLastFrame_[i] && !view.cut;
     uploadFrameUniforms(view);
+    gpuScene_->beginFrame();
     FrameContext ctx{programs_, ledger_, profiler_, scene_, *gpuScene_, settings_, res_, view, frameUbo_.id(),
                      &plan_, 0, previousValid_};
     gl::Profiler::setPerDispatch(settings_.post.profileDispatches);
@@ -289,6 +290,7 @@ void Renderer::render(const View& view) {
         if (check_) checkOutputs(pass);
     }
     profiler_.endFrame();
+    gpuScene_->endFrame();
     for (int i = 0; i < R::count; ++i) writtenLastFrame_[i] = plan_.written({i});
 }
 

@@ -303,6 +303,10 @@ class TemporalPass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
     std::string name() const override { return "ao.temporal"; }
+    // The last frame's pixels whose history was rejected (docs/temporal.md, "Disocclusion").
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"disoccluded_pixels", double(chain_->temporal.disoccludedPixels())}};
+    }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (!s.ao.temporal) return d.skip("ao.temporal=off");
         d.read(R::linearDepth).read(R::velocity);
@@ -315,7 +319,8 @@ public:
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         const gl::Texture& filtered = c.temporal.run(ctx.programs, ctx.ledger, "ao.temporal", kAoFormat, *c.current,
-                                                     c.depth(ctx), ctx.res.gbuffer.velocity, ctx.view.cut);
+                                                     c.depth(ctx), ctx.res.gbuffer.velocity, ctx.view.cut,
+                                                     temporalCamera(ctx.view));
         c.current = &filtered;
         if (lastStage(ctx.settings.ao) == Stage::Temporal) {
             // The history must survive the next frame's passes, so res.ao gets a copy.

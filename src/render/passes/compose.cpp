@@ -40,7 +40,8 @@ void dispatchCompose(FrameContext& ctx, const gl::Texture& direct, const gl::Tex
         .texture(RTGI_POST_COMPOSE_TEX_MATERIAL, r.gbuffer.material)
         .texture(RTGI_POST_TEX_INDIRECT, indirect ? &r.indirectDiffuse : nullptr)
         .texture(RTGI_POST_TEX_SPECULAR, specular ? &r.specular : nullptr)
-        .texture(RTGI_POST_TEX_AO, ao ? &r.ao : nullptr);
+        .texture(RTGI_POST_TEX_AO, ao ? &r.ao : nullptr)
+        .texture(RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH, diffuseOnly ? &r.gbuffer.linearDepth : nullptr);
     // Occlusion is not applied to the indirect term twice when the LPV lookup
     // already used bent normals or S3HO.
     bool aoInLpv = indirect && (ctx.has(R::bentNormal) || ctx.has(R::s3ho));

@@ -190,7 +190,7 @@ public:
     // The previous frame's radiance (post.history), or with ssr.diffuse_history
     // its diffuse-only radiance (written by ssr.diffuse_history at the end of the chain).
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
-        d.read(R::velocity).readPrevious(s.ssr.diffuseHistory ? R::diffuseHistory : R::history);
+        d.read(R::velocity).read(R::linearDepth).readPrevious(s.ssr.diffuseHistory ? R::diffuseHistory : R::history);
         d.output("ssr.resolved", &st_->resolved).debugImage("ssr.resolve.reflection", &st_->resolved);
     }
     void execute(FrameContext& ctx) override {
@@ -207,6 +207,7 @@ public:
         glBindTextureUnit(RTGI_SSR_TEX_HIT, st_->hit.id());
         glBindTextureUnit(RTGI_SSR_TEX_CONFIDENCE, st_->confidence.id());
         glBindTextureUnit(RTGI_SSR_TEX_VELOCITY, ctx.res.gbuffer.velocity.id());
+        glBindTextureUnit(RTGI_SSR_RESOLVE_TEX_LINEAR_DEPTH, ctx.res.gbuffer.linearDepth.id());
         glBindTextureUnit(RTGI_SSR_TEX_HISTORY, have ? history.id() : st_->hit.id());  // unread without history
         prog.set(RTGI_SSR_LOC_HAVE_HISTORY, have ? 1 : 0);
         glBindImageTexture(RTGI_SSR_IMG_RESOLVED, st_->resolved.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
@@ -239,6 +240,10 @@ public:
 class TemporalPass final : public SsrPass {
 public:
     using SsrPass::SsrPass;
+    // The last frame's pixels whose history was rejected (docs/temporal.md, "Disocclusion").
+    std::vector<std::pair<std::string, double>> stats() override {
+        return {{"disoccluded_pixels", double(st_->temporal.disoccludedPixels())}};
+    }
     void declare(PassDecl& d, const Scene&, const Settings&) const override {
         d.read(R::linearDepth).read(R::velocity);
         auto out = [st = st_] { return &st->temporal.output(); };
@@ -250,7 +255,8 @@ public:
         // A frame resolved without history is all misses: never blend it in later.
         const bool reset = ctx.view.cut || !st_->temporalHasReflections;
         const gl::Texture& out = st_->temporal.run(ctx.programs, ctx.ledger, "ssr.temporal", kSsrFormat,
-                                                   st_->blurred, st_->depth(ctx), ctx.res.gbuffer.velocity, reset);
+                                                   st_->blurred, st_->depth(ctx), ctx.res.gbuffer.velocity, reset,
+                                                   temporalCamera(ctx.view));
         st_->temporalHasReflections = st_->resolvedHadHistory;
         st_->reflection = &out;
     }

@@ -72,6 +72,7 @@ public:
         VisibilityTarget& t = st_->target;
         const gl::Program& prog = ctx.programs.compute("visibility/resolve.comp", visibilityDefines(t));
         bindVisibility(prog, ctx.gpuScene, ctx.view.viewProj(), t);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_PREV_VERTICES, ctx.gpuScene.previousVertices().id());
         glBindImageTexture(RTGI_VISIBILITY_IMG_LINEAR_DEPTH, g.linearDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glBindImageTexture(RTGI_VISIBILITY_IMG_NORMAL, g.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
         glBindImageTexture(RTGI_VISIBILITY_IMG_ALBEDO, g.albedo.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
