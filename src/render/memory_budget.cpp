@@ -127,15 +127,18 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         const double geometryBytes = twoSided ? 44.0 + fmt + 16.0 : 32.0 + fmt + 8.0;
         double lpv = cascades * (cells * (injectBytes + 3.0 * volumeTextures * fmt) + geometryCells * geometryBytes) +
                      (cascades - 1) * cells * volumeTextures * fmt;
-        // lpv.visibility (docs/lpv.md, "Visibility moments", "Sky visibility"): per cascade the moments
-        // (N^2 RG16F per cell) and the sky visibility (RGBA16F per cell), and one BVH of the scene
-        // (48 bytes per triangle, at most 2 nodes of 32 bytes per triangle).
-        const bool moments = s.lpv.lookup == LpvSettings::Lookup::Visibility ||
-                             (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute);
+        // lpv.visibility (docs/lpv.md, "Visibility moments", "Sky visibility", "Face openness"): per
+        // cascade the moments (N^2 RG16F per cell), the sky visibility (RGBA16F per cell) and the face
+        // openness (RGBA8 per cell), and one BVH of the scene (48 bytes per triangle, at most 2 nodes of
+        // 32 bytes per triangle).
+        const bool moments = s.lpv.lookup == LpvSettings::Lookup::Visibility;
+        const bool faceOpen = s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
+                           (s.lpv.occlusion || s.lpv.bounce);
         const bool sky = s.lpv.sky == LpvSettings::Sky::Visibility;
         if (moments) lpv += cascades * cells * RTGI_LPV_VIS_RES * RTGI_LPV_VIS_RES * 4.0;
         if (sky) lpv += cascades * cells * 8.0;
-        if (moments || sky) lpv += double(r.scene().triangleCount()) * (48.0 + 64.0) + 64.0;
+        if (faceOpen) lpv += cascades * cells * 4.0;
+        if (moments || sky || faceOpen) lpv += double(r.scene().triangleCount()) * (48.0 + 64.0) + 64.0;
         // Temporal: two histories per cascade, and two of the near part for cascades i > 0.
         if (s.lpv.temporal > 0.0f) lpv += (2.0 * cascades - 1.0) * cells * 2.0 * volumeTextures * fmt;
         std::string gridKey = s.lpv.grid.x == s.lpv.grid.y && s.lpv.grid.y == s.lpv.grid.z

@@ -179,6 +179,11 @@ bool Volumes::ensureVisibility(gl::MemoryLedger& ledger) {
     return true;
 }
 
+bool Volumes::ensureFaces(gl::MemoryLedger& ledger) {
+    // Read with texelFetch only (lpv/propagate.glsl).
+    return faces.ensure(ledger, "lpv.face_visibility", {GL_TEXTURE_3D, GL_RGBA8, grid.x, grid.y, grid.z});
+}
+
 bool Volumes::ensureSky(gl::MemoryLedger& ledger) {
     if (!sky.ensure(ledger, "lpv.sky_visibility", {GL_TEXTURE_3D, GL_RGBA16F, grid.x, grid.y, grid.z})) return false;
     sky.setSampling(GL_LINEAR, GL_LINEAR);  // trilinear, as the light volumes
@@ -391,7 +396,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
-        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.visibility.id());
+        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.faces.id());
         if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
