@@ -495,6 +495,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
     else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
+    if (!in.geometry && in.visibility) d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);

@@ -131,6 +131,7 @@ struct ApplyInputs {
     const gl::Texture* geometry = nullptr;
     const gl::Texture* geometryAxes = nullptr;  // set with `geometry`: lpv.blocking=two-sided segments
     const gl::Texture* visibility = nullptr;  // set: lpv.lookup=visibility with this cascade's moments
+    int visibilityExponent = 3;               // lpv.visibility_exponent
     const gl::Texture* sky = nullptr;         // set: lpv.sky=visibility with this cascade's sky visibility
     bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
