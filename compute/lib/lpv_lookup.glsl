@@ -136,7 +136,7 @@ vec3 lpvVisibilityCoord(ivec3 c, vec3 w, ivec3 texSize) {
 // soft tail behind thin walls, docs/lpv.md). Cells outside the grid (clamped, as the light fetch)
 // use the border cell's map.
 #ifndef RTGI_LPV_VIS_EXPONENT
-#define RTGI_LPV_VIS_EXPONENT 3
+#define RTGI_LPV_VIS_EXPONENT 1
 #endif
 void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
     ivec3 texSize = textureSize(moments, 0);

@@ -531,6 +531,13 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size, bool lpv = true) {
     // fp32-level RSM depth differences into whole-cell changes (Cornell box
     // at 8^3: RMSE 2e-3 with identical RSM texels; 4e-4 at 32^3).
     hw.lpv.grid = glm::ivec3(32);
+    // The propagation's blocking from the traced face openness (docs/lpv.md, "Leaks, third pass"):
+    // the same BVH rays for both rasterizers. With the geometry volume's blocking alone, a wall
+    // thinner than a cell turns the two paths' tie pixels along it into different blocking of the
+    // whole wall's flux, and the LPV amplifies rasterizer ties into light differences (measured on
+    // the H200: final-image RMSE 1.0e-3 / 5.5e-3 on builtin:leak / leak-door, 8e-6 without the LPV);
+    // where the openness closes a slab, transmission and reflection no longer depend on it.
+    hw.lpv.blocking = LpvSettings::Blocking::Visibility;
     hw.light.localShadowSize = 64;
     Settings cs = hw;
     cs.raster.path = RasterSettings::Path::Compute;
@@ -750,12 +757,7 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: fill-rule ties match the hardware ras
 }
 
 TEST_CASE_FIXTURE(GpuFixture, "visibility: compute and hardware paths agree on every built-in scene") {
-    // Every scene with the LPV, thin walls included: the propagation's blocking of a wall thinner
-    // than a cell comes from the traced face openness (lpv.blocking=visibility, the default; BVH
-    // rays, the same for both rasterizers), so the two paths' tie pixels along the wall no longer
-    // decide how much light crosses it (with the geometry volume's blocking alone they did:
-    // final-image RMSE 1.0e-3 / 5.5e-3 on the H200 for builtin:leak / leak-door; docs/lpv.md,
-    // "Leaks, third pass").
+    // Every scene with the LPV, thin walls included (the blocking: compareWithHardware).
     for (const std::string& name : builtinSceneNames()) compareWithHardware(loadSceneSpec("builtin:" + name), {96, 64});
 }
 
