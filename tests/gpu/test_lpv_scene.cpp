@@ -52,8 +52,6 @@ TEST_CASE("LPV raster baseline produces the compute path's volumes on the cornel
     for (auto format : {LpvSettings::Format::Rgba32f, LpvSettings::Format::Rgba16f}) {
         Settings s = smallLpvSettings();
         s.lpv.format = format;
-        // The raster baseline blocks with the geometry volume only (no traced face openness).
-        s.lpv.blocking = LpvSettings::Blocking::Oriented;
         auto compute = renderFrames(scene, s, {32, 32}, prof);
         std::vector<float> a = accumulated(*compute);
         s.lpv.path = LpvSettings::Path::Raster;

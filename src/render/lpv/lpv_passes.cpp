@@ -677,9 +677,9 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
 void validateLpvSettings(const Scene&, const Settings& s) {
     if (s.lpv.shOrder == 2 && s.lpv.path == LpvSettings::Path::Raster)
         throw ConfigError("lpv.sh_order=2 needs lpv.path=compute: the raster baseline is the seed's band-1 method");
-    // lpv.blocking=visibility (the default) with lpv.path=raster: the raster baseline is the seed's method and
-    // blocks with the geometry volume's oriented potential only (docs/lpv.md, "Leaks, third pass"); no face
-    // openness is traced for it (facesNeeded).
+    if (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Raster)
+        throw ConfigError("lpv.blocking=visibility needs lpv.path=compute: the raster baseline propagates with the "
+                          "geometry volume's blocking only");
 }
 
 Need lpvFamily(const Scene& scene, const Settings& s) {
