@@ -130,9 +130,14 @@ vec3 lpvVisibilityCoord(ivec3 c, vec3 w, ivec3 texSize) {
     return vec3(t, float(c.z) + 0.5) / vec3(texSize);
 }
 
-// blocked[k] = 1 - P(d_k >= r_k) of the 8 stencil cells around q: d_k the distance from cell
-// k's centre c_k to geometry in the direction of q, r_k = |q - c_k| (cell units). Cells
-// outside the grid (clamped, as the light fetch) use the border cell's map.
+// blocked[k] = 1 - P_k^e of the 8 stencil cells around q, P_k the Chebyshev bound on P(d_k >= r_k):
+// d_k the distance from cell k's centre c_k to geometry in the direction of q, r_k = |q - c_k|
+// (cell units); e = RTGI_LPV_VIS_EXPONENT (lpv.visibility_exponent; DDGI's 3 sharpens the bound's
+// soft tail behind thin walls, docs/lpv.md). Cells outside the grid (clamped, as the light fetch)
+// use the border cell's map.
+#ifndef RTGI_LPV_VIS_EXPONENT
+#define RTGI_LPV_VIS_EXPONENT 1
+#endif
 void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
     ivec3 texSize = textureSize(moments, 0);
     for (int k = 0; k < 8; ++k) {
@@ -140,6 +145,9 @@ void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float bloc
         vec3 d = q - c;
         float r = length(d);
         ivec3 cell = clamp(lpvStencilBase(q) + lpvStencilOffset(k), ivec3(0), grid - 1);
-        blocked[k] = r > 0.0 ? 1.0 - lpvChebyshev(texture(moments, lpvVisibilityCoord(cell, d / r, texSize)).xy, r) : 0.0;
+        float p = r > 0.0 ? lpvChebyshev(texture(moments, lpvVisibilityCoord(cell, d / r, texSize)).xy, r) : 1.0;
+        float v = p;
+        for (int i = 1; i < RTGI_LPV_VIS_EXPONENT; ++i) v *= p;
+        blocked[k] = 1.0 - v;
     }
 }

@@ -245,7 +245,11 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_VIS_IMG_MOMENTS          0  // lpv/visibility.comp (BVH and scene buffers at their bvh_shared.h bindings)
 #define RTGI_LPV_VIS_IMG_SKY              1  // lpv/visibility.comp with RTGI_LPV_VIS_SKY: sky visibility SH per cell
 #define RTGI_LPV_SKY_STRATA               8  // lpv.sky=visibility: M x M rays per cell
-#define RTGI_LPV_TEX_PROPAGATE_VISIBILITY 10  // lpv/propagate.comp with RTGI_LPV_PROPAGATE_VISIBILITY (after axes 9)
+#define RTGI_LPV_TEX_PROPAGATE_VISIBILITY 10  // lpv/propagate.comp with RTGI_LPV_PROPAGATE_VISIBILITY (after axes 9): face openness
+// lpv.blocking=visibility (docs/lpv.md, "Face openness"): per cell and axis, the open fraction of the
+// slab between its centre and the next cell's centre, from F x F parallel rays.
+#define RTGI_LPV_VIS_FACE_RAYS            4  // F
+#define RTGI_LPV_VIS_IMG_FACES            2  // lpv/visibility.comp with RTGI_LPV_VIS_FACES: RGBA8, (+x, +y, +z, 0)
 #define RTGI_LPV_TEX_APPLY_SKY           25  // lpv/apply.comp with RTGI_LPV_SKY: the cascade's sky visibility SH
 
 #endif

@@ -23,15 +23,11 @@ mat3 lpvSource9(vec4 lo, int colour, ivec3 cell);
 #define lpvLobe shCosineLobe
 #endif
 
-// lpv.blocking=visibility (compute path; docs/lpv.md, "Visibility moments"): the source cell's
-// distance moments (lpv.visibility) give the Chebyshev probability that its centre sees the
-// destination's, one cell away along the flow.
+// lpv.blocking=visibility (compute path; docs/lpv.md, "Face openness"): the traced open fraction
+// of the slab between the centres of cells p and p + a (a an axis step, either sign).
 #ifdef RTGI_LPV_PROPAGATE_VISIBILITY
-#include "lib/lpv_lookup.glsl"
-layout(binding = RTGI_LPV_TEX_PROPAGATE_VISIBILITY) uniform sampler3D uVisibility;
-float lpvNeighbourVisibility(ivec3 source, vec3 d) {
-    return lpvChebyshev(texture(uVisibility, lpvVisibilityCoord(source, d, textureSize(uVisibility, 0))).xy, 1.0);
-}
+layout(binding = RTGI_LPV_TEX_PROPAGATE_VISIBILITY) uniform sampler3D uFaceOpen;
+float lpvFaceOpen(ivec3 p, ivec3 a) { return dot(texelFetch(uFaceOpen, p + min(a, ivec3(0)), 0).xyz, abs(vec3(a))); }
 #endif
 
 struct LpvRgb {
@@ -158,15 +154,18 @@ LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler
             // (docs/lpv.md, "Leaks"): the area projected on the face, whichever side faces the light.
             float blocked = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, -d), 0.0, 1.0);
             transmit = 1.0 - blocked;
+            float open = 1.0;
 #ifdef RTGI_LPV_PROPAGATE_VISIBILITY
-            // What the surfaces between the two centres stop is absorbed (not reflected).
-            transmit *= lpvNeighbourVisibility(n, d);
+            // What the surfaces between the two centres stop does not pass (reflected below).
+            open = lpvFaceOpen(c, LPV_AXES[a]);
+            transmit *= open;
 #endif
             if (lpv.flags.y != 0 && !reflectToSource) reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
             if (lpv.flags.y != 0 && reflectToSource) {
-                // c's own flux towards n (flow -d) meets the blocker of the same face from c's side.
+                // c's own flux towards n (flow -d) meets the blocker of the same face from c's side;
+                // what the open fraction stops on top is reflected too (1 without visibility).
                 float blockedOut = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, d), 0.0, 1.0);
-                reflectedOwn = blockedOut * albedo;
+                reflectedOwn = (1.0 - (1.0 - blockedOut) * open) * albedo;
             }
         }
         LpvSh acc[3] = LpvSh[3](LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));

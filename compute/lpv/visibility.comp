@@ -16,7 +16,33 @@
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
-#ifdef RTGI_LPV_VIS_SKY
+#if defined(RTGI_LPV_VIS_FACES)
+layout(rgba8, binding = RTGI_LPV_VIS_IMG_FACES) uniform writeonly image3D uFaces;
+
+// RTGI_LPV_VIS_FACES (lpv.blocking=visibility; docs/lpv.md, "Face openness"): per cell c and axis
+// a = +x, +y, +z, the fraction of F x F rays parallel to a, started at the strata centres of c's
+// cross-section through its centre ((-1/2, 1/2)^2 cells) and ending one cell further, at the
+// plane of the centre of c + a, that meet no surface: the open fraction of the slab between the
+// two centres. Symmetric: the same segments serve the flow c -> c + a and c + a -> c. One
+// invocation per cell.
+void main() {
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lpvInside(cell, lpv.grid.xyz)) return;
+    float s = lpvCellSize();
+    vec3 centre = lpv.origin.xyz + (vec3(cell) + 0.5) * s;
+    const int f = RTGI_LPV_VIS_FACE_RAYS;
+    vec3 open = vec3(0.0);
+    for (int a = 0; a < 3; ++a) {
+        vec3 d = vec3(a == 0, a == 1, a == 2);
+        vec3 u = vec3(a == 1, a == 2, a == 0), v = vec3(a == 2, a == 0, a == 1);
+        for (int j = 0; j < f * f; ++j) {
+            vec2 o = (vec2(j % f, j / f) + 0.5) / float(f) - 0.5;
+            if (!traceAny(centre + s * (o.x * u + o.y * v), d, 0.0, s)) open[a] += 1.0;
+        }
+    }
+    imageStore(uFaces, cell, vec4(open / float(f * f), 0.0));
+}
+#elif defined(RTGI_LPV_VIS_SKY)
 layout(rgba16f, binding = RTGI_LPV_VIS_IMG_SKY) uniform writeonly image3D uSky;
 
 void main() {

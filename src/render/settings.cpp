@@ -229,14 +229,17 @@ std::vector<SettingKey> buildKeys() {
             kLpvInjectSide[int(s.lpv.injectSide)]),
         KEY("lpv.blocking", "geometry volume blocking: oriented (surfaces facing the light, KD10 band-1 SH) or two-sided "
             "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\") or visibility (oriented, times the "
-            "Chebyshev visibility of the neighbour's centre from the source cell's ray-traced distance moments; "
-            "docs/lpv.md, \"Visibility moments\")", "oriented|two-sided|visibility",
+            "open fraction of the slab between the two cells' centres, ray-traced per cell and axis; the stopped flux is "
+            "reflected into the source cell with lpv.reflect=source; docs/lpv.md, \"Leaks, third pass\")", "oriented|two-sided|visibility",
             s.lpv.blocking = parseEnum<LpvSettings::Blocking>("lpv.blocking", v, kLpvBlocking),
             kLpvBlocking[int(s.lpv.blocking)]),
         KEY("lpv.sky", "the sky term inside the volume: ambient (sky radiance times AO everywhere) or visibility "
             "(also times the cosine-weighted fraction of rays from the lookup's cells that leave the scene; "
             "docs/lpv.md, \"Sky visibility\")", "ambient|visibility",
             s.lpv.sky = parseEnum<LpvSettings::Sky>("lpv.sky", v, kLpvSky), kLpvSky[int(s.lpv.sky)]),
+        KEY("lpv.visibility_exponent", "lpv.lookup=visibility: power of each cell's Chebyshev visibility bound before "
+            "the weights are renormalized (1 = the bound itself, 3 = DDGI's sharpening; docs/lpv.md, \"Leaks, third pass\")",
+            "1..8", s.lpv.visibilityExponent = parseInt("lpv.visibility_exponent", v, 1, 8), fmt(s.lpv.visibilityExponent)),
         KEY("lpv.reflect", "lpv.bounce: the reflected flux goes into the cell behind the blocker (destination, seed 3.5.2) "
             "or back into the cell the light came from (source; docs/lpv.md, \"Leaks\")", "destination|source",
             s.lpv.reflect = parseEnum<LpvSettings::Reflect>("lpv.reflect", v, kLpvReflect), kLpvReflect[int(s.lpv.reflect)]),

@@ -88,10 +88,14 @@ struct LpvSettings {
     bool damping = false;                // KD10 derivative damping of the lookup (darkens cornell's far half: docs/lpv.md)
     enum class InjectSide { Offset, Front } injectSide = InjectSide::Front;
     bool firstStepBlocked = true;        // geometry occlusion also in the first propagation step
+    // visibility: oriented times the traced face openness (docs/lpv.md, "Leaks, third pass": passes the
+    // closed room, but darkens the restaurant entrance on llvmpipe, so not the default yet).
     enum class Blocking { Oriented, TwoSided, Visibility } blocking = Blocking::Oriented;
     enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
     // Compose's sky term: uniform ambient times AO, or also times the cells' ray-traced sky visibility.
     enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
+    // lpv.lookup=visibility: each cell's Chebyshev bound is raised to this power (DDGI uses 3; docs/lpv.md).
+    int visibilityExponent = 1;
 };
 
 struct AoSettings {

@@ -472,6 +472,78 @@ TEST_CASE("LPV propagation matches a CPU double implementation (grids, iteration
             }
 }
 
+TEST_CASE("LPV face openness (lpv.blocking=visibility): the open fraction passes, the rest is reflected into the source (CPU double)") {
+    // docs/lpv.md, "Leaks, third pass": two unit cells along x, cell 0 holding k cosLobe(+x) (light
+    // flowing towards cell 1), cell 1 empty, no blocking potential, mean albedo rho at every corner,
+    // the traced openness tau of the slab between the two centres uploaded by hand. One step,
+    // occluded (lpv.first_step=blocked), bounce into the source (lpv.reflect=source), flow
+    // re-emission, classic energy: cell 1 = tau x the unblocked step (the documented scheme in
+    // double, cpuPropagate), cell 0 = (1 - tau) rho F / pi cosLobe(-x) with F the flux cell 0 sends
+    // through cell 1's 5 exit faces; so flux(cell 1) + flux(cell 0) / rho = F for every tau.
+    GpuFixture gpu;
+    const glm::ivec3 grid(2, 1, 1);
+    const glm::dvec3 rho(0.5, 0.25, 0.8);
+    CpuOptions o;
+    o.occlusion = true;
+    o.bounce = true;
+    o.flow = true;
+    for (int tau8 : {0, 102, 255}) {  // RGBA8: 0, 0.4, 1 exactly
+        const double tau = tau8 / 255.0;
+        CAPTURE(tau);
+        GpuLpv g(grid, GL_RGBA32F, o);
+        g.settings.firstStepBlocked = true;
+        g.settings.reflect = LpvSettings::Reflect::Source;
+        g.settings.blocking = LpvSettings::Blocking::Visibility;
+        lpv::UniformInputs in;
+        in.placement.grid = grid;
+        in.placement.cell = 1.0f;
+        in.rsmViewProj = glm::mat4(1.0f);
+        g.upload(in);
+        CpuVolume light(grid), input;
+        for (int c = 0; c < 3; ++c) light.c[c][0] = (0.7 + 0.1 * c) * lobe({1, 0, 0});
+        CpuGeometry geo{grid + 1, {}, {}}, geoIn;
+        for (int i = 0; i < (grid.x + 1) * (grid.y + 1) * (grid.z + 1); ++i) {
+            geo.sh.emplace_back(0.0);
+            geo.albedo.push_back(rho);
+        }
+        setup(g, light, &geo, input, &geoIn);
+        g.v.ensureFaces(g.ledger);
+        const std::uint8_t open[8] = {std::uint8_t(tau8), 0, 0, 0, 0, 0, 0, 0};
+        glTextureSubImage3D(g.v.faces.id(), 0, 0, 0, 0, 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, open);
+        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, 1, false, true);
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        CpuVolume got = readRgb(g.v.step[std::size_t(last)]);
+        // The unblocked step in double (no blocking potential: transmission 1, nothing reflected).
+        CpuOptions free = o;
+        free.occlusion = free.bounce = false;
+        CpuVolume step = cpuPropagate(input, nullptr, 1, free);
+        for (int c = 0; c < 3; ++c) {
+            const glm::dvec4 I = input.c[c][0];
+            double F = kFront * std::max(0.0, glm::dot(I, basis({1, 0, 0})));
+            for (auto t : kAxes) {
+                glm::dvec3 nf(t);
+                if (nf.x != 0.0) continue;
+                F += kSide * std::max(0.0, glm::dot(I, basis(RTGI_LPV_SIDE_DIR_T * nf + RTGI_LPV_SIDE_DIR_D * glm::dvec3(1, 0, 0))));
+            }
+            const double albedo = geoIn.albedo[0][c];  // rho as stored (RGBA16F)
+            const glm::dvec4 want0 = (1.0 - tau) * albedo * F / kPi * lobe({-1, 0, 0}), want1 = tau * step.c[c][1];
+            // fp32 sums (1e-5), and for 0 < tau < 1 the driver's unorm8 decode of tau (llvmpipe returns
+            // 102/255 within 1.5e-4): 1e-3.
+            const double tol = tau8 == 0 || tau8 == 255 ? 1e-5 : 1e-3;
+            for (int k = 0; k < 4; ++k) {
+                CHECK(got.c[c][0][k] == doctest::Approx(want0[k]).epsilon(tol).scale(1e-6 * F));
+                CHECK(got.c[c][1][k] == doctest::Approx(want1[k]).epsilon(tol).scale(1e-6 * F));
+            }
+            // Energy: what passes plus what the wall reflects (divided by its albedo) is what was sent
+            // (independent of tau's decode).
+            const double passed = got.c[c][1].x / kY0, reflected = got.c[c][0].x / kY0;
+            CHECK(passed + reflected / albedo == doctest::Approx(F).epsilon(1e-5));
+            if (tau8 == 0) CHECK(got.c[c][1].x == 0.0f);
+            if (tau8 == 255) CHECK(got.c[c][0].x == 0.0f);
+        }
+    }
+}
+
 TEST_CASE("LPV cascades: a cascade's near part is its steps weighted by the path-length split (CPU double)") {
     GpuFixture gpu;
     std::mt19937 rng(23);

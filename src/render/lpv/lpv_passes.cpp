@@ -73,11 +73,13 @@ struct LpvState {
 
 bool geometryNeeded(const Settings& s) { return s.lpv.occlusion || s.lpv.bounce; }
 
-// lpv.visibility's distance moments: for the lookup, or for the propagation's blocking (compute path, with occlusion).
-bool momentsNeeded(const Settings& s) {
-    return s.lpv.lookup == LpvSettings::Lookup::Visibility ||
-           (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
-            geometryNeeded(s));
+// lpv.visibility's distance moments: for the lookup.
+bool momentsNeeded(const Settings& s) { return s.lpv.lookup == LpvSettings::Lookup::Visibility; }
+
+// lpv.visibility's face openness: for the propagation's blocking (compute path, with occlusion or bounce).
+bool facesNeeded(const Settings& s) {
+    return s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
+           geometryNeeded(s);
 }
 
 // Cascades in use: the raster baseline is the seed's single volume.
@@ -480,7 +482,7 @@ public:
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
                 c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
-                                                   ls.blocking == LpvSettings::Blocking::Visibility && geometryNeeded(ctx.settings));
+                                                   facesNeeded(ctx.settings));
             }
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
@@ -585,17 +587,22 @@ public:
         std::vector<gl::NamedTextureDesc> t;
         if (momentsNeeded(s)) t.push_back(lpv::visibilityTexture(volumeGrid(s)));
         if (s.lpv.sky == LpvSettings::Sky::Visibility) t.push_back(lpv::skyTexture(volumeGrid(s)));
+        if (facesNeeded(s)) t.push_back(lpv::faceTexture(volumeGrid(s)));
         return perCascade(s, t);
     }
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
-        const bool moments = momentsNeeded(s), sky = s.lpv.sky == LpvSettings::Sky::Visibility;
-        if (!moments && !sky) return d.skip("neither lpv.lookup, lpv.blocking nor lpv.sky is visibility");
+        const bool moments = momentsNeeded(s), sky = s.lpv.sky == LpvSettings::Sky::Visibility, faces = facesNeeded(s);
+        if (!moments && !sky && !faces) return d.skip("neither lpv.lookup, lpv.blocking nor lpv.sky is visibility");
         const LpvState* st = st_.get();
         for (int i = 0; i < cascadeCount(s.lpv); ++i) {
             const std::string suffix = i == 0 ? "" : ".cascade" + std::to_string(i);
             if (moments)
                 d.output("lpv.visibility" + suffix, [st, i]() -> const gl::Texture* {
                     return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.visibility : nullptr;
+                });
+            if (faces)
+                d.output("lpv.face_visibility" + suffix, [st, i]() -> const gl::Texture* {
+                    return std::size_t(i) < st->cascades.size() ? &st->cascades[std::size_t(i)].volumes.faces : nullptr;
                 });
             if (sky)
                 d.output("lpv.sky_visibility" + suffix, [st, i]() -> const gl::Texture* {
@@ -607,15 +614,18 @@ public:
         LpvState& st = *st_;
         const bool moments = momentsNeeded(ctx.settings);
         const bool sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility;
+        const bool faces = facesNeeded(ctx.settings);
         for (LpvCascade& c : st.cascades) {
             const glm::vec4 placed = c.uniforms.origin;
             bool fresh = moments && c.volumes.ensureVisibility(ctx.ledger);
             fresh = (sky && c.volumes.ensureSky(ctx.ledger)) || fresh;
+            fresh = (faces && c.volumes.ensureFaces(ctx.ledger)) || fresh;
             const std::uint64_t geometry = ctx.gpuScene.geometryVersion();
             if (!fresh && placed == c.visibilityFor && geometry == c.visibilityGeometry) continue;
             st.visibilityBvh.ensure(ctx, "lpv.visibility.bvh");
             if (moments) lpv::visibilityMoments(ctx, c.ubo, st.visibilityBvh, c.volumes);
             if (sky) lpv::skyVisibility(ctx, c.ubo, st.visibilityBvh, c.volumes);
+            if (faces) lpv::faceVisibility(ctx, c.ubo, st.visibilityBvh, c.volumes);
             c.visibilityFor = placed;
             c.visibilityGeometry = geometry;
         }
@@ -681,6 +691,7 @@ public:
             in.visibility =
                 ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility ? &c.volumes.visibility : nullptr;
             in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;
+            in.visibilityExponent = ctx.settings.lpv.visibilityExponent;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }

@@ -67,6 +67,16 @@ void skyVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // consumer: lpv.apply
 }
 
+void faceVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v) {
+    const gl::Program& prog = ctx.programs.compute("lpv/visibility.comp", {{"RTGI_LPV_VIS_FACES", ""}});
+    glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, ubo.id());
+    bvh.bind(ctx);
+    glBindImageTexture(RTGI_LPV_VIS_IMG_FACES, v.faces.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // producer: the previous lpv.propagate's fetches
+    gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);  // consumer: lpv.propagate
+}
+
 void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near) {
     bvh_.ensure(ctx, "lpv.probe.bvh");
     const ProbeParams p = probeParams(ctx.settings, ctx.scene.bounds());

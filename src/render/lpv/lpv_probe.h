@@ -55,6 +55,9 @@ void visibilityMoments(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh&
 // lpv.sky=visibility (docs/lpv.md, "Sky visibility"): band-1 SH of each cell's sky visibility
 // into v.sky (v.ensureSky first).
 void skyVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v);
+// lpv.blocking=visibility (docs/lpv.md, "Face openness"): per cell the open fraction of the slab
+// to its +x, +y, +z neighbour's centre into v.faces (v.ensureFaces first).
+void faceVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bvh, Volumes& v);
 
 // --reference: the run's indirect light again with lpv.source=probe (the same
 // scene, settings and view, no reference pass).

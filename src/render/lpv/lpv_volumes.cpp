@@ -192,6 +192,12 @@ bool Volumes::ensureVisibility(gl::MemoryLedger& ledger) {
     return true;
 }
 
+bool Volumes::ensureFaces(gl::MemoryLedger& ledger) {
+    // Read with texelFetch only (lpv/propagate.glsl).
+    const gl::NamedTextureDesc t = faceTexture(grid);
+    return faces.ensure(ledger, t.label, t.desc);
+}
+
 bool Volumes::ensureSky(gl::MemoryLedger& ledger) {
     const gl::NamedTextureDesc t = skyTexture(grid);
     if (!sky.ensure(ledger, t.label, t.desc)) return false;
@@ -251,6 +257,7 @@ gl::NamedTextureDesc visibilityTexture(glm::ivec3 g) {
 }
 
 gl::NamedTextureDesc skyTexture(glm::ivec3 g) { return {"lpv.sky_visibility", volumeDesc(g, GL_RGBA16F)}; }
+gl::NamedTextureDesc faceTexture(glm::ivec3 g) { return {"lpv.face_visibility", volumeDesc(g, GL_RGBA8)}; }
 
 std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 g, GLenum format, int shOrder, bool near) {
     std::vector<gl::NamedTextureDesc> t;
@@ -450,7 +457,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
-        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.visibility.id());
+        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.faces.id());
         if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
         int dst = 1 - src;
         // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
@@ -549,6 +556,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
     else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
+    if (!in.geometry && in.visibility) d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);

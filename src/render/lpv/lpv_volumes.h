@@ -43,6 +43,7 @@ std::vector<gl::NamedTextureDesc> nearTextures(glm::ivec3 grid, GLenum format, i
 std::vector<gl::NamedTextureDesc> geometryTextures(glm::ivec3 grid, GLenum format, bool twoSided);
 gl::NamedTextureDesc visibilityTexture(glm::ivec3 grid);
 gl::NamedTextureDesc skyTexture(glm::ivec3 grid);
+gl::NamedTextureDesc faceTexture(glm::ivec3 grid);  // lpv.blocking=visibility: face openness, RGBA8
 std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 grid, GLenum format, int shOrder, bool near);
 
 struct Volumes {
@@ -58,6 +59,7 @@ struct Volumes {
     gl::Texture geometryAxes;    // RGBA16F: sum(A / s^2 |n|) (xyz), two-sided axis blocking (docs/lpv.md, "Leaks"); two-sided only
     gl::Texture visibility;      // RG16F (N X, N Y, Z): per-cell distance moments (lpv.lookup=visibility)
     gl::Texture sky;             // RGBA16F: band-1 SH of each cell's sky visibility (lpv.sky=visibility)
+    gl::Texture faces;           // RGBA8: open fraction of the slab to the +x, +y, +z neighbour (lpv.blocking=visibility)
     std::array<Rgb, 2> history;  // temporal blend targets (format)
     std::array<Rgb, 2> nearHistory;  // cascades i > 0: the near part's temporal blend targets (format)
     // lpv.sh_order=2 only (empty otherwise): the band-2 parts of inject, step, accum, near.
@@ -81,6 +83,7 @@ struct Volumes {
     void ensureGeometry(gl::MemoryLedger& ledger, bool twoSided = true);
     bool ensureVisibility(gl::MemoryLedger& ledger);  // true when (re)allocated
     bool ensureSky(gl::MemoryLedger& ledger);         // true when (re)allocated
+    bool ensureFaces(gl::MemoryLedger& ledger);       // true when (re)allocated
     void ensureHistory(gl::MemoryLedger& ledger);
     void ensureNearHistory(gl::MemoryLedger& ledger);
     void ensureRasterTargets();
@@ -115,7 +118,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 // Iterations 1..n; returns the index of step[] holding the last iteration.
 // `near` (cascades i > 0): also fills v.near with the steps weighted by
 // cascadeNearWeight (v.ensureNear first).
-// `visibility` (lpv.blocking=visibility): v.visibility holds the moments, which block the flow too.
+// `visibility` (lpv.blocking=visibility): v.faces holds the traced face openness, which blocks the flow too.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
                      bool near = false, bool visibility = false);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
@@ -141,6 +144,7 @@ struct ApplyInputs {
     const gl::Texture* geometry = nullptr;
     const gl::Texture* geometryAxes = nullptr;  // set with `geometry`: lpv.blocking=two-sided segments
     const gl::Texture* visibility = nullptr;  // set: lpv.lookup=visibility with this cascade's moments
+    int visibilityExponent = 3;               // lpv.visibility_exponent
     const gl::Texture* sky = nullptr;         // set: lpv.sky=visibility with this cascade's sky visibility
     bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
