@@ -90,6 +90,8 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
     const std::string fixedKey = "the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)";
     if (hasFamily(r, "ao.") || hasFamily(r, "ssr.")) by[fixedKey] += double(gl::textureBytes(blueNoiseDesc()));
     if (hasFamily(r, "ao.")) by[fixedKey] += double(sizeof(gpu::AoParams));
+    // ao.rtao: its own BVH of the scene (as lpv.visibility's: 48 bytes per triangle, <= 2 nodes of 32).
+    if (hasFamily(r, "ao.rtao")) by[fixedKey] += double(r.scene().triangleCount()) * (48.0 + 64.0) + 64.0;
 
     // The compute rasterizer's visibility buffer and bins, per rasterized view
     // (src/render/visibility/visibility.cpp, visibilityCapacity).
