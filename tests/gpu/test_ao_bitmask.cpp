@@ -231,8 +231,8 @@ struct Config {
 };
 
 std::vector<Config> configs() {
-    SceneDesc well{0, 3.0, 0.3, 0.4, 0, 0, 0, 0};
-    SceneDesc slab{1, 3.0, 0, 0, 0.4, 0.15, 0.25, 0.5};
+    SceneDesc well{0, 1.0, 0.3, 0.4, 0, 0, 0, 0};
+    SceneDesc slab{1, 1.5, 0, 0, 0.4, 0.15, 0.25, 0.5};
     double df = slab.Z0 - slab.h - slab.T;
     return {
         {"well R 1 (rim) constant 0.2", well, 1.0, 0.2, false},
@@ -247,18 +247,19 @@ std::vector<Config> configs() {
 }
 
 // 16 stratified jitters of (slice rotation, step offset, sector offset).
-glm::dvec3 jitter(int i) { return {std::fmod(0.618034 * i + 0.1, 1.0), (i + 0.5) / 16.0, std::fmod(0.754878 * i + 0.3, 1.0)}; }
+glm::dvec3 jitter(int i) { return {std::fmod(0.618034 * i + 0.1, 1.0), (i + 0.5) / 16.0, ((7 * i) % 16 + 0.5) / 16.0}; }
 
 }  // namespace
 
 TEST_CASE("vbao on analytic scenes: CPU double estimator vs closed-form visible solid angle; infinite thickness = GTAO") {
-    // 8 slices x 96 steps per side: the march resolves the band edges to
-    // ~0.005 (half a step, averaged over the jitter); sector quantization is
-    // unbiased over the 16 sector jitters.
+    // 4 slices (the scenes are symmetric) x 384 steps per side: the march
+    // resolves the band edges to ~0.004; the sector quantization averages
+    // out over the 16 stratified sector jitters (to ~0.006, 1/16 of a sector
+    // per arc end).
     for (const Config& c : configs()) {
         double b = 0, g = 0;
         for (int i = 0; i < 16; ++i) {
-            Estimate e = estimateCpu(c.scene, {0.5, 0.5}, {0, 0, 1}, c.R, jitter(i), 8, 96, c.thickness, c.depthScaled);
+            Estimate e = estimateCpu(c.scene, {0.5, 0.5}, {0, 0, 1}, c.R, jitter(i), 4, 384, c.thickness, c.depthScaled);
             b += e.vbao / 16;
             g += e.gtao / 16;
         }
@@ -279,7 +280,7 @@ TEST_CASE("vbao on analytic scenes: CPU double estimator vs closed-form visible 
 TEST_CASE("vbao GLSL (lib/ao_estimators.glsl) on analytic depth buffers equals the CPU double estimator and the closed form") {
     GpuFixture gpu;
     std::vector<Config> cfg = configs();
-    const int steps = 64, slices = 4;
+    const int steps = 128, slices = 4;
     std::vector<GpuCase> cases;
     for (const Config& c : cfg)
         for (int i = 0; i < 16; ++i) {
@@ -321,7 +322,7 @@ TEST_CASE("vbao GLSL (lib/ao_estimators.glsl) on analytic depth buffers equals t
         CHECK(far <= 2);
         CHECK(std::abs(gpuB - cpuB) < 4e-3);
         CHECK(std::abs(gpuG - cpuG) < 2e-3);
-        CHECK(std::abs(gpuB - exact) < 0.015);  // 64 steps: the band edges to ~half a step
-        if (c.thickness < 0) CHECK(std::abs(gpuB - gpuG) < 0.015);
+        CHECK(std::abs(gpuB - exact) < 0.02);  // 128 steps: the band edges to ~half a step (CPU at 96: 0.015)
+        if (c.thickness < 0) CHECK(std::abs(gpuB - gpuG) < 0.01);
     }
 }
