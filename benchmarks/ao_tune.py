@@ -47,7 +47,7 @@ GRIDS = {
     },
     "gtao": {"ao.samples": [8, 16, 24]},
 }
-THICKNESS = {"constant": [0.05, 0.1, 0.2, 0.4, 0.8], "depth": [0.01, 0.02, 0.04, 0.08, 0.16]}
+THICKNESS = {"constant": [0.1, 0.2, 0.4, 0.8, 1.6], "depth": [0.02, 0.04, 0.08, 0.16, 0.32]}
 
 
 def configs(variant, quick):
@@ -58,6 +58,8 @@ def configs(variant, quick):
         values = THICKNESS[mode][1:4] if quick else THICKNESS[mode]
         for t, s in itertools.product(values, GRIDS["vbao"]["ao.samples"]):
             out.append({"ao": "vbao", "ao.thickness_mode": mode, "ao.thickness": t, "ao.samples": s})
+    for s in GRIDS["vbao"]["ao.samples"]:  # GTAO's assumption through the bitmask, for comparison
+        out.append({"ao": "vbao", "ao.thickness_mode": "infinite", "ao.samples": s})
     return out
 
 

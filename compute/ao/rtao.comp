@@ -24,6 +24,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(std140, binding = RTGI_UBO_AO) uniform AoBlock { AoParams ao; };
 layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;    // AO-resolution linear depth (0 = sky)
 layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;   // AO-resolution view-space normals
+layout(binding = RTGI_AO_RTAO_TEX_FULL_DEPTH) uniform sampler2D uFullDepth;    // G-buffer linear depth
+layout(binding = RTGI_AO_RTAO_TEX_FULL_NORMAL) uniform sampler2D uFullNormal;  // G-buffer view-space normals
 layout(r16f, binding = RTGI_AO_IMG_AO) uniform writeonly image2D uAo;
 layout(rgba16f, binding = RTGI_AO_IMG_DIRECTIONAL) uniform writeonly image2D uDirectional;
 
@@ -33,7 +35,25 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = ao.size.xy;
     if (any(greaterThanEqual(p, size))) return;
-    float d = texelFetch(uDepth, p, 0).r;
+    // The traced point is a G-buffer texel's own surface point, as ref.ao's.
+    // At half resolution that is the full-resolution texel of the 2x2 block
+    // that ao.downsample keeps (the nearest non-sky one): the half-resolution
+    // point is that texel's depth moved along its tangent plane, which lies
+    // under a concave surface by up to a texel's worth of curvature, and rays
+    // from there hit the surface itself (measured: bias -0.025 on the dragon).
+    ivec2 full = ao.size.zw;
+    bool halfRes = any(notEqual(size, full));
+    ivec2 q = p;
+    float d = 0.0;
+    if (halfRes) {
+        for (int k = 0; k < 4; ++k) {
+            ivec2 c = min(2 * p + ivec2(k & 1, k >> 1), full - 1);
+            float z = texelFetch(uFullDepth, c, 0).r;
+            if (!isSky(z) && (isSky(d) || z < d)) d = z, q = c;
+        }
+    } else {
+        d = texelFetch(uDepth, p, 0).r;
+    }
     if (isSky(d)) {
         imageStore(uAo, p, vec4(1.0));
 #if AO_DIRECTIONAL
@@ -41,15 +61,15 @@ void main() {
 #endif
         return;
     }
+    ivec2 grid = halfRes ? full : size;
     float tanHalf = ao.focal.z, aspect = ao.focal.w;
-    vec2 uv = (vec2(p) + 0.5) / vec2(size);
+    vec2 uv = (vec2(q) + 0.5) / vec2(grid);
     vec3 P = viewPositionFromDepth(uv, d, tanHalf, aspect);
-    vec3 nView = aoSafeNormal(texelFetch(uNormal, p, 0).xyz, P);
+    vec3 nView = aoSafeNormal(halfRes ? texelFetch(uFullNormal, q, 0).xyz : texelFetch(uNormal, p, 0).xyz, P);
     if (dot(nView, -P) < 0.0) nView = -nView;  // facing the camera, as ref.ao
     vec3 wp = viewToWorldPoint(P), nrm = normalize(viewToWorldDir(nView));
-    // The reference's origin offset (bvh.glsl gbufferRayOrigin) with this
-    // resolution's pixel angle.
-    vec3 origin = gbufferRayOrigin(wp, nrm, d, frame.cameraPos.xyz, 2.0 * tanHalf / float(size.y));
+    // The reference's origin offset (bvh.glsl gbufferRayOrigin).
+    vec3 origin = gbufferRayOrigin(wp, nrm, d, frame.cameraPos.xyz, 2.0 * tanHalf / float(grid.y));
     int rays = int(ao.bitmask.z);
     float R = ao.radius.x;
     // Stratified over the pixel's rays (2 x 2 strata for 4, 1 x n below), a

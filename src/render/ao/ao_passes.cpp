@@ -268,6 +268,8 @@ public:
         gl::ScopedBindings b;
         b.texture(RTGI_AO_TEX_DEPTH, c.depth(ctx))
             .texture(RTGI_AO_TEX_NORMAL, c.normal(ctx))
+            .texture(RTGI_AO_RTAO_TEX_FULL_DEPTH, ctx.res.gbuffer.linearDepth)
+            .texture(RTGI_AO_RTAO_TEX_FULL_NORMAL, ctx.res.gbuffer.normal)
             .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
         if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(prog, a.x, a.y);
