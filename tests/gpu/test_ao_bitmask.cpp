@@ -266,7 +266,7 @@ TEST_CASE("vbao on analytic scenes: CPU double estimator vs closed-form visible 
         bool infinite = c.thickness < 0;
         double exact = closedForm(c.scene, c.R, infinite);
         double gtaoExact = closedForm(c.scene, c.R, true);
-        MESSAGE(c.name << ": vbao " << b << " gtao " << g << " closed form " << exact << " (infinite " << gtaoExact << ")");
+        MESSAGE(std::string(c.name) << ": vbao " << b << " gtao " << g << " closed form " << exact << " (infinite " << gtaoExact << ")");
         CHECK(std::abs(b - exact) < 0.01);
         CHECK(std::abs(g - gtaoExact) < 0.01);  // the horizon formula itself
         if (infinite) CHECK(std::abs(b - g) < 0.01);
@@ -317,7 +317,7 @@ TEST_CASE("vbao GLSL (lib/ao_estimators.glsl) on analytic depth buffers equals t
             if (dev > 2e-3) ++far;  // a sector decided the other way by float rounding
         }
         double exact = closedForm(c.scene, c.R, c.thickness < 0);
-        MESSAGE(c.name << ": GPU vbao " << gpuB << " CPU " << cpuB << " (worst jitter " << worst << ", " << far
+        MESSAGE(std::string(c.name) << ": GPU vbao " << gpuB << " CPU " << cpuB << " (worst jitter " << worst << ", " << far
                     << " of 16 beyond 2e-3), GPU gtao " << gpuG << " CPU " << cpuG << ", closed form " << exact);
         CHECK(far <= 2);
         CHECK(std::abs(gpuB - cpuB) < 4e-3);

@@ -69,7 +69,7 @@ TEST_CASE("rtao: the mean of 32 frames x 4 rays equals ref.ao within the noise o
     REQUIRE(n > 500);
     REQUIRE(occluded > 100);  // the box occludes: the comparison is not between two constants
     double bias = diff / n, biasSigma = std::sqrt(var) / n;
-    INFO("pixels " << n << " (occluded " << occluded << "), mean chi2 " << chi2 / n << ", bias " << bias << " (sigma "
+    MESSAGE("pixels " << n << " (occluded " << occluded << "), mean chi2 " << chi2 / n << ", bias " << bias << " (sigma "
                    << biasSigma << ")");
     // Equal in distribution: the normalized squared difference averages ~1
     // (pixels where both are exactly 1 count 0); a wrong cosine weight, ray
@@ -102,21 +102,30 @@ TEST_CASE("rtao through the default chain (half resolution, blur, temporal, upsa
         for (int bx = 0; bx + 8 <= size.x; bx += 8) {
             double a = 0, b = 0;
             int n = 0;
+            bool edge = false;
             for (int y = by; y < by + 8; ++y)
                 for (int x = bx; x < bx + 8; ++x) {
-                    if (!(ref.depth.at(x, y, 0) > 0)) continue;
+                    float z = ref.depth.at(x, y, 0);
+                    if (!(z > 0)) continue;
+                    // A depth edge inside the block (relative jump > 5 % to a
+                    // neighbour): the blur and the upsample mix the two sides there.
+                    for (glm::ivec2 o : {glm::ivec2(1, 0), glm::ivec2(0, 1), glm::ivec2(-1, 0), glm::ivec2(0, -1)}) {
+                        glm::ivec2 q = glm::clamp(glm::ivec2(x, y) + o, glm::ivec2(0), size - 1);
+                        float zq = ref.depth.at(q.x, q.y, 0);
+                        if (!(zq > 0) || std::abs(zq - z) > 0.05f * z) edge = true;
+                    }
                     a += ao.at(x, y, 0);
                     b += ref.mean.at(x, y, 0);
                     ++n;
                 }
-            if (n < 64) continue;  // blocks with sky
+            if (n < 64 || edge) continue;  // blocks with sky or a depth edge
             double d = (a - b) / n;
             worst = std::max(worst, std::abs(d));
             sum2 += d * d;
             ++blocks;
         }
-    REQUIRE(blocks >= 20);
-    INFO("blocks " << blocks << ", worst block difference " << worst << ", rms " << std::sqrt(sum2 / blocks));
+    REQUIRE(blocks >= 16);
+    MESSAGE("blocks " << blocks << ", worst block difference " << worst << ", rms " << std::sqrt(sum2 / blocks));
     CHECK(worst < 0.05);
     CHECK(std::sqrt(sum2 / blocks) < 0.02);
 }
