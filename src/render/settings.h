@@ -115,9 +115,10 @@ struct AoSettings {
     bool useNormals = true;           // hbao with/without normals
     float angleBiasDeg = 30.0f;       // hbao
     bool multiBounce = false;         // gtao
-    // vbao: thickness of every visible surface behind it (docs/ao.md "Visibility bitmask").
-    enum class ThicknessMode { Constant, Depth, Infinite } thicknessMode = ThicknessMode::Constant;
-    float thickness = 0.5f;           // view units (constant) or a fraction of the sample's depth (depth)
+    // vbao: thickness of every visible surface behind it (docs/ao.md "Visibility bitmask"); the
+    // default is the lowest worst-case RMSE on the training views (docs/ao.md "Tuning protocol").
+    enum class ThicknessMode { Constant, Depth, Infinite } thicknessMode = ThicknessMode::Depth;
+    float thickness = 0.08f;          // view units (constant) or a fraction of the sample's depth (depth)
     int rays = 2;                     // rtao: rays per AO pixel and frame
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
     bool dualCombineMin = false;      // dual radii: min instead of product (Loos & Sloan)
