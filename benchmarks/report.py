@@ -54,7 +54,7 @@ SEED000 = [
     ("LPV", "temporal", 0.03, [r"^lpv\.temporal"]),
     ("LPV", "apply (with specular)", 1.78, [r"^lpv\.apply"]),
     ("LPV", "total (8 it., specular, occlusion+bounce)", 4.83, [r"^lpv\."]),
-    ("AO", "SSAO 8 samples", 0.86, [r"^ao\.(ssao|vo|hbao|gtao)[^.]*$", r"^ao\.(trace|compute|main)"]),
+    ("AO", "SSAO 8 samples", 0.86, [r"^ao\.(ssao|vo|hbao|gtao|vbao|rtao)[^.]*$", r"^ao\.(trace|compute|main)"]),
     ("AO", "blur (total)", 1.24, [r"^ao\.blur"]),
     ("AO", "temporal", 0.23, [r"^ao\.temporal"]),
     ("AO", "near-field blend", 0.16, [r"^ao\.near"]),

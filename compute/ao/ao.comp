@@ -1,6 +1,6 @@
 // ao.<variant>: one screen-space AO estimator per invocation, chosen by
 // AO_VARIANT (RTGI_AO_* codes). Defines:
-//   AO_VARIANT       1..6 (ssao-disk, ssao-sphere, ssao-hemisphere, vo, hbao, gtao)
+//   AO_VARIANT       1..7 (ssao-disk, ssao-sphere, ssao-hemisphere, vo, hbao, gtao, vbao)
 //   AO_DIRECTIONAL   0 off, 1 bent normals (seed 000 eq. 17), 2 S3HO band 0-1 SH
 //   AO_RADIUS        0 fixed, 1 dual radii, 2 dynamic (scale image from ao.radius)
 //   AO_DEPTH_LIGHT   1: point tests against the sun's shadow map (seed 003 4.1)
@@ -110,6 +110,11 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     return aoHbao(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z, ao.radius.w, ao.flags.y != 0);
 #elif AO_VARIANT == RTGI_AO_GTAO
     float vis = aoGtao(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z);
+    if (ao.flags.z != 0) vis = gtaoMultiBounce(vis, luminance(texture(uAlbedo, uv).rgb));
+    return vis;
+#elif AO_VARIANT == RTGI_AO_VBAO
+    // Sector jitter from the noise's third channel (unbiased quantization over frames).
+    float vis = aoVbao(cam, uv, P, n, d, R, bn.xyz, ao.counts.y, ao.counts.z, ao.bitmask.x, ao.bitmask.y != 0.0);
     if (ao.flags.z != 0) vis = gtaoMultiBounce(vis, luminance(texture(uAlbedo, uv).rgb));
     return vis;
 #else

@@ -103,3 +103,58 @@ vec3 aoSafeNormal(vec3 n, vec3 viewPos) {
     if (!(l2 > 1e-6) || !(l2 < 1e6)) return normalize(-viewPos);
     return n * inversesqrt(l2);
 }
+
+// ---- visibility bitmask (vbao; Therrien et al. 2023, docs/ao.md "Visibility bitmask") ----
+// The slice of GTAO in view-angle coordinates (theta = 0 along V, positive
+// towards the marching direction), n the projected normal's angle. The
+// hemisphere of the slice [n - pi/2, n + pi/2] is cut into VBAO_SECTORS equal
+// angular sectors, one bit each.
+const int VBAO_SECTORS = 32;
+
+// Signed cosine-weighted measure of the slice from 0 to h: the integral of
+// |sin t| cos(t - n) dt (GTAO's integrand, Jimenez et al. 2016 eq. 10), so
+// vbaoArc(b, n) - vbaoArc(a, n) is the weight of the arc [a, b] and
+// gtaoSliceVisibility(h0, h1, n, 1) = vbaoArc(h1, n) - vbaoArc(h0, n).
+float vbaoArc(float h, float n) { return sign(h) * 0.25 * (cos(n) - cos(2.0 * h - n) + 2.0 * h * sin(n)); }
+
+// Bits of the sectors whose jittered point (k + jitter)/N of the hemisphere
+// lies in the arc [a, b] (view angles): point-sampling each sector with one
+// stratified offset makes the quantization unbiased over the jitter.
+uint vbaoSectorMask(float a, float b, float n, float jitter) {
+    const float N = float(VBAO_SECTORS);
+    float xa = (a - (n - HALF_PI)) / PI, xb = (b - (n - HALF_PI)) / PI;
+    int k0 = max(int(ceil(xa * N - jitter)), 0);
+    int k1 = min(int(floor(xb * N - jitter)), VBAO_SECTORS - 1);
+    if (k1 < k0) return 0u;
+    int count = k1 - k0 + 1;
+    uint run = count >= 32 ? 0xFFFFFFFFu : ((1u << uint(count)) - 1u);
+    return run << uint(k0);
+}
+
+// Cosine-weighted measure of the sectors set in `occluded` (runs of set bits
+// integrated in closed form, one vbaoArc pair per run).
+float vbaoOccludedArc(uint occluded, float n) {
+    const float w = PI / float(VBAO_SECTORS);
+    float lo = n - HALF_PI, sum = 0.0;
+    uint m = occluded;
+    while (m != 0u) {
+        int a = findLSB(m);
+        uint gaps = ~m & (0xFFFFFFFFu << uint(a));
+        int b = gaps == 0u ? 32 : findLSB(gaps);
+        sum += vbaoArc(lo + float(b) * w, n) - vbaoArc(lo + float(a) * w, n);
+        m = b >= 32 ? 0u : (m & (0xFFFFFFFFu << uint(b)));
+    }
+    return sum;
+}
+
+// Parameter interval [t0, t1] of the column X(t) = S + t s (s unit, t in
+// [0, tMax]) inside the sphere |X - P| < R; false when it misses.
+bool vbaoColumnInSphere(vec3 D, vec3 s, float tMax, float R, out vec2 t) {
+    float b = dot(D, s), c = dot(D, D) - R * R;
+    float disc = b * b - c;
+    t = vec2(0.0);
+    if (disc <= 0.0) return false;
+    float q = sqrt(disc);
+    t = vec2(max(-b - q, 0.0), min(-b + q, tMax));
+    return t.x < t.y;
+}

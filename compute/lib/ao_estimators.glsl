@@ -220,6 +220,70 @@ float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise
     return open > 1e-6 ? clamp(vis / open, 0.0, 1.0) : 1.0;
 }
 
+// vbao (visibility bitmask, Therrien et al. 2023): GTAO's slices and march,
+// the two horizons replaced by a 32-sector bitmask of the slice's hemisphere.
+// A sample S (first surface through the marched uv) occludes the view angles
+// of its column: S pushed away from the camera along its view ray to linear
+// depth z_S + T (T = thickness, or thickness * z_S when depthScaled), clipped
+// to the sphere of radius R around P (the reference's ray length).
+// thickness < 0: infinite (GTAO's assumption: everything below the horizon of
+// a sample within R is occluded, up to the hemisphere's edge). noise: x slice
+// rotation, y step jitter, z sector jitter. Visibility cosine-weighted and
+// self-normalized as gtao (vis / open).
+float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise, int slices, int steps,
+             float thickness, bool depthScaled) {
+    vec2 rUv = aoTextureRadius(R, d, cam.focal);
+    vec3 V = normalize(-P);
+    float vis = 0.0, open = 0.0;
+    for (int k = 0; k < slices; ++k) {
+        float phi = PI * (float(k) + noise.x) / float(slices);
+        vec3 dir = vec3(cos(phi), sin(phi), 0.0);
+        vec3 ortho = dir - dot(dir, V) * V;
+        vec3 axis = normalize(cross(ortho, V));
+        vec3 projN = n - axis * dot(n, axis);
+        float projLen = length(projN);
+        if (projLen < 1e-4) continue;  // normal along the slice axis: the slice sees no hemisphere
+        float cosN = clamp(dot(projN, V) / projLen, 0.0, 1.0);
+        float nAngle = (dot(ortho, projN) >= 0.0 ? 1.0 : -1.0) * acos(cosN);
+        uint occluded = 0u;
+        for (int j = 0; j < steps; ++j) {
+            float s = (float(j) + noise.y) / float(steps);
+            vec2 off = dir.xy * rUv * s;
+            for (int side = 0; side < 2; ++side) {
+                float sgn = side == 0 ? 1.0 : -1.0;
+                vec2 uvS = uv + sgn * off;
+                float zS = aoSceneDepth(uvS);
+                if (isSky(zS)) continue;
+                vec3 S = aoViewPosAt(cam, uvS, zS);
+                vec3 D = S - P;
+                float a, b;
+                if (thickness < 0.0) {
+                    float dist = length(D);
+                    if (dist >= R || dist < 1e-6) continue;
+                    a = sgn * acos(clamp(dot(D / dist, V), -1.0, 1.0));
+                    b = sgn * PI;  // to the hemisphere's edge on this side
+                } else {
+                    float T = depthScaled ? thickness * zS : thickness;
+                    float lenS = length(S);
+                    vec3 sHat = S / lenS;
+                    vec2 t;
+                    if (!vbaoColumnInSphere(D, sHat, T * lenS / zS, R, t)) continue;
+                    vec3 D0 = D + t.x * sHat, D1 = D + t.y * sHat;
+                    float l0 = length(D0), l1 = length(D1);
+                    if (l0 < 1e-6 || l1 < 1e-6) continue;
+                    a = sgn * acos(clamp(dot(D0 / l0, V), -1.0, 1.0));
+                    b = sgn * acos(clamp(dot(D1 / l1, V), -1.0, 1.0));
+                }
+                occluded |= vbaoSectorMask(min(a, b), max(a, b), nAngle, noise.z);
+            }
+        }
+        float full = vbaoArc(nAngle + HALF_PI, nAngle) - vbaoArc(nAngle - HALF_PI, nAngle);
+        vis += projLen * (full - vbaoOccludedArc(occluded, nAngle));
+        open += projLen * full;
+    }
+    return open > 1e-6 ? clamp(vis / open, 0.0, 1.0) : 1.0;
+}
+
 // Directional occlusion from cosine-distributed, normal-oriented samples
 // (seed 000 4.3): xyz bent normal (eq. 17, w 0) when sh is false, else the 4
 // SH coefficients of V(l)(n.l)+ (the LPV family's basis: lpv.apply consumes

@@ -21,6 +21,8 @@ namespace rtgi::gpu {  // C++: included after compute/lib/shared.h (render/gpu_t
 #define RTGI_AO_VO 4
 #define RTGI_AO_HBAO 5
 #define RTGI_AO_GTAO 6
+#define RTGI_AO_VBAO 7  // visibility bitmask (GTAO slices, 32 sectors, thickness)
+#define RTGI_AO_RTAO 8  // rays through the scene's BVH (compute/ao/rtao.comp)
 
 RTGI_STRUCT(AoParams) {
     vec4 radius;   // x R (view units), y second radius (dual), z max occlusion distance (VO: 2R), w tan(angle bias)
@@ -29,6 +31,7 @@ RTGI_STRUCT(AoParams) {
     ivec4 flags;   // x edge-highlight removal, y hbao uses normals, z gtao multi-bounce, w radius mode (0 fixed, 1 dual, 2..7 dynamic1..6)
     ivec4 size;    // AO resolution (w, h), full resolution (w, h)
     vec4 misc;     // x dual combine (0 product, 1 min), y near-field strength, z VO pair count, w dynamic probe K
+    vec4 bitmask;  // vbao: x thickness (< 0 infinite), y 1 = depth-scaled (x * sample depth); rtao: z rays per pixel
     vec4 kernel[RTGI_AO_MAX_KERNEL];    // unit-ball offsets, radial density d(x) = 3/2 (1 - x^2) (seed 003 5.5)
     vec4 voSamples[RTGI_AO_MAX_VO_PAIRS]; // xy disk position, z half-length z_s, w volume weight / sum
     vec4 probe[RTGI_AO_MAX_PROBE];      // xy Poisson-disk offsets in the unit disk (dynamic radius probe)
@@ -49,6 +52,8 @@ RTGI_STRUCT(AoParams) {
 #define RTGI_AO_TEX_SHADOW_MAP       4  // ao/ao.comp
 #define RTGI_AO_ESTIMATE_TEX_ALBEDO  5  // ao/ao.comp
 #define RTGI_AO_NEARFIELD_TEX_ALBEDO 2  // ao/nearfield.comp
+#define RTGI_AO_RTAO_TEX_FULL_DEPTH  2  // ao/rtao.comp (the G-buffer's, at half resolution)
+#define RTGI_AO_RTAO_TEX_FULL_NORMAL 3  // ao/rtao.comp
 #define RTGI_AO_TEX_MATERIAL         3  // ao/nearfield.comp
 #define RTGI_AO_TEX_HISTORY          4  // ao/nearfield.comp
 #define RTGI_AO_TEX_VELOCITY         5  // ao/nearfield.comp

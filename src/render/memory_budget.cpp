@@ -108,6 +108,8 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         by[fixedKey] += bvhBytesBound(triangleCount) + 8.0 * double(std::max<std::size_t>(emitters, 1)) +
                         4.0 * double(s.reference.spp);
     }
+    // ao.rtao: its own BVH of the scene (as lpv.visibility's).
+    if (hasFamily(r, "ao.rtao")) by[fixedKey] += bvhBytesBound(triangleCount);
 
     // The compute rasterizer's visibility buffer and bins, per rasterized view
     // (src/render/visibility/visibility.cpp, visibilityCapacity).

@@ -103,7 +103,8 @@ const char* const kLpvFirstStep[] = {"free", "blocked"};
 const char* const kLpvBlocking[] = {"oriented", "two-sided", "visibility"};
 const char* const kLpvReflect[] = {"destination", "source"};
 const char* const kLpvSky[] = {"ambient", "visibility"};
-const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao"};
+const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao", "vbao", "rtao"};
+const char* const kAoThicknessMode[] = {"constant", "depth", "infinite"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
                                      "dynamic3", "dynamic4", "dynamic5", "dynamic6"};
@@ -261,7 +262,8 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------
-        KEY("ao", "screen-space AO variant", "off|ssao-disk|ssao-sphere|ssao-hemisphere|vo|hbao|gtao",
+        KEY("ao", "AO variant (screen space, or rtao: rays through the scene BVH)",
+            "off|ssao-disk|ssao-sphere|ssao-hemisphere|vo|hbao|gtao|vbao|rtao",
             s.ao.variant = parseEnum<AoSettings::Variant>("ao", v, kAoVariant), kAoVariant[int(s.ao.variant)]),
         KEY("ao.samples", "samples per pixel (hbao/gtao: directions x steps, 8->4x2, 16->4x4, 24->6x4)", "1..64",
             s.ao.samples = parseInt("ao.samples", v, 1, 64), fmt(s.ao.samples)),
@@ -295,6 +297,14 @@ std::vector<SettingKey> buildKeys() {
             s.ao.angleBiasDeg = parseFloat("ao.angle_bias", v, 0, 89), fmt(s.ao.angleBiasDeg)),
         KEY("ao.multibounce", "gtao multi-bounce fit", "on|off", s.ao.multiBounce = parseBool("ao.multibounce", v),
             onOff(s.ao.multiBounce)),
+        KEY("ao.thickness", "vbao: thickness behind every visible surface (view units; a fraction of the depth with ao.thickness_mode=depth)",
+            "1e-6..1e6", s.ao.thickness = parseFloat("ao.thickness", v, 1e-6f, 1e6f), fmt(s.ao.thickness)),
+        KEY("ao.thickness_mode", "vbao: constant thickness, depth-scaled (ao.thickness x sample depth) or infinite (GTAO's horizons)",
+            "constant|depth|infinite",
+            s.ao.thicknessMode = parseEnum<AoSettings::ThicknessMode>("ao.thickness_mode", v, kAoThicknessMode),
+            kAoThicknessMode[int(s.ao.thicknessMode)]),
+        KEY("ao.rays", "rtao: rays per AO pixel and frame", "1..4", s.ao.rays = parseInt("ao.rays", v, 1, 4),
+            fmt(s.ao.rays)),
         KEY("ao.probe", "dynamic radius probe size K", "4|9|20|328",
             s.ao.dynamicProbe = parseInt("ao.probe", v, 4, 328);
             if (s.ao.dynamicProbe != 4 && s.ao.dynamicProbe != 9 && s.ao.dynamicProbe != 20 &&

@@ -102,7 +102,7 @@ struct AoSettings {
     // Default: GTAO, the lowest error against ray-traced AO in every scene
     // (docs/RESULTS.md, ao-samples / ao-resolution), at half resolution
     // (atrium 1280x720: RMSE 11.1 % vs 11.0 % at full resolution, 0.115 ms vs 0.282 ms on the H200).
-    enum class Variant { Off, SsaoDisk, SsaoSphere, SsaoHemisphere, Vo, Hbao, Gtao } variant = Variant::Gtao;
+    enum class Variant { Off, SsaoDisk, SsaoSphere, SsaoHemisphere, Vo, Hbao, Gtao, Vbao, Rtao } variant = Variant::Gtao;
     int samples = 16;
     float radius = 0.5f;       // view-space units
     bool halfResolution = true;
@@ -119,6 +119,11 @@ struct AoSettings {
     bool useNormals = true;           // hbao with/without normals
     float angleBiasDeg = 30.0f;       // hbao
     bool multiBounce = false;         // gtao
+    // vbao: thickness of every visible surface behind it (docs/ao.md "Visibility bitmask"); the
+    // default is the lowest worst-case RMSE on the training views (docs/ao.md "Tuning protocol").
+    enum class ThicknessMode { Constant, Depth, Infinite } thicknessMode = ThicknessMode::Depth;
+    float thickness = 0.08f;          // view units (constant) or a fraction of the sample's depth (depth)
+    int rays = 2;                     // rtao: rays per AO pixel and frame
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
     bool dualCombineMin = false;      // dual radii: min instead of product (Loos & Sloan)
     bool blurAfterTemporal = false;   // ao.filter_chain=blur-temporal-blur ([Wes14])

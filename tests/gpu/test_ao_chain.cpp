@@ -16,7 +16,8 @@ namespace {
 
 const AoSettings::Variant kVariants[] = {AoSettings::Variant::SsaoDisk, AoSettings::Variant::SsaoSphere,
                                          AoSettings::Variant::SsaoHemisphere, AoSettings::Variant::Vo,
-                                         AoSettings::Variant::Hbao, AoSettings::Variant::Gtao};
+                                         AoSettings::Variant::Hbao, AoSettings::Variant::Gtao,
+                                         AoSettings::Variant::Vbao, AoSettings::Variant::Rtao};
 
 Settings aoSettings(AoSettings::Variant v) {
     Settings st;

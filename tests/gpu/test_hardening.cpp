@@ -62,6 +62,8 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate matches the 
          {"lpv=on", "lpv.grid=8", "lpv.sh_order=2", "lpv.cascades=2", "lpv.temporal=0.5", "lpv.format=rgba32f", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
         {"lpv visibility lookup + sky, non-cubic", "cornell",
          {"lpv=on", "lpv.grid=8x4x6", "lpv.lookup=visibility", "lpv.sky=visibility", "lpv.cascades=2", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
+        {"vbao half", "cornell", {"ao=vbao", "lpv=off", "shadow.size=256"}, {40, 30}},
+        {"rtao full, 2 rays", "cornell", {"ao=rtao", "ao.resolution=full", "ao.rays=2", "lpv=off", "shadow.size=256"}, {40, 30}},
         {"lpv face openness (blocking=visibility)", "cornell",
          {"lpv=on", "lpv.grid=8", "lpv.blocking=visibility", "lpv.cascades=2", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
         {"lpv raster path", "cornell", {"lpv=on", "lpv.path=raster", "lpv.grid=8", "lpv.temporal=0.5", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},

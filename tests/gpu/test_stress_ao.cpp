@@ -13,7 +13,8 @@ namespace {
 
 using Variant = AoSettings::Variant;
 const Variant kVariants[] = {Variant::SsaoDisk, Variant::SsaoSphere, Variant::SsaoHemisphere,
-                             Variant::Vo,       Variant::Hbao,       Variant::Gtao};
+                             Variant::Vo,       Variant::Hbao,       Variant::Gtao,
+                             Variant::Vbao,     Variant::Rtao};
 
 struct AoRange {
     float lo = 1e9f, hi = -1e9f;

@@ -13,16 +13,16 @@ TEST_CASE("view keys: O cycles every AO variant of the settings table and back")
     s.ao.variant = AoSettings::Variant::Off;  // from off, Shift+O wraps to the last variant
     std::set<std::string> seen;
     std::string first = toString(s.ao.variant);
-    for (int i = 0; i < 7; ++i) {
+    for (int i = 0; i < 9; ++i) {
         KeyAction a = handleKey('O', 0, s);
         CHECK(a.reconfigure);
         CHECK(a.message == std::string("ao=") + toString(s.ao.variant));
         seen.insert(toString(s.ao.variant));
     }
-    CHECK(seen.size() == 7u);  // off + six variants (SPEC 12)
+    CHECK(seen.size() == 9u);  // off + six screen-space variants (SPEC 12) + vbao + rtao (issue 25)
     CHECK(toString(s.ao.variant) == first);
     handleKey('O', key::ModShift, s);  // Shift goes backwards
-    CHECK((s.ao.variant == AoSettings::Variant::Gtao));
+    CHECK((s.ao.variant == AoSettings::Variant::Rtao));
 }
 
 TEST_CASE("view keys: SSR tracers, LPV toggle, directional AO cycle") {

@@ -47,7 +47,7 @@ TEST_CASE("viewer panel: every key of rtgi-bench --help gets a widget that holds
             }
         }
     }
-    CHECK(widgetFor(*std::find_if(settingKeys().begin(), settingKeys().end(), [](auto& k) { return k.key == "ao"; })).choices.size() == 7u);
+    CHECK(widgetFor(*std::find_if(settingKeys().begin(), settingKeys().end(), [](auto& k) { return k.key == "ao"; })).choices.size() == 9u);
     auto find = [](const char* key) {
         return widgetFor(*std::find_if(settingKeys().begin(), settingKeys().end(), [&](auto& k) { return k.key == key; }));
     };

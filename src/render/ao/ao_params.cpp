@@ -115,6 +115,8 @@ gpu::AoParams makeAoParams(const AoSettings& s, glm::ivec2 aoSize, glm::ivec2 fu
     p.size = {aoSize.x, aoSize.y, fullSize.x, fullSize.y};
     const int pairs = std::min(RTGI_AO_MAX_VO_PAIRS, std::max(1, s.samples / 2));
     p.misc = {s.dualCombineMin ? 1.0f : 0.0f, s.nearfield, float(pairs), float(s.dynamicProbe)};
+    p.bitmask = {s.thicknessMode == AoSettings::ThicknessMode::Infinite ? -1.0f : s.thickness,
+                 s.thicknessMode == AoSettings::ThicknessMode::Depth ? 1.0f : 0.0f, float(s.rays), 0.0f};
     auto k = sphereKernel(std::min(s.samples, RTGI_AO_MAX_KERNEL));
     std::copy(k.begin(), k.end(), p.kernel);
     auto vo = voSamplePairs(pairs);

@@ -13,7 +13,7 @@
 namespace rtgi {
 
 static_assert(sizeof(gpu::AoParams) ==
-                  6 * 16 + 16 * (RTGI_AO_MAX_KERNEL + RTGI_AO_MAX_VO_PAIRS + RTGI_AO_MAX_PROBE),
+                  7 * 16 + 16 * (RTGI_AO_MAX_KERNEL + RTGI_AO_MAX_VO_PAIRS + RTGI_AO_MAX_PROBE),
               "AoParams must match the std140 layout of compute/lib/ao_shared.h");
 
 // Directions x steps for the horizon-based variants (seed 003 table 6.2:

@@ -10,6 +10,7 @@
 #include "render/filter.h"
 #include "render/gpu_scene.h"
 #include "render/lpv/lpv_passes.h"
+#include "render/lpv/lpv_probe.h"  // SceneBvh: the scene BVH on the GPU (ao.rtao)
 #include "render/noise.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -255,6 +256,54 @@ private:
     Variant variant_;
 };
 
+// ---- ao.rtao ------------------------------------------------------------------
+// Ray-traced AO through the scene BVH (compute/ao/rtao.comp): the same slot in
+// the chain as ao.<variant>, so the blur / temporal / upsample stages filter it.
+class RtaoPass final : public AoPassBase {
+public:
+    using AoPassBase::AoPassBase;
+    std::string name() const override { return "ao.rtao"; }
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (s.ao.variant != Variant::Rtao) return d.skip(std::string("ao=") + toString(s.ao.variant));
+        d.read(R::linearDepth).read(R::normal);
+        if (s.ao.directional == AoSettings::Directional::BentNormals) d.write(R::bentNormal);
+        if (s.ao.directional == AoSettings::Directional::S3ho) d.write(R::s3ho);
+        if (lastStage(s.ao) == Stage::Estimate) {
+            d.write(R::ao);
+        } else {
+            d.output("ao.raw", &chain_->raw).debugImage("ao.raw", &chain_->raw);
+        }
+    }
+    void execute(FrameContext& ctx) override {
+        AoChain& c = *chain_;
+        const AoSettings& s = ctx.settings.ao;
+        glm::ivec2 a = c.aoSize(ctx);
+        gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
+        if (&out == &c.raw) out.ensure(ctx.ledger, "ao.raw", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
+        int directional = int(s.directional);
+        gl::Texture* dirTex = directional == 1 ? &ctx.res.bentNormal : directional == 2 ? &ctx.res.s3ho : nullptr;
+        bvh_.ensure(ctx, "ao.rtao.bvh");  // built once, rebuilt when the geometry moved
+        const gl::Program& prog =
+            ctx.programs.compute("ao/rtao.comp", {{"AO_DIRECTIONAL", std::to_string(directional)}});
+        c.bindParams(ctx);
+        bvh_.bind(ctx);
+        // Producers: ao.downsample (image stores), gbuffer.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        gl::ScopedBindings b;
+        b.texture(RTGI_AO_TEX_DEPTH, c.depth(ctx))
+            .texture(RTGI_AO_TEX_NORMAL, c.normal(ctx))
+            .texture(RTGI_AO_RTAO_TEX_FULL_DEPTH, ctx.res.gbuffer.linearDepth)
+            .texture(RTGI_AO_RTAO_TEX_FULL_NORMAL, ctx.res.gbuffer.normal)
+            .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
+        if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
+        gl::dispatch(prog, a.x, a.y);
+        c.current = &out;
+    }
+
+private:
+    lpv::SceneBvh bvh_;
+};
+
 // ---- ao.blur / ao.blur2 -------------------------------------------------------
 // ao.blur runs before the temporal filter; ao.blur2 (second = true) after it,
 // for ao.filter_chain=blur-temporal-blur. The temporal history stays the
@@ -404,8 +453,9 @@ void appendAoPasses(std::vector<std::unique_ptr<Pass>>& f) {
     f.push_back(std::make_unique<DownsamplePass>(chain));  // half-resolution depth + normals
     f.push_back(std::make_unique<RadiusPass>(chain));      // dynamic radius scale (radius_mode=dynamic*)
     for (Variant v : {Variant::SsaoDisk, Variant::SsaoSphere, Variant::SsaoHemisphere, Variant::Vo, Variant::Hbao,
-                      Variant::Gtao})
+                      Variant::Gtao, Variant::Vbao})
         f.push_back(std::make_unique<EstimatePass>(chain, v));  // ao.<variant> (+ bent normals / S3HO)
+    f.push_back(std::make_unique<RtaoPass>(chain));             // ao.rtao: rays through the scene BVH
     f.push_back(std::make_unique<BlurPass>(chain, false));  // separable edge-preserving blur
     f.push_back(std::make_unique<TemporalPass>(chain));     // seed 000 listing 11
     f.push_back(std::make_unique<BlurPass>(chain, true));   // ao.blur2: blur-temporal-blur ([Wes14])
@@ -429,7 +479,10 @@ Need aoFamily(const Scene&, const Settings& s) {
 void validateAoSettings(const Scene& scene, const Settings& s) {
     if (s.ao.depthSource != AoSettings::DepthSource::Light) return;
     Variant v = s.ao.variant;
-    if (v == Variant::Vo || v == Variant::Hbao || v == Variant::Gtao)
+    if (v == Variant::Rtao)
+        throw ConfigError("ao.depth_source=light needs a point-sampling variant (ssao-disk, ssao-sphere, "
+                          "ssao-hemisphere); rtao traces rays through the scene");
+    if (v == Variant::Vo || v == Variant::Hbao || v == Variant::Gtao || v == Variant::Vbao)
         throw ConfigError("ao.depth_source=light needs a point-sampling variant (ssao-disk, ssao-sphere, "
                           "ssao-hemisphere); " + std::string(toString(v)) + " marches the camera depth");
     if (!resolveSun(scene, s)) throw ConfigError("ao.depth_source=light needs a directional light (its shadow map)");
