@@ -247,5 +247,10 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_SKY_STRATA               8  // lpv.sky=visibility: M x M rays per cell
 #define RTGI_LPV_TEX_PROPAGATE_VISIBILITY 10  // lpv/propagate.comp with RTGI_LPV_PROPAGATE_VISIBILITY (after axes 9)
 #define RTGI_LPV_TEX_APPLY_SKY           25  // lpv/apply.comp with RTGI_LPV_SKY: the cascade's sky visibility SH
+// lpv.apply_resolution=half (docs/lpv.md, "Half-resolution apply")
+#define RTGI_LPV_IMG_APPLY_LOW_GEOMETRY   4  // lpv/apply.comp with RTGI_LPV_HALF: depth (r), view normal (gba)
+#define RTGI_LPV_UPSAMPLE_TEX_LOW_INDIRECT 4  // lpv/upsample.comp (G-buffer and BRDF LUT at the apply's units)
+#define RTGI_LPV_UPSAMPLE_TEX_LOW_SPECULAR 5  // lpv/upsample.comp
+#define RTGI_LPV_UPSAMPLE_TEX_LOW_GEOMETRY 6  // lpv/upsample.comp
 
 #endif

@@ -6,6 +6,7 @@
 
 #include "render/lights.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_passes.h"
 #include "render/lpv/lpv_volumes.h"
 #include "render/gpu_scene.h"
 #include "render/noise.h"
@@ -146,7 +147,14 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         // The uniform block of every cascade and the dropped-texel counter;
         // lpv.apply's two running sums over cascades.
         by[fixedKey] += double(cascades) * double(sizeof(gpu::LpvUniforms)) + 4.0;
-        if (cascades > 1 && hasFamily(r, "lpv.apply")) by[resKey] += 2.0 * double(gl::textureBytes(lpv::applySumDesc(res)));
+        // lpv.apply_resolution=half: the sums at half size, plus the low outputs and geometry.
+        const bool halfApply = s.lpv.halfApply && hasFamily(r, "lpv.apply");
+        const glm::ivec2 applyRes = halfApply ? lpv::applyHalfSize(res) : res;
+        if (cascades > 1 && hasFamily(r, "lpv.apply"))
+            by[resKey] += 2.0 * double(gl::textureBytes(lpv::applySumDesc(applyRes)));
+        if (halfApply)
+            by[resKey] += double(gl::textureBytes(lpv::applyLowGeometryDesc(res))) +
+                          (lpvSpecularActive(r.scene(), s) ? 2.0 : 1.0) * double(gl::textureBytes(lpv::applyLowDesc(res)));
         // The sun's RSM and one per face of every local light (spot 1, point
         // / area 6, render/lights.h) at FrameResources::localRsmSize, each
         // with one LPV uniform block per cascade: the descriptors lpv.rsm

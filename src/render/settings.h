@@ -92,6 +92,10 @@ struct LpvSettings {
     enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
     // Compose's sky term: uniform ambient times AO, or also times the cells' ray-traced sky visibility.
     enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
+    // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
+    bool halfApply = true;
+    // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
+    int fuse = 1;
 };
 
 struct AoSettings {

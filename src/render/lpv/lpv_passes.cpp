@@ -61,6 +61,7 @@ struct LpvState {
     VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer stats;
     gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
+    gl::Texture lowIndirect, lowSpecular, lowGeometry;  // lpv.apply_resolution=half
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
@@ -607,9 +608,18 @@ public:
         const glm::ivec2 s = ctx.view.size;
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
         const int count = int(st.cascades.size());
+        // lpv.apply_resolution=half: the cascades' dispatches run at half resolution into the
+        // low targets, lpv/upsample.comp writes the frame's outputs.
+        const bool half = ctx.settings.lpv.halfApply;
+        const glm::ivec2 applySize = half ? lpv::applyHalfSize(s) : s;
+        if (half) {
+            st.lowIndirect.ensure(ctx.ledger, "lpv.apply.low_indirect", lpv::applyLowDesc(s));
+            if (specular) st.lowSpecular.ensure(ctx.ledger, "lpv.apply.low_specular", lpv::applyLowDesc(s));
+            st.lowGeometry.ensure(ctx.ledger, "lpv.apply.low_geometry", lpv::applyLowGeometryDesc(s));
+        }
         if (count > 1) {
-            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(s));
-            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", lpv::applySumDesc(s));
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(applySize));
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", lpv::applySumDesc(applySize));
         }
         for (int i = 0; i < count; ++i) {
             const LpvCascade& c = st.cascades[std::size_t(i)];
@@ -621,8 +631,9 @@ public:
             in.brdfLut = specular ? &r.brdfLut : nullptr;
             in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
             in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
-            in.indirect = &r.indirectDiffuse;
-            in.specular = specular ? &r.specular : nullptr;
+            in.indirect = half ? &st.lowIndirect : &r.indirectDiffuse;
+            in.specular = specular ? (half ? &st.lowSpecular : &r.specular) : nullptr;
+            in.lowGeometry = half ? &st.lowGeometry : nullptr;
             in.cascade = i;
             in.cascades = count;
             in.near = i > 0 ? c.nearResult : nullptr;
@@ -646,6 +657,17 @@ public:
             in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
+        }
+        if (half) {
+            lpv::UpsampleInputs up;
+            up.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
+            up.lowIndirect = &st.lowIndirect;
+            up.lowSpecular = specular ? &st.lowSpecular : nullptr;
+            up.lowGeometry = &st.lowGeometry;
+            up.brdfLut = specular ? &r.brdfLut : nullptr;
+            up.indirect = &r.indirectDiffuse;
+            up.specular = specular ? &r.specular : nullptr;
+            lpv::applyUpsample(ctx.programs, st.first().ubo, up);
         }
     }
 };

@@ -492,6 +492,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
+    if (in.lowGeometry) d.push_back({"RTGI_LPV_HALF", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -510,6 +511,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.lowGeometry) b.image(RTGI_LPV_IMG_APPLY_LOW_GEOMETRY, *in.lowGeometry, GL_WRITE_ONLY, GL_RGBA32F);
     if (in.volumeHi)
         b.texture(RTGI_LPV_TEX_LIGHT_HI_R, (*in.volumeHi)[0])
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])
@@ -535,6 +537,30 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .image(RTGI_LPV_IMG_APPLY_SUM_S, *in.sumS, GL_READ_WRITE, GL_RGBA32F);
         prog.set(RTGI_LPV_LOC_APPLY_LAST, in.cascade == in.cascades - 1 ? 1 : 0);
     }
+    const glm::ivec2 size = in.lowGeometry ? applyHalfSize(g.size) : g.size;
+    gl::dispatch(prog, size.x, size.y);
+}
+
+void applyUpsample(gl::ProgramCache& programs, const gl::Buffer& ubo, const UpsampleInputs& in) {
+    gl::Defines d;
+    if (in.specular) d.push_back({"RTGI_LPV_SPECULAR", ""});
+    if (in.specular && in.brdfLut) d.push_back({"RTGI_LPV_BRDF_LUT", ""});
+    const gl::Program& prog = programs.compute("lpv/upsample.comp", d);
+    bindUbo(ubo);
+    // Producer: the half-resolution lpv.apply (image stores), read as textures here.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    const GBufferView& g = in.gbuffer;
+    gl::ScopedBindings b;
+    b.texture(RTGI_LPV_TEX_LINEAR_DEPTH, g.linearDepth)
+        .texture(RTGI_LPV_TEX_VIEW_NORMAL, g.normal)
+        .texture(RTGI_LPV_TEX_ALBEDO, g.albedo)
+        .texture(RTGI_LPV_TEX_MATERIAL, g.material)
+        .texture(RTGI_LPV_TEX_BRDF_LUT, in.specular ? in.brdfLut : nullptr)
+        .texture(RTGI_LPV_UPSAMPLE_TEX_LOW_INDIRECT, in.lowIndirect)
+        .texture(RTGI_LPV_UPSAMPLE_TEX_LOW_SPECULAR, in.specular ? in.lowSpecular : nullptr)
+        .texture(RTGI_LPV_UPSAMPLE_TEX_LOW_GEOMETRY, in.lowGeometry)
+        .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, g.size.x, g.size.y);
 }
 

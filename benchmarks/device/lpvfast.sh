@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Issue 24, LPV passes (branch lpvfast): the frame and the LPV passes at 1080p with the defaults
+# on the atrium, the restaurant and the dragon, with lpv.apply_resolution=half (default) and
+# =full, each also with profile.dispatches=on (per-dispatch sub-steps: lpv.apply/lpv/apply.comp,
+# lpv.apply/lpv/upsample.comp, lpv.propagate/lpv/propagate.comp), and lpv=off.
+# BASE=path/to/another/rtgi-bench (e.g. a build of commit 70f20d1 or of main) runs the same list
+# with that binary into $OUT/lpvfast-base in the same session (same card, same driver) for the
+# comparison; frame_table.py prints both side by side.
+# Run from the repo root with BENCH, OUT and SCENES set.
+set -uo pipefail
+BENCH=${BENCH:-./build/rtgi-bench}
+OUT=${OUT:-out}
+SCENES=${SCENES:-../shared/scenes}
+COMMON=(--res ${RES:-1920x1080} --frames ${FRAMES:-100} --warmup 20 --no-images)
+DRAGON=(--scene builtin:plane --scene "$SCENES/stanford-dragon/dragon.gltf")
+
+one() {  # binary, out dir, name, args...
+  local bin=$1 dir=$2 name=$3; shift 3
+  "$bin" "$@" "${COMMON[@]}" --out "$dir/$name" >"$dir/$name.log" 2>&1 || echo "FAILED $name ($bin)"
+}
+
+suite() {  # binary, out dir, variants...
+  local bin=$1 dir=$2; shift 2
+  mkdir -p "$dir"
+  for v in "" "$@"; do
+    local tag=${v:-defaults}; tag=${tag//=/-}; tag=${tag// /+}
+    local set=(); for kv in $v; do set+=(--set "$kv"); done
+    one "$bin" "$dir" "atrium-$tag" --scene builtin:atrium "${set[@]}"
+    one "$bin" "$dir" "restaurant-$tag" --scene builtin:restaurant "${set[@]}"
+    one "$bin" "$dir" "dragon-$tag" "${DRAGON[@]}" "${set[@]}"
+  done
+}
+
+suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=full" "lpv=off" "profile.dispatches=on" \
+  "profile.dispatches=on lpv.apply_resolution=full"
+# The base binary may not know lpv.apply_resolution (its apply is full resolution).
+[ -n "${BASE:-}" ] && suite "$BASE" "$OUT/lpvfast-base" "lpv=off" "profile.dispatches=on"
+python3 benchmarks/device/frame_table.py "$OUT/lpvfast" ${BASE:+"$OUT/lpvfast-base"}
