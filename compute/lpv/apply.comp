@@ -12,7 +12,7 @@
 // side and the cells' distance moments (lpv.visibility, Chebyshev as DDGI).
 // Hooks: RTGI_LPV_BENT_NORMAL looks up along the AO pass's bent normal;
 // RTGI_LPV_S3HO integrates against the SH visibility instead of the cosine.
-// lpv.apply_resolution=half (RTGI_LPV_HALF): one invocation per half-resolution texel, the
+// lpv.apply_resolution=half (RTGI_LPV_APPLY_HALF): one invocation per half-resolution texel, the
 // nearest non-sky pixel of its 2x2 block moved along its tangent plane to the texel centre (as
 // ao.downsample); the outputs are half-resolution and hold the albedo-free terms (irradiance / pi,
 // specular radiance), its depth and view normal go to uLowGeometry; lpv/upsample.comp brings
@@ -25,7 +25,7 @@
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 #include "lib/lpv_lookup.glsl"
-#ifdef RTGI_LPV_HALF
+#ifdef RTGI_LPV_APPLY_HALF
 #include "lib/ao.glsl"
 layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_LOW_GEOMETRY) uniform writeonly image2D uLowGeometry;
 #endif
@@ -250,7 +250,7 @@ vec4 directionalAt(vec2 uv) {
 
 // albedo (1 - metallic) / pi, or 1 / pi at half resolution (lpv/upsample.comp multiplies the albedo).
 vec3 lpvDiffuseFactor(vec3 albedo, float metallic) {
-#ifdef RTGI_LPV_HALF
+#ifdef RTGI_LPV_APPLY_HALF
     return vec3(INV_PI);
 #else
     return diffuseAlbedo(albedo, metallic) * INV_PI;
@@ -259,13 +259,13 @@ vec3 lpvDiffuseFactor(vec3 albedo, float metallic) {
 
 void main() {
     ivec2 o = ivec2(gl_GlobalInvocationID.xy);  // output texel
-#ifdef RTGI_LPV_HALF
+#ifdef RTGI_LPV_APPLY_HALF
     ivec2 outSize = imageSize(uIndirect);
 #else
     ivec2 outSize = frameSize();
 #endif
     if (any(greaterThanEqual(o, outSize))) return;
-#ifdef RTGI_LPV_HALF
+#ifdef RTGI_LPV_APPLY_HALF
     // The nearest non-sky pixel of the 2x2 block, its depth moved along its tangent plane to
     // this texel's centre (ao.downsample's reconstruction, lib/ao.glsl).
     ivec2 full = frameSize();
@@ -385,7 +385,7 @@ void main() {
             if (lpvSample(at, lpvPlainLookup(at), r, g, b))
                 sum += max(vec3(shEvaluate(r, -R), shEvaluate(g, -R), shEvaluate(b, -R)), vec3(0.0));
         }
-#if defined(RTGI_LPV_HALF)
+#if defined(RTGI_LPV_APPLY_HALF)
         vec3 brdf = vec3(1.0);  // lpv/upsample.comp applies it at full resolution
 #elif defined(RTGI_LPV_BRDF_LUT)
         vec3 f0 = specularF0(albedo, rm.y);

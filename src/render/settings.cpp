@@ -259,6 +259,9 @@ std::vector<SettingKey> buildKeys() {
             "(docs/lpv.md, \"Half-resolution apply\")", "full|half",
             s.lpv.halfApply = parseEnum<int>("lpv.apply_resolution", v, kResolution) == 1,
             s.lpv.halfApply ? "half" : "full"),
+        KEY("lpv.fuse", "propagation iterations per dispatch (compute path, band 1; a tile plus halo in shared memory, "
+            "docs/lpv.md, \"Fused propagation\")", "1..2",
+            s.lpv.fuse = parseInt("lpv.fuse", v, 1, 2), fmt(s.lpv.fuse)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

@@ -978,3 +978,69 @@ TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole
         CHECK(relL2(before, after) > 0.1);
     }
 }
+
+TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration") {
+    // docs/lpv.md, "Fused propagation": the same lpvGather on the same sources, from shared memory,
+    // so fp32 results agree to float tolerance (1e-6 of the volume's largest coefficient: the two
+    // shaders may contract multiply-adds differently); rgba16f stores may round differently in the
+    // last bit (llvmpipe truncates image stores, the fused path rounds its shared-memory steps to
+    // nearest): 2^-9 relative L2. Grids with partial tiles and a tile interior, odd and even
+    // iteration counts (chunks of 2 and 1), the near part of a cascade (split where it is taken),
+    // plain / occlusion + bounce, face / flow, the issue-22 defaults (first step blocked, bounce
+    // back into the source).
+    GpuFixture gpu;
+    std::mt19937 rng(11);
+    const glm::ivec3 grids[] = {{3, 5, 7}, {9, 6, 5}};
+    for (GLenum format : {GL_RGBA32F, GL_RGBA16F})
+        for (glm::ivec3 grid : grids)
+            for (int iterations : {2, 3, 5, 8})
+                for (int mode = 0; mode < 3; ++mode) {
+                    if (format == GL_RGBA16F && mode != 2) continue;  // llvmpipe time
+                    CpuOptions o;
+                    o.occlusion = o.bounce = mode >= 1;
+                    o.flow = mode >= 1;
+                    o.conserving = mode >= 1;
+                    const bool near = iterations >= 3;
+                    INFO("grid " << grid.x << "x" << grid.y << "x" << grid.z << ", " << iterations << " iterations, mode "
+                                 << mode << ", fp" << (format == GL_RGBA32F ? 32 : 16));
+                    CpuVolume light = randomLight(grid, rng), input;
+                    CpuGeometry geo = randomGeometry(grid, rng, 0.6), geoIn;
+                    struct Result {
+                        CpuVolume last, accum, near;
+                    };
+                    auto run = [&](int fuse) {
+                        GpuLpv g(grid, format, o);
+                        if (mode == 2) {
+                            g.settings.firstStepBlocked = true;
+                            g.settings.reflect = LpvSettings::Reflect::Source;
+                            lpv::UniformInputs in;
+                            in.placement.grid = grid;
+                            in.placement.cell = 1.0f;
+                            in.rsmViewProj = glm::mat4(1.0f);
+                            g.upload(in);
+                        }
+                        setup(g, light, &geo, input, &geoIn);
+                        if (near) g.v.ensureNear(g.ledger);
+                        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, iterations, near, false, fuse);
+                        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+                        return Result{readRgb(g.v.step[std::size_t(last)]), readRgb(g.v.accum),
+                                      near ? readRgb(g.v.near) : CpuVolume(grid)};
+                    };
+                    Result a = run(1), b = run(2);
+                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
+                        double peak = 0.0, diff = 0.0;
+                        for (int c = 0; c < 3; ++c)
+                            for (std::size_t i = 0; i < x.c[c].size(); ++i)
+                                for (int k = 0; k < 4; ++k) {
+                                    peak = std::max(peak, std::abs(y.c[c][i][k]));
+                                    diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
+                                }
+                        CHECK(peak > 0.0);
+                        if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
+                        else CHECK(relL2(x, y) <= std::ldexp(1.0, -9));
+                    };
+                    compare(b.last, a.last);
+                    compare(b.accum, a.accum);
+                    if (near) compare(b.near, a.near);
+                }
+}

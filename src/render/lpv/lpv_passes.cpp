@@ -461,7 +461,8 @@ public:
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
                 c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
-                                                   ls.blocking == LpvSettings::Blocking::Visibility && geometryNeeded(ctx.settings));
+                                                   ls.blocking == LpvSettings::Blocking::Visibility && geometryNeeded(ctx.settings),
+                                                   ls.fuse);
             }
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;

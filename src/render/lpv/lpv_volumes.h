@@ -113,8 +113,13 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 // `near` (cascades i > 0): also fills v.near with the steps weighted by
 // cascadeNearWeight (v.ensureNear first).
 // `visibility` (lpv.blocking=visibility): v.visibility holds the moments, which block the flow too.
+// Most iterations per dispatch of the fused propagation: a 4^3 tile with a halo of 2 is 8^3 cells of
+// 3 vec4 = 24 KiB of shared memory (GL guarantees 32 KiB; a halo of 3 would need 47 KiB).
+inline constexpr int kMaxFuse = 2;
+// `fuse` > 1 (lpv.fuse, band 1 only): up to that many iterations per dispatch (lpv/propagate_fused.comp,
+// the same steps; docs/lpv.md, "Fused propagation"), split where the near part is taken.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
-                     bool near = false, bool visibility = false);
+                     bool near = false, bool visibility = false, int fuse = kMaxFuse);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 // lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
 // `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
