@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Issue 24, LPV passes (branch lpvfast): the frame and the LPV passes at 1080p with the defaults
 # on the atrium, the restaurant and the dragon, with lpv.apply_resolution=half (default) and
-# =full, each also with profile.dispatches=on (per-dispatch sub-steps: lpv.apply/lpv/apply.comp,
-# lpv.apply/lpv/upsample.comp, lpv.propagate/lpv/propagate.comp), and lpv=off.
+# =full, lpv.fuse=2 (two propagation iterations per dispatch) against the default 1, each also with
+# profile.dispatches=on (per-dispatch sub-steps: lpv.apply/lpv/apply.comp, lpv.apply/lpv/upsample.comp,
+# lpv.propagate/lpv/propagate.comp, lpv.propagate/lpv/propagate_fused.comp), and lpv=off.
 # BASE=path/to/another/rtgi-bench (e.g. a build of commit 70f20d1 or of main) runs the same list
 # with that binary into $OUT/lpvfast-base in the same session (same card, same driver) for the
 # comparison; frame_table.py prints both side by side.
@@ -31,8 +32,8 @@ suite() {  # binary, out dir, variants...
   done
 }
 
-suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=full" "lpv=off" "profile.dispatches=on" \
-  "profile.dispatches=on lpv.apply_resolution=full"
+suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=full" "lpv.fuse=2" "lpv=off" "profile.dispatches=on" \
+  "profile.dispatches=on lpv.apply_resolution=full" "profile.dispatches=on lpv.fuse=2"
 # The base binary may not know lpv.apply_resolution (its apply is full resolution).
 [ -n "${BASE:-}" ] && suite "$BASE" "$OUT/lpvfast-base" "lpv=off" "profile.dispatches=on"
 python3 benchmarks/device/frame_table.py "$OUT/lpvfast" ${BASE:+"$OUT/lpvfast-base"}

@@ -95,7 +95,7 @@ struct LpvSettings {
     // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
     bool halfApply = true;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
-    int fuse = 2;
+    int fuse = 1;
 };
 
 struct AoSettings {
