@@ -173,13 +173,15 @@ TEST_CASE("LPV half-resolution apply: no bleeding across a depth edge (full-reso
         for (int y = 1; y < size.y - 1; ++y)
             for (int x = 1; x < size.x - 1; ++x) {
                 // The difference between the sides near this pixel (full resolution): the largest
-                // |full(q) - full(p)| over the 3x3 neighbours on the other side.
+                // |full(q) - full(p)| over the 5x5 neighbours on the other side (a pixel's taps are the
+                // half texels of the pixels within 2 of it).
                 const float dp = o.depth.at(x, y, 0);
                 REQUIRE(dp > 0.0f);
                 double contrast[3] = {0, 0, 0};
                 bool nearEdge = false;
-                for (int j = -1; j <= 1; ++j)
-                    for (int i = -1; i <= 1; ++i) {
+                for (int j = -2; j <= 2; ++j)
+                    for (int i = -2; i <= 2; ++i) {
+                        if (x + i < 0 || y + j < 0 || x + i >= size.x || y + j >= size.y) continue;
                         const float dq = o.depth.at(x + i, y + j, 0);
                         if (std::abs(dq - dp) < 0.1f * dp) continue;
                         nearEdge = true;
