@@ -7,6 +7,7 @@
 # BASE=path/to/another/rtgi-bench (e.g. a build of commit 70f20d1 or of main) runs the same list
 # with that binary into $OUT/lpvfast-base in the same session (same card, same driver) for the
 # comparison; frame_table.py prints both side by side.
+# GI=1 also runs the GI suite's error with both apply resolutions (below).
 # Run from the repo root with BENCH, OUT and SCENES set.
 set -uo pipefail
 BENCH=${BENCH:-./build/rtgi-bench}
@@ -37,3 +38,21 @@ suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=full" "lpv.fuse=2" "lpv=off"
 # The base binary may not know lpv.apply_resolution (its apply is full resolution).
 [ -n "${BASE:-}" ] && suite "$BASE" "$OUT/lpvfast-base" "lpv=off" "profile.dispatches=on"
 python3 benchmarks/device/frame_table.py "$OUT/lpvfast" ${BASE:+"$OUT/lpvfast-base"}
+# GI=1: the error side on the GI suite (benchmarks/sweeps/gi-suite.json, 15 views at 480x270, converged
+# full references, cached and shared by both cases): lpv.apply_resolution full vs half (and lpv.fuse 1
+# vs 2, identical by construction: a check). report.py's "GI suite" tables compare the cases.
+if [ -n "${GI:-}" ]; then
+  mkdir -p "$OUT/gi-suite-lpvfast"
+  python3 - "$OUT/gi-suite-lpvfast/sweep.json" <<'PY'
+import json, sys
+s = json.load(open("benchmarks/sweeps/gi-suite.json"))
+s["name"] = "gi-suite-lpvfast"
+s["axes"] = [[
+    {"lpv.apply_resolution": "full", "lpv.fuse": 1},
+    {"lpv.apply_resolution": "half", "lpv.fuse": 1},
+    {"lpv.apply_resolution": "half", "lpv.fuse": 2},
+]]
+json.dump(s, open(sys.argv[1], "w"), indent=2)
+PY
+  SCENES="$SCENES" "$BENCH" --sweep "$OUT/gi-suite-lpvfast/sweep.json" --no-images --out "$OUT/gi-suite-lpvfast"
+fi
