@@ -68,6 +68,7 @@ struct Outputs {
 Outputs applyBoth(const Scene& scene, glm::ivec2 size, double a, glm::dvec3 b, lpv::Placement* placed = nullptr) {
     gl::Profiler prof(false);
     Settings s = smallLpvSettings();
+    s.lpv.mode = Toggle::Off;  // no light in the scene: the frame is the G-buffer, the volume is made here
     s.lpv.format = LpvSettings::Format::Rgba32f;
     s.lpv.specular = Toggle::Off;
     s.lpv.occlusion = s.lpv.bounce = false;
