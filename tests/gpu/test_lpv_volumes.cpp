@@ -211,20 +211,22 @@ CpuVolume readRgb(const lpv::Rgb& t) {
 // zero (Mesa llvmpipe's image stores; GL leaves the rounding of these
 // conversions to the implementation).
 bool gHalfTruncates = false;  // set by probeHalfRounding()
-double toHalf(float f) {
+double toHalf(float f, bool truncate) {
     std::uint16_t h = glm::packHalf1x16(f);
     double r = double(glm::unpackHalf1x16(h));
-    if (gHalfTruncates && std::abs(r) > std::abs(double(f))) r = double(glm::unpackHalf1x16(std::uint16_t(h - 1)));
+    if (truncate && std::abs(r) > std::abs(double(f))) r = double(glm::unpackHalf1x16(std::uint16_t(h - 1)));
     return r;
 }
 
-// Storage of the rgba16f format: round to half (the clamp of lpvStorable first).
-void roundToHalf(CpuVolume& v) {
+// Storage of the rgba16f format: round to half (the clamp of lpvStorable first), as the driver's
+// image stores do, or to nearest (packHalf2x16: the fused propagation's steps in shared memory).
+void roundToHalf(CpuVolume& v, bool truncate) {
     for (auto& ch : v.c)
         for (auto& x : ch)
             for (int k = 0; k < 4; ++k)
-                x[k] = toHalf(float(std::clamp(x[k], -65504.0, 65504.0)));
+                x[k] = toHalf(float(std::clamp(x[k], -65504.0, 65504.0)), truncate);
 }
+
 
 // Packs 1 + 0.75 * 2^-10 (between two halves, nearer the upper) through lpv.pack: a
 // result of exactly 1 means the driver's image stores truncate.
@@ -446,6 +448,10 @@ TEST_CASE("LPV propagation matches a CPU double implementation (grids, iteration
                 CpuVolume cur = input, acc = input;
                 // The oracle stores each iteration (and the running sum) in the volume format, as
                 // the GPU does: for rgba16f, rounding to half after every step is part of the algorithm.
+                // propagateCompute fuses pairs of iterations (lpv::kMaxFuse, docs/lpv.md "Fused
+                // propagation"): inside a pair the first step and the sum round to nearest
+                // (packHalf2x16), the pair's last step is stored by the driver; a single last
+                // iteration is the unfused dispatch (driver rounding for both).
                 CpuVolume pureDouble = input;
                 for (int it = 1; it <= k.iterations; ++it) {
                     cur = cpuPropagate(cur, &geoIn, it, o);
@@ -453,8 +459,11 @@ TEST_CASE("LPV propagation matches a CPU double implementation (grids, iteration
                     for (int c = 0; c < 3; ++c)
                         for (std::size_t i = 0; i < acc.c[c].size(); ++i) acc.c[c][i] += cur.c[c][i];
                     if (format == GL_RGBA16F) {
-                        roundToHalf(cur);
-                        roundToHalf(acc);
+                        const int chunkStart = 1 + ((it - 1) / lpv::kMaxFuse) * lpv::kMaxFuse;
+                        const bool fused = std::min(lpv::kMaxFuse, k.iterations - chunkStart + 1) > 1;
+                        const bool chunkLast = it == k.iterations || it == chunkStart + lpv::kMaxFuse - 1;
+                        roundToHalf(cur, fused && !chunkLast ? false : gHalfTruncates);
+                        roundToHalf(acc, fused ? false : gHalfTruncates);
                     }
                     if (it == k.iterations && it <= 4 && format == GL_RGBA16F) {
                         // Against pure double (no half storage) up to 4 iterations: each stored step
@@ -984,7 +993,8 @@ TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration"
     // so fp32 results agree to float tolerance (1e-6 of the volume's largest coefficient: the two
     // shaders may contract multiply-adds differently); rgba16f stores may round differently in the
     // last bit (llvmpipe truncates image stores, the fused path rounds its shared-memory steps to
-    // nearest): 2^-9 relative L2. Grids with partial tiles and a tile interior, odd and even
+    // nearest): each stored step may differ by one half-precision ulp (2^-10 relative), carried on
+    // by the later steps, so n iterations are held to n 2^-10 relative L2 (measured 2.2e-3 at 8). Grids with partial tiles and a tile interior, odd and even
     // iteration counts (chunks of 2 and 1), the near part of a cascade (split where it is taken),
     // plain / occlusion + bounce, face / flow, the issue-22 defaults (first step blocked, bounce
     // back into the source).
@@ -1037,7 +1047,7 @@ TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration"
                                 }
                         CHECK(peak > 0.0);
                         if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
-                        else CHECK(relL2(x, y) <= std::ldexp(1.0, -9));
+                        else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
                     };
                     compare(b.last, a.last);
                     compare(b.accum, a.accum);
