@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 24, LPV passes (branch lpvfast): the frame and the LPV passes at 1080p with the defaults
-# on the atrium, the restaurant and the dragon, with lpv.apply_resolution=half (default) and
-# =full, lpv.fuse=2 (two propagation iterations per dispatch) against the default 1, each also with
+# on the atrium, the restaurant and the dragon, with lpv.apply_resolution=half against the default
+# full, lpv.fuse=2 (two propagation iterations per dispatch) against the default 1, each also with
 # profile.dispatches=on (per-dispatch sub-steps: lpv.apply/lpv/apply.comp, lpv.apply/lpv/upsample.comp,
 # lpv.propagate/lpv/propagate.comp, lpv.propagate/lpv/propagate_fused.comp), and lpv=off.
 # BASE=path/to/another/rtgi-bench (e.g. a build of commit 70f20d1 or of main) runs the same list
@@ -33,9 +33,9 @@ suite() {  # binary, out dir, variants...
   done
 }
 
-suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=full" "lpv.fuse=2" "lpv=off" "profile.dispatches=on" \
-  "profile.dispatches=on lpv.apply_resolution=full" "profile.dispatches=on lpv.fuse=2"
-# The base binary may not know lpv.apply_resolution (its apply is full resolution).
+suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=half" "lpv.fuse=2" "lpv.apply_resolution=half lpv.fuse=2" \
+  "lpv=off" "profile.dispatches=on" "profile.dispatches=on lpv.apply_resolution=half lpv.fuse=2"
+# The base binary does not know lpv.apply_resolution / lpv.fuse (full-resolution apply, unfused).
 [ -n "${BASE:-}" ] && suite "$BASE" "$OUT/lpvfast-base" "lpv=off" "profile.dispatches=on"
 python3 benchmarks/device/frame_table.py "$OUT/lpvfast" ${BASE:+"$OUT/lpvfast-base"}
 # GI=1: the error side on the GI suite (benchmarks/sweeps/gi-suite.json, 15 views at 480x270, converged

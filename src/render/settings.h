@@ -93,7 +93,7 @@ struct LpvSettings {
     // Compose's sky term: uniform ambient times AO, or also times the cells' ray-traced sky visibility.
     enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
     // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
-    bool halfApply = true;
+    bool halfApply = false;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
     int fuse = 1;
 };
