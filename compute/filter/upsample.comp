@@ -24,26 +24,7 @@ void main() {
     vec2 uv = (vec2(p) + 0.5) / vec2(size);
 #if UPSAMPLE_DEPTH_AWARE
     float dFull = texelFetch(uFullDepth, p, 0).r;
-    ivec2 lowSize = textureSize(uLow, 0);
-    vec2 t = uv * vec2(lowSize) - 0.5;
-    ivec2 base = ivec2(floor(t));
-    vec2 f = t - vec2(base);
-    vec4 sum = vec4(0.0);
-    float wSum = 0.0, bestDiff = 1e30;
-    vec4 nearest = vec4(1.0);
-    for (int i = 0; i < 4; ++i) {
-        ivec2 o = ivec2(i & 1, i >> 1);
-        ivec2 q = clamp(base + o, ivec2(0), lowSize - 1);
-        float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-        float dLow = texelFetch(uLowDepth, q, 0).r;
-        vec4 v = texelFetch(uLow, q, 0);
-        float diff = abs(dLow - dFull);
-        if (diff < bestDiff) bestDiff = diff, nearest = v;
-        float w = isSky(dFull) ? (isSky(dLow) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
-        sum += w * v;
-        wSum += w;
-    }
-    imageStore(uOut, p, wSum > 1e-6 ? sum / wSum : nearest);
+    imageStore(uOut, p, upsampleJoint(uLow, uLowDepth, uv, dFull, false, vec3(0.0)));
 #else
     imageStore(uOut, p, texture(uLow, uv));
 #endif

@@ -74,3 +74,44 @@ float upsampleWeight(float bilinear, float depthFull, float depthLow) {
     if (!(depthLow > 0.0)) return 0.0;
     return bilinear / (1e-3 + abs(depthLow - depthFull) / depthFull);
 }
+
+// Normal similarity of a low-resolution tap (lpv.apply_resolution=half): max(0, n.n')^8, so
+// taps of a surface turned by 30 degrees keep 0.32, by 60 degrees 0.004. Zero normals
+// (unknown) give 1: depth alone decides.
+float upsampleNormalWeight(vec3 nFull, vec3 nLow) {
+    if (!(dot(nFull, nFull) > 0.0) || !(dot(nLow, nLow) > 0.0)) return 1.0;
+    float c = max(dot(normalize(nFull), normalize(nLow)), 0.0);
+    float c2 = c * c, c4 = c2 * c2;
+    return c4 * c4;
+}
+
+// Joint bilateral upsampling (SPEC 6.4) of `low` at the full-resolution texel centre uv whose
+// linear depth is dFull: the 2x2 low taps around uv, bilinear weights times upsampleWeight;
+// with useNormals, also times upsampleNormalWeight(nFull, lowGeometry.gba) (lowGeometry: depth
+// in .r, view normal in .gba). A sky pixel takes only sky taps. When every weight vanishes,
+// the tap nearest in depth.
+vec4 upsampleJoint(sampler2D low, sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {
+    ivec2 lowSize = textureSize(low, 0);
+    vec2 t = uv * vec2(lowSize) - 0.5;
+    ivec2 base = ivec2(floor(t));
+    vec2 f = t - vec2(base);
+    vec4 sum = vec4(0.0);
+    float wSum = 0.0, bestDiff = 1e30;
+    vec4 nearest = vec4(1.0);
+    bool skyFull = !(dFull > 0.0);
+    for (int i = 0; i < 4; ++i) {
+        ivec2 o = ivec2(i & 1, i >> 1);
+        ivec2 q = clamp(base + o, ivec2(0), lowSize - 1);
+        float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+        vec4 g = texelFetch(lowGeometry, q, 0);
+        float dLow = g.r;
+        vec4 v = texelFetch(low, q, 0);
+        float diff = abs(dLow - dFull);
+        if (diff < bestDiff) bestDiff = diff, nearest = v;
+        float w = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
+        if (useNormals && !skyFull) w *= upsampleNormalWeight(nFull, g.gba);
+        sum += w * v;
+        wSum += w;
+    }
+    return wSum > 1e-6 ? sum / wSum : nearest;
+}

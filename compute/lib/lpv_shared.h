@@ -138,7 +138,8 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_IMG_OUT_G                          1  // lpv/temporal.comp
 #define RTGI_LPV_IMG_OUT_B                          2  // lpv/temporal.comp
 // uniform locations
-#define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag
+#define RTGI_LPV_LOC_ITERATION 0  // lpv/propagate.comp lpv/propagate_raster.frag lpv/propagate_fused.comp
+#define RTGI_LPV_LOC_FUSED_COUNT 1  // lpv/propagate_fused.comp: iterations in the dispatch
 #define RTGI_LPV_LOC_Z         0  // lpv/slice.comp
 // lpv.sh_order=2 (RTGI_LPV_SH2; docs/lpv.md "Second-order SH"): coefficients 4-7 of each colour
 // in an RGBA volume ("hi" r, g, b) and coefficient 8 of r, g, b in a fourth ("last", .rgb);
@@ -251,5 +252,10 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_VIS_FACE_RAYS            4  // F
 #define RTGI_LPV_VIS_IMG_FACES            2  // lpv/visibility.comp with RTGI_LPV_VIS_FACES: RGBA8, (+x, +y, +z, 0)
 #define RTGI_LPV_TEX_APPLY_SKY           25  // lpv/apply.comp with RTGI_LPV_SKY: the cascade's sky visibility SH
+// lpv.apply_resolution=half (docs/lpv.md, "Half-resolution apply")
+#define RTGI_LPV_IMG_APPLY_LOW_GEOMETRY   4  // lpv/apply.comp with RTGI_LPV_APPLY_HALF: depth (r), view normal (gba)
+#define RTGI_LPV_UPSAMPLE_TEX_LOW_INDIRECT 4  // lpv/upsample.comp (G-buffer and BRDF LUT at the apply's units)
+#define RTGI_LPV_UPSAMPLE_TEX_LOW_SPECULAR 5  // lpv/upsample.comp
+#define RTGI_LPV_UPSAMPLE_TEX_LOW_GEOMETRY 6  // lpv/upsample.comp
 
 #endif

@@ -12,6 +12,11 @@
 // side and the cells' distance moments (lpv.visibility, Chebyshev as DDGI).
 // Hooks: RTGI_LPV_BENT_NORMAL looks up along the AO pass's bent normal;
 // RTGI_LPV_S3HO integrates against the SH visibility instead of the cosine.
+// lpv.apply_resolution=half (RTGI_LPV_APPLY_HALF): one invocation per half-resolution texel, the
+// nearest non-sky pixel of its 2x2 block moved along its tangent plane to the texel centre (as
+// ao.downsample); the outputs are half-resolution and hold the albedo-free terms (irradiance / pi,
+// specular radiance), its depth and view normal go to uLowGeometry; lpv/upsample.comp brings
+// them to full resolution and multiplies by the full-resolution albedo and BRDF.
 // lpv.sh_order=2 (RTGI_LPV_SH2): the volumes hold bands 0-2 (mat3, lib/sh.glsl);
 // the irradiance uses the band-2 clamped cosine (A_2 = pi / 4), the specular
 // lookup evaluates bands 0-2 (docs/lpv.md, "Second-order SH").
@@ -20,6 +25,10 @@
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 #include "lib/lpv_lookup.glsl"
+#ifdef RTGI_LPV_APPLY_HALF
+#include "lib/ao.glsl"
+layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_LOW_GEOMETRY) uniform writeonly image2D uLowGeometry;
+#endif
 
 layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
 
@@ -239,16 +248,54 @@ vec4 directionalAt(vec2 uv) {
     return texelFetch(uDirectional, clamp(ivec2(uv * vec2(size)), ivec2(0), size - 1), 0);
 }
 
+// albedo (1 - metallic) / pi, or 1 / pi at half resolution (lpv/upsample.comp multiplies the albedo).
+vec3 lpvDiffuseFactor(vec3 albedo, float metallic) {
+#ifdef RTGI_LPV_APPLY_HALF
+    return vec3(INV_PI);
+#else
+    return diffuseAlbedo(albedo, metallic) * INV_PI;
+#endif
+}
+
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(p, frameSize()))) return;
+    ivec2 o = ivec2(gl_GlobalInvocationID.xy);  // output texel
+#ifdef RTGI_LPV_APPLY_HALF
+    ivec2 outSize = imageSize(uIndirect);
+#else
+    ivec2 outSize = frameSize();
+#endif
+    if (any(greaterThanEqual(o, outSize))) return;
+#ifdef RTGI_LPV_APPLY_HALF
+    // The nearest non-sky pixel of the 2x2 block, its depth moved along its tangent plane to
+    // this texel's centre (ao.downsample's reconstruction, lib/ao.glsl).
+    ivec2 full = frameSize();
+    float d = 0.0;
+    ivec2 p = min(2 * o, full - 1);
+    for (int i = 0; i < 4; ++i) {
+        ivec2 q = min(2 * o + ivec2(i & 1, i >> 1), full - 1);
+        float dq = texelFetch(uLinearDepth, q, 0).r;
+        if (!isSky(dq) && (isSky(d) || dq < d)) d = dq, p = q;
+    }
+    vec2 uv = (vec2(o) + 0.5) / vec2(outSize);
+    vec3 lowNormal = texelFetch(uViewNormal, p, 0).xyz;
+    if (!isSky(d)) {
+        vec3 Q = viewPositionFromDepth((vec2(p) + 0.5) / vec2(full), d, frame.projParams.z, frame.projParams.w);
+        d = aoPlaneDepthAlongRay(Q, aoSafeNormal(lowNormal, Q), uv, frame.projParams.z, frame.projParams.w, d);
+    }
+#ifdef RTGI_LPV_CASCADED
+    if (uLast != 0)
+#endif
+        imageStore(uLowGeometry, o, vec4(d, lowNormal));
+#else
+    ivec2 p = o;
+    vec2 uv = (vec2(p) + 0.5) / vec2(outSize);
     float d = texelFetch(uLinearDepth, p, 0).r;
+#endif
     vec3 diffuse = vec3(0.0), specular = vec3(0.0), irradiance = vec3(0.0);
     // lpv.sky=visibility: this cascade's cosine-weighted sky visibility at the lookup point and
     // its cascade weight u_i (1 for a single volume); alpha of the indirect output (compose's sky term).
     float skyVisible = 0.0, skyWeight = 0.0, skyAlpha = 1.0;
     if (!isSky(d)) {
-        vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
         vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
         vec3 wp = viewToWorldPoint(vp);
         vec3 vn = texelFetch(uViewNormal, p, 0).xyz;
@@ -313,21 +360,21 @@ void main() {
 #ifdef RTGI_LPV_CASCADED
             irradiance = e * invArea - eSelf;
 #else
-            diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(e * invArea - eSelf, vec3(0.0));
+            diffuse = lpvDiffuseFactor(albedo, rm.y) * max(e * invArea - eSelf, vec3(0.0));
 #endif
         }
 #ifdef RTGI_LPV_CASCADED
         // .a: the running sum of u_i V_i (lpv.sky=visibility).
         float skySum = skyWeight * skyVisible;
         if (lpv.cascade.x > 0) {
-            vec4 prev = imageLoad(uSumE, p);
+            vec4 prev = imageLoad(uSumE, o);
             irradiance += prev.rgb;
             skySum += prev.a;
         }
-        if (uLast == 0) imageStore(uSumE, p, vec4(irradiance, skySum));
+        if (uLast == 0) imageStore(uSumE, o, vec4(irradiance, skySum));
         // Sum_i u_i = U of the last cascade: where no cascade covers the point the sky is not occluded.
         skyAlpha = skySum + 1.0 - lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n).y;
-        diffuse = diffuseAlbedo(albedo, rm.y) * INV_PI * max(irradiance, vec3(0.0));
+        diffuse = lpvDiffuseFactor(albedo, rm.y) * max(irradiance, vec3(0.0));
 #endif
 #ifdef RTGI_LPV_SPECULAR
         vec3 v = normalize(frame.cameraPos.xyz - wp);
@@ -338,17 +385,19 @@ void main() {
             if (lpvSample(at, lpvPlainLookup(at), r, g, b))
                 sum += max(vec3(shEvaluate(r, -R), shEvaluate(g, -R), shEvaluate(b, -R)), vec3(0.0));
         }
+#if defined(RTGI_LPV_APPLY_HALF)
+        vec3 brdf = vec3(1.0);  // lpv/upsample.comp applies it at full resolution
+#elif defined(RTGI_LPV_BRDF_LUT)
         vec3 f0 = specularF0(albedo, rm.y);
-#ifdef RTGI_LPV_BRDF_LUT
         vec2 ab = texture(uBrdfLut, vec2(clamp(dot(n, v), 0.0, 1.0), rm.x)).rg;
         vec3 brdf = f0 * ab.x + ab.y;
 #else
-        vec3 brdf = f0;
+        vec3 brdf = specularF0(albedo, rm.y);
 #endif
         vec3 radiance = sum * invArea;  // each cascade with its own 1/s^2
 #ifdef RTGI_LPV_CASCADED
-        if (lpv.cascade.x > 0) radiance += imageLoad(uSumS, p).rgb;
-        if (uLast == 0) imageStore(uSumS, p, vec4(radiance, 0.0));
+        if (lpv.cascade.x > 0) radiance += imageLoad(uSumS, o).rgb;
+        if (uLast == 0) imageStore(uSumS, o, vec4(radiance, 0.0));
 #endif
         specular = brdf * (radiance / 3.0) * lpv.rsm.z;
 #endif
@@ -364,8 +413,8 @@ void main() {
     alpha = skyWeight > 0.0 ? skyVisible : 1.0;
 #endif
 #endif
-    imageStore(uIndirect, p, vec4(diffuse * lpv.rsm.z, alpha));
+    imageStore(uIndirect, o, vec4(diffuse * lpv.rsm.z, alpha));
 #ifdef RTGI_LPV_SPECULAR
-    imageStore(uSpecular, p, vec4(specular, 1.0));
+    imageStore(uSpecular, o, vec4(specular, 1.0));
 #endif
 }

@@ -109,9 +109,17 @@ float lpvFacesFlux(LpvSh I, vec3 d) {
     return total;
 }
 
+// lpv.fuse > 1 (RTGI_LPV_FUSED, lpv/propagate_fused.comp): the sources are the previous step
+// held in shared memory by the includer, which defines lpvSharedSource.
+#ifdef RTGI_LPV_FUSED
+void lpvSharedSource(ivec3 p, out LpvSh sh[3]);
+#endif
+
 // The r, g, b SH of source cell p (band 2: the 9 coefficients, lpvSource9).
 void lpvFetchSource(ivec3 p, sampler3D srcR, sampler3D srcG, sampler3D srcB, out LpvSh sh[3]) {
-#ifdef RTGI_LPV_SH2
+#if defined(RTGI_LPV_FUSED)
+    lpvSharedSource(p, sh);
+#elif defined(RTGI_LPV_SH2)
     sh = LpvSh[3](lpvSource9(texelFetch(srcR, p, 0), 0, p), lpvSource9(texelFetch(srcG, p, 0), 1, p),
                   lpvSource9(texelFetch(srcB, p, 0), 2, p));
 #else

@@ -6,6 +6,7 @@
 
 #include "render/lights.h"
 #include "render/lpv/lpv_math.h"
+#include "render/lpv/lpv_passes.h"
 #include "render/lpv/lpv_volumes.h"
 #include "render/gpu_scene.h"
 #include "render/noise.h"

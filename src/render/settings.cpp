@@ -259,6 +259,13 @@ std::vector<SettingKey> buildKeys() {
             s.lpv.probeDirections = parseInt("lpv.probe_directions", v, 1, 65536), fmt(s.lpv.probeDirections)),
         KEY("lpv.sh_order", "SH bands of the light volumes: 1 (4 coefficients, the seed's) or 2 (9; compute path)",
             "1|2", s.lpv.shOrder = parseInt("lpv.sh_order", v, 1, 2), fmt(s.lpv.shOrder)),
+        KEY("lpv.apply_resolution", "lpv.apply at full resolution, or at half with depth- and normal-aware upsampling "
+            "(docs/lpv.md, \"Half-resolution apply\")", "full|half",
+            s.lpv.halfApply = parseEnum<int>("lpv.apply_resolution", v, kResolution) == 1,
+            s.lpv.halfApply ? "half" : "full"),
+        KEY("lpv.fuse", "propagation iterations per dispatch (compute path, band 1; a tile plus halo in shared memory, "
+            "docs/lpv.md, \"Fused propagation\")", "1..2",
+            s.lpv.fuse = parseInt("lpv.fuse", v, 1, 2), fmt(s.lpv.fuse)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

@@ -96,6 +96,10 @@ struct LpvSettings {
     enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
     // lpv.lookup=visibility: each cell's Chebyshev bound is raised to this power (DDGI uses 3; docs/lpv.md).
     int visibilityExponent = 1;
+    // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
+    bool halfApply = false;
+    // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
+    int fuse = 1;
 };
 
 struct AoSettings {

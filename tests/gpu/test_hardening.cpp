@@ -66,6 +66,8 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate matches the 
         {"rtao full, 2 rays", "cornell", {"ao=rtao", "ao.resolution=full", "ao.rays=2", "lpv=off", "shadow.size=256"}, {40, 30}},
         {"lpv face openness (blocking=visibility)", "cornell",
          {"lpv=on", "lpv.grid=8", "lpv.blocking=visibility", "lpv.cascades=2", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
+        {"lpv half apply, 2 cascades, fused", "cornell",
+         {"lpv=on", "lpv.grid=8", "lpv.apply_resolution=half", "lpv.fuse=2", "lpv.cascades=2", "lpv.rsm=32", "shadow.size=256"}, {33, 25}},
         {"lpv raster path", "cornell", {"lpv=on", "lpv.path=raster", "lpv.grid=8", "lpv.temporal=0.5", "lpv.rsm=32", "shadow.size=256"}, {32, 24}},
         {"reference full", "cornell", {"reference=full", "reference.spp=2", "reference.cache=off", "lpv=off", "shadow.size=256"}, {32, 24}},
         {"reference ao", "cornell", {"reference=ao", "reference.spp=2", "reference.cache=off", "lpv=off", "shadow.size=256"}, {32, 24}},

@@ -211,20 +211,22 @@ CpuVolume readRgb(const lpv::Rgb& t) {
 // zero (Mesa llvmpipe's image stores; GL leaves the rounding of these
 // conversions to the implementation).
 bool gHalfTruncates = false;  // set by probeHalfRounding()
-double toHalf(float f) {
+double toHalf(float f, bool truncate) {
     std::uint16_t h = glm::packHalf1x16(f);
     double r = double(glm::unpackHalf1x16(h));
-    if (gHalfTruncates && std::abs(r) > std::abs(double(f))) r = double(glm::unpackHalf1x16(std::uint16_t(h - 1)));
+    if (truncate && std::abs(r) > std::abs(double(f))) r = double(glm::unpackHalf1x16(std::uint16_t(h - 1)));
     return r;
 }
 
-// Storage of the rgba16f format: round to half (the clamp of lpvStorable first).
-void roundToHalf(CpuVolume& v) {
+// Storage of the rgba16f format: round to half (the clamp of lpvStorable first), as the driver's
+// image stores do, or to nearest (packHalf2x16: the fused propagation's steps in shared memory).
+void roundToHalf(CpuVolume& v, bool truncate) {
     for (auto& ch : v.c)
         for (auto& x : ch)
             for (int k = 0; k < 4; ++k)
-                x[k] = toHalf(float(std::clamp(x[k], -65504.0, 65504.0)));
+                x[k] = toHalf(float(std::clamp(x[k], -65504.0, 65504.0)), truncate);
 }
+
 
 // Packs 1 + 0.75 * 2^-10 (between two halves, nearer the upper) through lpv.pack: a
 // result of exactly 1 means the driver's image stores truncate.
@@ -446,6 +448,10 @@ TEST_CASE("LPV propagation matches a CPU double implementation (grids, iteration
                 CpuVolume cur = input, acc = input;
                 // The oracle stores each iteration (and the running sum) in the volume format, as
                 // the GPU does: for rgba16f, rounding to half after every step is part of the algorithm.
+                // propagateCompute fuses pairs of iterations (lpv::kMaxFuse, docs/lpv.md "Fused
+                // propagation"): inside a pair the first step and the sum round to nearest
+                // (packHalf2x16), the pair's last step is stored by the driver; a single last
+                // iteration is the unfused dispatch (driver rounding for both).
                 CpuVolume pureDouble = input;
                 for (int it = 1; it <= k.iterations; ++it) {
                     cur = cpuPropagate(cur, &geoIn, it, o);
@@ -453,8 +459,11 @@ TEST_CASE("LPV propagation matches a CPU double implementation (grids, iteration
                     for (int c = 0; c < 3; ++c)
                         for (std::size_t i = 0; i < acc.c[c].size(); ++i) acc.c[c][i] += cur.c[c][i];
                     if (format == GL_RGBA16F) {
-                        roundToHalf(cur);
-                        roundToHalf(acc);
+                        const int chunkStart = 1 + ((it - 1) / lpv::kMaxFuse) * lpv::kMaxFuse;
+                        const bool fused = std::min(lpv::kMaxFuse, k.iterations - chunkStart + 1) > 1;
+                        const bool chunkLast = it == k.iterations || it == chunkStart + lpv::kMaxFuse - 1;
+                        roundToHalf(cur, fused && !chunkLast ? false : gHalfTruncates);
+                        roundToHalf(acc, fused ? false : gHalfTruncates);
                     }
                     if (it == k.iterations && it <= 4 && format == GL_RGBA16F) {
                         // Against pure double (no half storage) up to 4 iterations: each stored step
@@ -1049,4 +1058,71 @@ TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole
         CHECK(relL2(blended, current) <= 1e-6);
         CHECK(relL2(before, after) > 0.1);
     }
+}
+
+TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration") {
+    // docs/lpv.md, "Fused propagation": the same lpvGather on the same sources, from shared memory,
+    // so fp32 results agree to float tolerance (1e-6 of the volume's largest coefficient: the two
+    // shaders may contract multiply-adds differently); rgba16f stores may round differently in the
+    // last bit (llvmpipe truncates image stores, the fused path rounds its shared-memory steps to
+    // nearest): each stored step may differ by one half-precision ulp (2^-10 relative), carried on
+    // by the later steps, so n iterations are held to n 2^-10 relative L2 (measured 2.2e-3 at 8). Grids with partial tiles and a tile interior, odd and even
+    // iteration counts (chunks of 2 and 1), the near part of a cascade (split where it is taken),
+    // plain / occlusion + bounce, face / flow, the issue-22 defaults (first step blocked, bounce
+    // back into the source).
+    GpuFixture gpu;
+    std::mt19937 rng(11);
+    const glm::ivec3 grids[] = {{3, 5, 7}, {9, 6, 5}};
+    for (GLenum format : {GL_RGBA32F, GL_RGBA16F})
+        for (glm::ivec3 grid : grids)
+            for (int iterations : {2, 3, 5, 8})
+                for (int mode = 0; mode < 3; ++mode) {
+                    if (format == GL_RGBA16F && mode != 2) continue;  // llvmpipe time
+                    CpuOptions o;
+                    o.occlusion = o.bounce = mode >= 1;
+                    o.flow = mode >= 1;
+                    o.conserving = mode >= 1;
+                    const bool near = iterations >= 3;
+                    INFO("grid " << grid.x << "x" << grid.y << "x" << grid.z << ", " << iterations << " iterations, mode "
+                                 << mode << ", fp" << (format == GL_RGBA32F ? 32 : 16));
+                    CpuVolume light = randomLight(grid, rng), input;
+                    CpuGeometry geo = randomGeometry(grid, rng, 0.6), geoIn;
+                    struct Result {
+                        CpuVolume last, accum, near;
+                    };
+                    auto run = [&](int fuse) {
+                        GpuLpv g(grid, format, o);
+                        if (mode == 2) {
+                            g.settings.firstStepBlocked = true;
+                            g.settings.reflect = LpvSettings::Reflect::Source;
+                            lpv::UniformInputs in;
+                            in.placement.grid = grid;
+                            in.placement.cell = 1.0f;
+                            in.rsmViewProj = glm::mat4(1.0f);
+                            g.upload(in);
+                        }
+                        setup(g, light, &geo, input, &geoIn);
+                        if (near) g.v.ensureNear(g.ledger);
+                        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, iterations, near, false, fuse);
+                        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+                        return Result{readRgb(g.v.step[std::size_t(last)]), readRgb(g.v.accum),
+                                      near ? readRgb(g.v.near) : CpuVolume(grid)};
+                    };
+                    Result a = run(1), b = run(2);
+                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
+                        double peak = 0.0, diff = 0.0;
+                        for (int c = 0; c < 3; ++c)
+                            for (std::size_t i = 0; i < x.c[c].size(); ++i)
+                                for (int k = 0; k < 4; ++k) {
+                                    peak = std::max(peak, std::abs(y.c[c][i][k]));
+                                    diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
+                                }
+                        CHECK(peak > 0.0);
+                        if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
+                        else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
+                    };
+                    compare(b.last, a.last);
+                    compare(b.accum, a.accum);
+                    if (near) compare(b.near, a.near);
+                }
 }

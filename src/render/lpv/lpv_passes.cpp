@@ -61,6 +61,7 @@ struct LpvState {
     VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer stats;
     gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
+    gl::Texture lowIndirect, lowSpecular, lowGeometry;  // lpv.apply_resolution=half
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
@@ -482,7 +483,7 @@ public:
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
                 c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
-                                                   facesNeeded(ctx.settings));
+                                                   facesNeeded(ctx.settings), ls.fuse);
             }
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
@@ -639,14 +640,26 @@ public:
     std::string name() const override { return "lpv.apply"; }
     // The running sums over cascades (C > 1).
     std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
-        if (cascadeCount(s.lpv) < 2) return {};
-        return {{"lpv.apply.sum_irradiance", lpv::applySumDesc(view)}, {"lpv.apply.sum_specular", lpv::applySumDesc(view)}};
+        std::vector<gl::NamedTextureDesc> t;
+        const bool half = s.lpv.halfApply;
+        const glm::ivec2 applySize = half ? lpv::applyHalfSize(view) : view;
+        if (half) {
+            t.push_back({"lpv.apply.low_indirect", lpv::applyLowDesc(view)});
+            if (specularFor_) t.push_back({"lpv.apply.low_specular", lpv::applyLowDesc(view)});
+            t.push_back({"lpv.apply.low_geometry", lpv::applyLowGeometryDesc(view)});
+        }
+        if (cascadeCount(s.lpv) > 1) {
+            t.push_back({"lpv.apply.sum_irradiance", lpv::applySumDesc(applySize)});
+            t.push_back({"lpv.apply.sum_specular", lpv::applySumDesc(applySize)});
+        }
+        return t;
     }
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
         d.readIfWritten(R::bentNormal).readIfWritten(R::s3ho);  // directional occlusion of the lookup
         d.write(R::indirectDiffuse);
-        if (lpvSpecularActive(scene, s)) d.read(R::brdfLut).write(R::specular);
+        specularFor_ = lpvSpecularActive(scene, s);  // privateTextures' low specular target
+        if (specularFor_) d.read(R::brdfLut).write(R::specular);
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
@@ -654,9 +667,18 @@ public:
         const glm::ivec2 s = ctx.view.size;
         bool specular = lpvSpecularActive(ctx.scene, ctx.settings);
         const int count = int(st.cascades.size());
+        // lpv.apply_resolution=half: the cascades' dispatches run at half resolution into the
+        // low targets, lpv/upsample.comp writes the frame's outputs.
+        const bool half = ctx.settings.lpv.halfApply;
+        const glm::ivec2 applySize = half ? lpv::applyHalfSize(s) : s;
+        if (half) {
+            st.lowIndirect.ensure(ctx.ledger, "lpv.apply.low_indirect", lpv::applyLowDesc(s));
+            if (specular) st.lowSpecular.ensure(ctx.ledger, "lpv.apply.low_specular", lpv::applyLowDesc(s));
+            st.lowGeometry.ensure(ctx.ledger, "lpv.apply.low_geometry", lpv::applyLowGeometryDesc(s));
+        }
         if (count > 1) {
-            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(s));
-            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", lpv::applySumDesc(s));
+            st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(applySize));
+            st.sumS.ensure(ctx.ledger, "lpv.apply.sum_specular", lpv::applySumDesc(applySize));
         }
         for (int i = 0; i < count; ++i) {
             const LpvCascade& c = st.cascades[std::size_t(i)];
@@ -668,8 +690,9 @@ public:
             in.brdfLut = specular ? &r.brdfLut : nullptr;
             in.s3ho = ctx.has(R::s3ho) ? &r.s3ho : nullptr;
             in.bentNormal = ctx.has(R::bentNormal) ? &r.bentNormal : nullptr;
-            in.indirect = &r.indirectDiffuse;
-            in.specular = specular ? &r.specular : nullptr;
+            in.indirect = half ? &st.lowIndirect : &r.indirectDiffuse;
+            in.specular = specular ? (half ? &st.lowSpecular : &r.specular) : nullptr;
+            in.lowGeometry = half ? &st.lowGeometry : nullptr;
             in.cascade = i;
             in.cascades = count;
             in.near = i > 0 ? c.nearResult : nullptr;
@@ -695,7 +718,21 @@ public:
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }
+        if (half) {
+            lpv::UpsampleInputs up;
+            up.gbuffer = {&r.gbuffer.linearDepth, &r.gbuffer.normal, &r.gbuffer.albedo, &r.gbuffer.material, s};
+            up.lowIndirect = &st.lowIndirect;
+            up.lowSpecular = specular ? &st.lowSpecular : nullptr;
+            up.lowGeometry = &st.lowGeometry;
+            up.brdfLut = specular ? &r.brdfLut : nullptr;
+            up.indirect = &r.indirectDiffuse;
+            up.specular = specular ? &r.specular : nullptr;
+            lpv::applyUpsample(ctx.programs, st.first().ubo, up);
+        }
     }
+
+private:
+    mutable bool specularFor_ = false;  // set by declare (the scene decides)
 };
 
 }  // namespace

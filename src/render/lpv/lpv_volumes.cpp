@@ -412,7 +412,7 @@ void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
 }  // namespace
 
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
-                     bool visibility) {
+                     bool visibility, int fuse) {
     const bool sh2 = v.shOrder == 2;
     gl::Defines defines = formatDefines(v.format, v.shOrder);
     if (visibility) defines.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
@@ -452,7 +452,14 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         copyVolume(v.stepHi[0], v.accumHi, v.grid);
     }
     int src = 0;
-    for (int k = 1; k <= iterations; ++k) {
+    const int maxFuse = sh2 ? 1 : std::clamp(fuse, 1, kMaxFuse);
+    for (int k = 1; k <= iterations;) {
+        // Iterations k .. k + count - 1 in this dispatch: a chunk ends where the near part is
+        // copied (after step nearK) or mixed (step nearK + 1).
+        int count = std::min(maxFuse, iterations - k + 1);
+        if (near)
+            for (int e : {nearK, nearK + 1})
+                if (e >= k && e < k + count - 1) count = e - k + 1;
         // Rebound every iteration: the near part's mix and the band-2 sum use units of their own.
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
         glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
@@ -468,8 +475,17 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
             bindHiTextures(v.stepHi[std::size_t(src)], RTGI_LPV_TEX_SRC_HI_R);
             bindHiImages(v.stepHi[std::size_t(dst)], RTGI_LPV_IMG_DST_HI_R, GL_WRITE_ONLY, v.format);
         }
-        prog.set(RTGI_LPV_LOC_ITERATION, k);
-        gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+        if (count > 1) {
+            gl::Defines fd = defines;
+            fd.push_back({"RTGI_LPV_FUSE", std::to_string(maxFuse)});
+            const gl::Program& fused = programs.compute("lpv/propagate_fused.comp", fd);
+            fused.set(RTGI_LPV_LOC_ITERATION, k);
+            fused.set(RTGI_LPV_LOC_FUSED_COUNT, count);
+            gl::dispatch(fused, v.grid.x, v.grid.y, v.grid.z);
+        } else {
+            prog.set(RTGI_LPV_LOC_ITERATION, k);
+            gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+        }
         if (sh2) {
             const gl::Program& acc = programs.compute("lpv/accumulate.comp", formatDefines(v.format));
             // Producer: the step just written (image stores), read as textures here.
@@ -481,7 +497,8 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
             gl::dispatch(acc, v.grid.x, v.grid.y, v.grid.z);
         }
         src = dst;
-        nearStep(k);
+        for (int j = k; j < k + count; ++j) nearStep(j);
+        k += count;
     }
     return src;
 }
@@ -559,6 +576,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (!in.geometry && in.visibility) d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
+    if (in.lowGeometry) d.push_back({"RTGI_LPV_APPLY_HALF", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
@@ -577,6 +595,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.lowGeometry) b.image(RTGI_LPV_IMG_APPLY_LOW_GEOMETRY, *in.lowGeometry, GL_WRITE_ONLY, GL_RGBA32F);
     if (in.volumeHi)
         b.texture(RTGI_LPV_TEX_LIGHT_HI_R, (*in.volumeHi)[0])
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])
@@ -602,6 +621,30 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
             .image(RTGI_LPV_IMG_APPLY_SUM_S, *in.sumS, GL_READ_WRITE, GL_RGBA32F);
         prog.set(RTGI_LPV_LOC_APPLY_LAST, in.cascade == in.cascades - 1 ? 1 : 0);
     }
+    const glm::ivec2 size = in.lowGeometry ? applyHalfSize(g.size) : g.size;
+    gl::dispatch(prog, size.x, size.y);
+}
+
+void applyUpsample(gl::ProgramCache& programs, const gl::Buffer& ubo, const UpsampleInputs& in) {
+    gl::Defines d;
+    if (in.specular) d.push_back({"RTGI_LPV_SPECULAR", ""});
+    if (in.specular && in.brdfLut) d.push_back({"RTGI_LPV_BRDF_LUT", ""});
+    const gl::Program& prog = programs.compute("lpv/upsample.comp", d);
+    bindUbo(ubo);
+    // Producer: the half-resolution lpv.apply (image stores), read as textures here.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    const GBufferView& g = in.gbuffer;
+    gl::ScopedBindings b;
+    b.texture(RTGI_LPV_TEX_LINEAR_DEPTH, g.linearDepth)
+        .texture(RTGI_LPV_TEX_VIEW_NORMAL, g.normal)
+        .texture(RTGI_LPV_TEX_ALBEDO, g.albedo)
+        .texture(RTGI_LPV_TEX_MATERIAL, g.material)
+        .texture(RTGI_LPV_TEX_BRDF_LUT, in.specular ? in.brdfLut : nullptr)
+        .texture(RTGI_LPV_UPSAMPLE_TEX_LOW_INDIRECT, in.lowIndirect)
+        .texture(RTGI_LPV_UPSAMPLE_TEX_LOW_SPECULAR, in.specular ? in.lowSpecular : nullptr)
+        .texture(RTGI_LPV_UPSAMPLE_TEX_LOW_GEOMETRY, in.lowGeometry)
+        .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
+    if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
     gl::dispatch(prog, g.size.x, g.size.y);
 }
 

@@ -30,6 +30,15 @@ struct RsmDescs {
 };
 // lpv.apply's running sums over cascades (C > 1; two of them), view-sized.
 inline gl::TextureDesc applySumDesc(glm::ivec2 view) { return {GL_TEXTURE_2D, GL_RGBA32F, view.x, view.y}; }
+// lpv.apply_resolution=half: the apply's size (ceil(view / 2)), its outputs (RGBA16F) and the
+// depth + view normal of its texels (RGBA32F) that lpv.upsample weights by.
+inline glm::ivec2 applyHalfSize(glm::ivec2 view) { return (view + 1) / 2; }
+inline gl::TextureDesc applyLowDesc(glm::ivec2 view) {
+    return {GL_TEXTURE_2D, GL_RGBA16F, applyHalfSize(view).x, applyHalfSize(view).y};
+}
+inline gl::TextureDesc applyLowGeometryDesc(glm::ivec2 view) {
+    return {GL_TEXTURE_2D, GL_RGBA32F, applyHalfSize(view).x, applyHalfSize(view).y};
+}
 inline RsmDescs rsmDescs(int n) {
     return {{GL_TEXTURE_2D, GL_RGBA32F, n, n}, {GL_TEXTURE_2D, GL_RGBA16F, n, n}, {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}};
 }
@@ -119,8 +128,13 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 // `near` (cascades i > 0): also fills v.near with the steps weighted by
 // cascadeNearWeight (v.ensureNear first).
 // `visibility` (lpv.blocking=visibility): v.faces holds the traced face openness, which blocks the flow too.
+// Most iterations per dispatch of the fused propagation: a 4^3 tile with a halo of 2 is 8^3 cells of
+// 3 vec4 = 24 KiB of shared memory (GL guarantees 32 KiB; a halo of 3 would need 47 KiB).
+inline constexpr int kMaxFuse = 2;
+// `fuse` > 1 (lpv.fuse, band 1 only): up to that many iterations per dispatch (lpv/propagate_fused.comp,
+// the same steps; docs/lpv.md, "Fused propagation"), split where the near part is taken.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
-                     bool near = false, bool visibility = false);
+                     bool near = false, bool visibility = false, int fuse = kMaxFuse);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 // lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
 // `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
@@ -149,8 +163,25 @@ struct ApplyInputs {
     bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
     gl::Texture* specular = nullptr;
+    // Set: lpv.apply_resolution=half. `indirect`, `specular`, `sumE`, `sumS` are then
+    // half-resolution (applyHalfSize) and hold the albedo-free terms; this RGBA32F image gets
+    // each texel's depth and view normal; applyUpsample makes the full-resolution outputs.
+    gl::Texture* lowGeometry = nullptr;
 };
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in);
+// lpv.upsample: the half-resolution apply's terms (`lowIndirect`, `lowSpecular` when `specular`
+// is set, `lowGeometry`) to the full-resolution `indirect` and `specular` (joint bilateral,
+// lib/filter.glsl), times the pixels' albedo and BRDF (docs/lpv.md, "Half-resolution apply").
+struct UpsampleInputs {
+    GBufferView gbuffer;
+    const gl::Texture* lowIndirect = nullptr;
+    const gl::Texture* lowSpecular = nullptr;
+    const gl::Texture* lowGeometry = nullptr;
+    const gl::Texture* brdfLut = nullptr;
+    gl::Texture* indirect = nullptr;
+    gl::Texture* specular = nullptr;
+};
+void applyUpsample(gl::ProgramCache& programs, const gl::Buffer& ubo, const UpsampleInputs& in);
 // history[target] = mix(accum, history[1 - target] re-indexed, lpv.temporal) (and historyHi with band 2).
 void temporalBlend(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int target);
 // nearHistory[target] = mix(near, nearHistory[1 - target] re-indexed, lpv.temporal): cascades i > 0
