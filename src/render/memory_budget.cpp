@@ -95,7 +95,10 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         }
     }
     const std::string fixedKey = "the scene (" + std::to_string(r.scene().triangleCount()) + " triangles)";
-    if (hasFamily(r, "ao.") || hasFamily(r, "ssr.")) by[fixedKey] += double(gl::textureBytes(blueNoiseDesc()));
+    // The blue noise of the screen-space estimators, ao.nearfield and the SSR tracer (ao.rtao draws its own).
+    const bool screenSpaceAo = hasFamily(r, "ao.") && s.ao.variant != AoSettings::Variant::Rtao;
+    if (screenSpaceAo || hasFamily(r, "ao.nearfield") || hasFamily(r, "ssr."))
+        by[fixedKey] += double(gl::textureBytes(blueNoiseDesc()));
     // The AoParams block: one for the AO chain, one for ao.nearfield's own.
     for (auto& p : r.passes())
         if (p->name() == "ao.nearfield" || p->name() == "ao." + std::string(toString(s.ao.variant)))

@@ -91,6 +91,10 @@ TEST_CASE_FIXTURE(test::GpuFixture, "hardening: the memory estimate matches the 
         }
         std::int64_t actual = r.ledger().total();
         MESSAGE(name << ": estimate " << estimate << " bytes, ledger " << actual);
+        if (std::abs(double(estimate) - double(actual)) > 0.05 * double(actual)) {  // say where
+            for (auto& it : e.items) MESSAGE("  estimate " << it.setting << ": " << it.bytes);
+            for (auto& [label, bytes] : r.ledger().entries()) MESSAGE("  ledger " << label << ": " << bytes);
+        }
         CHECK(double(estimate) >= 0.95 * double(actual));
         CHECK(double(estimate) <= 1.05 * double(actual));
         // Every private texture the estimate lists is in the ledger with the

@@ -452,7 +452,9 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         copyVolume(v.stepHi[0], v.accumHi, v.grid);
     }
     int src = 0;
-    const int maxFuse = sh2 ? 1 : std::clamp(fuse, 1, kMaxFuse);
+    // Fused: band 1 only, and not with the traced face openness (its reflected flux was
+    // written against the unfused step and is not covered by the fused-equals-unfused test).
+    const int maxFuse = sh2 || visibility ? 1 : std::clamp(fuse, 1, kMaxFuse);
     for (int k = 1; k <= iterations;) {
         // Iterations k .. k + count - 1 in this dispatch: a chunk ends where the near part is
         // copied (after step nearK) or mixed (step nearK + 1).
