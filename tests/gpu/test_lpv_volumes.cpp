@@ -539,9 +539,11 @@ TEST_CASE("LPV face openness (lpv.blocking=visibility): the open fraction passes
             // fp32 sums (1e-5), and for 0 < tau < 1 the driver's unorm8 decode of tau (llvmpipe returns
             // 102/255 within 1.5e-4): 1e-3.
             const double tol = tau8 == 0 || tau8 == 255 ? 1e-5 : 1e-3;
+            // Plus a floor of a few fp32 ulps of the flux sent (NVIDIA's fused multiply-adds leave
+            // +-1.5e-9 where the exact value is 0, with F ~ 1; H200 GPU tier).
             for (int k = 0; k < 4; ++k) {
-                CHECK(got.c[c][0][k] == doctest::Approx(want0[k]).epsilon(tol).scale(1e-6 * F));
-                CHECK(got.c[c][1][k] == doctest::Approx(want1[k]).epsilon(tol).scale(1e-6 * F));
+                CHECK(std::abs(got.c[c][0][k] - want0[k]) <= tol * std::abs(want0[k]) + 4e-7 * F);
+                CHECK(std::abs(got.c[c][1][k] - want1[k]) <= tol * std::abs(want1[k]) + 4e-7 * F);
             }
             // Energy: what passes plus what the wall reflects (divided by its albedo) is what was sent
             // (independent of tau's decode).
