@@ -169,6 +169,24 @@ float aoHbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise
     return clamp(1.0 - sumAo / float(dirs), 0.0, 1.0);
 }
 
+// Slice k of `slices` of gtao and vbao: its screen direction (rotated by
+// `rotation` over 180/slices), the length of the normal projected into the
+// slice plane and the normal's angle from V in it (Jimenez et al. 2016, eq. 5).
+// False when the normal lies along the slice axis (no hemisphere in the slice).
+bool aoSlice(int k, int slices, float rotation, vec3 V, vec3 n, out vec3 dir, out float projLen, out float nAngle) {
+    float phi = PI * (float(k) + rotation) / float(slices);
+    dir = vec3(cos(phi), sin(phi), 0.0);
+    vec3 ortho = dir - dot(dir, V) * V;
+    vec3 axis = normalize(cross(ortho, V));
+    vec3 projN = n - axis * dot(n, axis);
+    projLen = length(projN);
+    nAngle = 0.0;
+    if (projLen < 1e-4) return false;
+    float cosN = clamp(dot(projN, V) / projLen, 0.0, 1.0);
+    nAngle = (dot(ortho, projN) >= 0.0 ? 1.0 : -1.0) * acos(cosN);
+    return true;
+}
+
 // gtao (Jimenez et al. 2016, seed 000 4.1): `slices` slices rotated by
 // noise.x over 180/slices, `steps` steps per side jittered by noise.y;
 // cosine-weighted visibility up to distance R (without multi-bounce).
@@ -177,15 +195,10 @@ float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise
     vec3 V = normalize(-P);
     float vis = 0.0, open = 0.0;
     for (int k = 0; k < slices; ++k) {
-        float phi = PI * (float(k) + noise.x) / float(slices);
-        vec3 dir = vec3(cos(phi), sin(phi), 0.0);
-        vec3 ortho = dir - dot(dir, V) * V;
-        vec3 axis = normalize(cross(ortho, V));
-        vec3 projN = n - axis * dot(n, axis);
-        float projLen = length(projN);
-        if (projLen < 1e-4) continue;  // normal along the slice axis: the slice sees no hemisphere
-        float cosN = clamp(dot(projN, V) / projLen, 0.0, 1.0);
-        float nAngle = (dot(ortho, projN) >= 0.0 ? 1.0 : -1.0) * acos(cosN);
+        vec3 dir;
+        float projLen, nAngle;
+        // normal along the slice axis: the slice sees no hemisphere
+        if (!aoSlice(k, slices, noise.x, V, n, dir, projLen, nAngle)) continue;
         float low0 = cos(nAngle + HALF_PI), low1 = cos(nAngle - HALF_PI);
         float hc0 = low0, hc1 = low1;
         for (int j = 0; j < steps; ++j) {
@@ -236,15 +249,10 @@ float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise
     vec3 V = normalize(-P);
     float vis = 0.0, open = 0.0;
     for (int k = 0; k < slices; ++k) {
-        float phi = PI * (float(k) + noise.x) / float(slices);
-        vec3 dir = vec3(cos(phi), sin(phi), 0.0);
-        vec3 ortho = dir - dot(dir, V) * V;
-        vec3 axis = normalize(cross(ortho, V));
-        vec3 projN = n - axis * dot(n, axis);
-        float projLen = length(projN);
-        if (projLen < 1e-4) continue;  // normal along the slice axis: the slice sees no hemisphere
-        float cosN = clamp(dot(projN, V) / projLen, 0.0, 1.0);
-        float nAngle = (dot(ortho, projN) >= 0.0 ? 1.0 : -1.0) * acos(cosN);
+        vec3 dir;
+        float projLen, nAngle;
+        // normal along the slice axis: the slice sees no hemisphere
+        if (!aoSlice(k, slices, noise.x, V, n, dir, projLen, nAngle)) continue;
         uint occluded = 0u;
         for (int j = 0; j < steps; ++j) {
             float s = (float(j) + noise.y) / float(steps);

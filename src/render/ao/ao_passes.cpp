@@ -126,6 +126,18 @@ protected:
     std::shared_ptr<AoChain> chain_;
 };
 
+// What an estimator (screen-space or ao.rtao) writes: the directional term it
+// is asked for, and ao itself when no filter follows, else the chain's ao.raw.
+void declareEstimateOutputs(PassDecl& d, const Settings& s, AoChain& chain) {
+    if (s.ao.directional == AoSettings::Directional::BentNormals) d.write(R::bentNormal);
+    if (s.ao.directional == AoSettings::Directional::S3ho) d.write(R::s3ho);
+    if (lastStage(s.ao) == Stage::Estimate) {
+        d.write(R::ao);
+    } else {
+        d.output("ao.raw", &chain.raw).debugImage("ao.raw", &chain.raw);
+    }
+}
+
 // ---- ao.downsample ------------------------------------------------------------
 class DownsamplePass final : public AoPassBase {
 public:
@@ -197,13 +209,7 @@ public:
         if (s.ao.variant != variant_) return d.skip(std::string("ao=") + toString(s.ao.variant));
         d.read(R::linearDepth).read(R::normal).read(R::albedo);
         if (s.ao.depthSource == AoSettings::DepthSource::Light) d.read(R::shadowMap);
-        if (s.ao.directional == AoSettings::Directional::BentNormals) d.write(R::bentNormal);
-        if (s.ao.directional == AoSettings::Directional::S3ho) d.write(R::s3ho);
-        if (lastStage(s.ao) == Stage::Estimate) {
-            d.write(R::ao);
-        } else {
-            d.output("ao.raw", &chain_->raw).debugImage("ao.raw", &chain_->raw);
-        }
+        declareEstimateOutputs(d, s, *chain_);
     }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
@@ -266,20 +272,14 @@ public:
     void declare(PassDecl& d, const Scene&, const Settings& s) const override {
         if (s.ao.variant != Variant::Rtao) return d.skip(std::string("ao=") + toString(s.ao.variant));
         d.read(R::linearDepth).read(R::normal);
-        if (s.ao.directional == AoSettings::Directional::BentNormals) d.write(R::bentNormal);
-        if (s.ao.directional == AoSettings::Directional::S3ho) d.write(R::s3ho);
-        if (lastStage(s.ao) == Stage::Estimate) {
-            d.write(R::ao);
-        } else {
-            d.output("ao.raw", &chain_->raw).debugImage("ao.raw", &chain_->raw);
-        }
+        declareEstimateOutputs(d, s, *chain_);
     }
     void execute(FrameContext& ctx) override {
         AoChain& c = *chain_;
         const AoSettings& s = ctx.settings.ao;
         glm::ivec2 a = c.aoSize(ctx);
         gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
-        if (&out == &c.raw) out.ensure(ctx.ledger, "ao.raw", {GL_TEXTURE_2D, GL_R16F, a.x, a.y});
+        if (&out == &c.raw) out.ensure(ctx.ledger, rawTex(a).label, rawTex(a).desc);
         int directional = int(s.directional);
         gl::Texture* dirTex = directional == 1 ? &ctx.res.bentNormal : directional == 2 ? &ctx.res.s3ho : nullptr;
         bvh_.ensure(ctx, "ao.rtao.bvh");  // built once, rebuilt when the geometry moved
