@@ -35,7 +35,6 @@
 // uniform locations
 #define RTGI_POST_LOC_SAMPLES         0  // post/brdf_lut.comp
 #define RTGI_POST_LOC_HAVE            0  // post/compose.comp
-#define RTGI_POST_LOC_HAS_SHADOW_MAP  0  // post/direct.comp
 #define RTGI_POST_LOC_CHANNELS        0  // post/finite_check.comp
 #define RTGI_POST_LOC_MAY_BE_NEGATIVE 1  // post/finite_check.comp
 

@@ -17,14 +17,16 @@ layout(binding = RTGI_POST_TEX_NORMAL) uniform sampler2D uNormal;
 layout(binding = RTGI_POST_DIRECT_TEX_ALBEDO) uniform sampler2D uAlbedo;
 layout(binding = RTGI_POST_DIRECT_TEX_MATERIAL) uniform sampler2D uMaterial;
 layout(binding = RTGI_POST_TEX_EMISSIVE) uniform sampler2D uEmissive;
+#ifdef RTGI_SUN_SHADOW_MAP
+// Declared only with a shadow map bound: NVIDIA reports a shadow sampler on an
+// empty unit as undefined behaviour even when it is never sampled.
 layout(binding = RTGI_POST_TEX_SHADOW_MAP) uniform sampler2DShadow uShadowMap;
+#endif
 layout(rgba16f, binding = RTGI_POST_IMG_DIRECT) uniform writeonly image2D uDirect;
 #ifdef RTGI_LOCAL_SHADOWS
 layout(binding = RTGI_POST_DIRECT_TEX_LOCAL_SHADOWS) uniform sampler2DArrayShadow uLocalShadows;
 layout(binding = RTGI_POST_DIRECT_TEX_LOCAL_DEPTH) uniform sampler2DArray uLocalDepth;  // the same maps, raw depth
 #endif
-
-layout(location = RTGI_POST_LOC_HAS_SHADOW_MAP) uniform int uHasShadowMap;
 
 #ifdef RTGI_DIFFUSE_ONLY
 vec3 lightBrdfCos(vec3 n, vec3 v, vec3 l, vec3 albedo, vec2 rm) { return evalDiffuseCos(n, l, albedo, rm.y); }
@@ -75,7 +77,9 @@ vec2 shadowJitter(ivec2 p) {
 }
 
 float sunVisibility(vec3 worldPos, vec3 worldNormal) {
-    if (uHasShadowMap == 0) return 1.0;
+#ifndef RTGI_SUN_SHADOW_MAP
+    return 1.0;
+#else
     // Normal offset against acne; bias in world units from the frame block.
     vec3 p = worldPos + worldNormal * frame.sunIrradiance.a;
     vec4 c = frame.shadowViewProj * vec4(p, 1.0);
@@ -86,6 +90,7 @@ float sunVisibility(vec3 worldPos, vec3 worldNormal) {
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) v += texture(uShadowMap, vec3(s.xy + vec2(x, y) * texel, s.z));
     return v / 9.0;
+#endif
 }
 
 void main() {

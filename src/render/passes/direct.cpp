@@ -44,10 +44,11 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
     if (diffuseOnly) defs.push_back({"RTGI_DIFFUSE_ONLY", ""});
     const bool local = ctx.has(R::localShadowMaps);
     if (local) defs.push_back({"RTGI_LOCAL_SHADOWS", ""});
+    const bool shadow = ctx.has(R::shadowMap);
+    if (shadow) defs.push_back({"RTGI_SUN_SHADOW_MAP", ""});
     const gl::Program& prog = ctx.programs.compute("post/direct.comp", defs);
     // Producer: gbuffer and shadow raster passes (framebuffer writes).
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    bool shadow = ctx.has(R::shadowMap);
     gl::ScopedBindings b;
     b.texture(RTGI_POST_TEX_LINEAR_DEPTH, g.linearDepth)
         .texture(RTGI_POST_TEX_NORMAL, g.normal)
@@ -55,7 +56,6 @@ void dispatchDirect(FrameContext& ctx, const gl::Texture& target, bool diffuseOn
         .texture(RTGI_POST_DIRECT_TEX_MATERIAL, g.material)
         .texture(RTGI_POST_TEX_EMISSIVE, g.emissive)
         .texture(RTGI_POST_TEX_SHADOW_MAP, shadow ? &ctx.res.shadowMap : nullptr);
-    prog.set(RTGI_POST_LOC_HAS_SHADOW_MAP, shadow ? 1 : 0);
     ctx.gpuScene.bindTables();
     // The real-time light list (culled, with shadow layers) replaces the scene's.
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LIGHTS, ctx.res.localLights.id());
