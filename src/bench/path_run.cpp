@@ -166,8 +166,11 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
             std::filesystem::create_directories(opts.outDir + "/frames");
             writePng(opts.outDir + "/frames" + name, readTexture(renderer.resources().ldr));
         }
-        // History rejected by the reprojecting filters (docs/temporal.md, "Disocclusion").
+        // History rejected by the reprojecting filters (docs/temporal.md, "Disocclusion"): a counter
+        // read back, so only on referenced frames (which read images back anyway), never a stall
+        // on the others.
         for (const char* pass : {"ao.temporal", "ssr.temporal"}) {
+            if (!refs[std::size_t(i)]) break;
             Pass* p = renderer.findPass(pass);
             bool skipped = !p;
             for (auto& sk : renderer.skipped()) skipped = skipped || sk.name == pass;
