@@ -52,8 +52,10 @@ Surface surfaceAt(Hit h, vec3 rayOrigin, vec3 rayDir) {
     vec3 ns = w.x * refVertexVec3(i0, 3u) + w.y * refVertexVec3(i1, 3u) + w.z * refVertexVec3(i2, 3u);
     float ls = length(ns);
     s.normal = ls > 0.0 ? ns / ls : s.geometric;
-    // Two-sided surfaces: both normals face the side the ray came from.
-    if (dot(s.geometric, rayDir) > 0.0) s.geometric = -s.geometric;
+    // Two-sided surfaces: both normals face the side the ray came from. Emission leaves
+    // single-sided emitters only from their front (counter-clockwise) face.
+    bool back = dot(s.geometric, rayDir) > 0.0;
+    if (back) s.geometric = -s.geometric;
     if (dot(s.normal, s.geometric) < 0.0) s.normal = -s.normal;
     uint m = floatBitsToUint(refVertexWords[i0 * 9u + 8u]);
     vec2 uv = w.x * vec2(refVertexWords[i0 * 9u + 6u], refVertexWords[i0 * 9u + 7u]) +
@@ -67,7 +69,7 @@ Surface surfaceAt(Hit h, vec3 rayOrigin, vec3 rayDir) {
     s.albedo = base;
     s.roughness = mat.params.x;
     s.metallic = mat.params.y;
-    s.emission = mat.emissive.rgb;
+    s.emission = back && mat.emissive.a == 0.0 ? vec3(0.0) : mat.emissive.rgb;
     s.specular = 1.0;
     return s;
 }
@@ -192,9 +194,10 @@ bool sampleBrdf(Surface s, vec3 v, inout Rng rng, out vec3 l, out vec3 weight, o
 // ---- emissive triangles: area-weighted light sampling with MIS ----------
 // An emitter point y is drawn uniformly over the total emissive area A
 // (pick a triangle by its area CDF, then a uniform point on it), so its
-// solid-angle pdf at x is p_light = d² / (|cos θ_y| · A). Emitters are
-// two-sided, like the BRDF-sampled hits that see their emission from
-// either side. Both techniques are combined with the power heuristic
+// solid-angle pdf at x is p_light = d² / (|cos θ_y| · A). A single-sided
+// emitter (glTF doubleSided = false) sends light only from its front,
+// counter-clockwise face, in both techniques (surfaceAt zeroes the emission
+// a BRDF-sampled ray finds on its back); a double-sided one from either. Both techniques are combined with the power heuristic
 // (Veach 1997, ch. 9): a BRDF-sampled ray that hits an emitter is weighted
 // p_brdf² / (p_brdf² + p_light²), the light sample by the complement.
 
@@ -249,8 +252,9 @@ vec3 sampleEmitters(Surface s, vec3 v, vec3 origin, inout Rng rng) {
     vec3 l = toY * inversesqrt(dist2);
     float cosY = abs(dot(ng, l));
     if (dot(s.geometric, l) <= 0.0 || dot(s.normal, l) <= 0.0 || cosY <= 0.0) return vec3(0.0);
-    vec3 le = materials[floatBitsToUint(refVertexWords[i0 * 9u + 8u])].emissive.rgb;
-    if (all(equal(le, vec3(0.0)))) return vec3(0.0);
+    vec4 emissive = materials[floatBitsToUint(refVertexWords[i0 * 9u + 8u])].emissive;
+    vec3 le = emissive.rgb;
+    if (all(equal(le, vec3(0.0))) || (emissive.a == 0.0 && dot(ng, l) >= 0.0)) return vec3(0.0);
     // The shadow ray ends at y moved off the emitter towards the receiver,
     // so the emitter itself never occludes its own sample.
     vec3 yOff = offsetRayOrigin(y, dot(ng, l) < 0.0 ? ng : -ng, maxAbs(s.position));

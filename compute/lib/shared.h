@@ -52,7 +52,7 @@ RTGI_STRUCT(FrameUniforms) {
 // Material table (std430): index stored per vertex.
 RTGI_STRUCT(GpuMaterial) {
     vec4 baseColor;  // linear rgb, a = alpha
-    vec4 emissive;   // rgb radiance, a unused
+    vec4 emissive;   // rgb radiance, a: 1 = emits from both sides (glTF doubleSided), 0 = front face only
     vec4 params;     // x roughness, y metallic, z texture layer (-1 none), w unused
 };
 

@@ -28,7 +28,8 @@ GBufferTexel gbufferTexel(vec3 worldPos, vec3 normal, bool frontFacing, uint mat
     g.normal = vec4(nv, 1.0);
     g.albedo = vec4(baseColor.rgb, 1.0);
     g.material = vec4(materials[material].params.x, materials[material].params.y, 0.0, 1.0);
-    g.emissive = materials[material].emissive.rgb;
+    // A single-sided emitter seen from behind shows no emission (glTF doubleSided = false).
+    g.emissive = frontFacing || materials[material].emissive.a != 0.0 ? materials[material].emissive.rgb : vec3(0.0);
     vec2 cur = curClip.xy / curClip.w * 0.5 + 0.5;
     vec2 prev = prevClip.xy / prevClip.w * 0.5 + 0.5;
     g.velocity = prev - cur;

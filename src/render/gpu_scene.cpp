@@ -222,7 +222,7 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     std::vector<Material> mats = resolveMaterials(scene, settings);
     std::vector<gpu::GpuMaterial> gm;
     for (auto& m : mats)
-        gm.push_back({m.baseColor, glm::vec4(m.emissive, 0), glm::vec4(m.roughness, m.metallic, float(m.baseColorTexture), 0)});
+        gm.push_back({m.baseColor, glm::vec4(m.emissive, m.doubleSided ? 1.0f : 0.0f), glm::vec4(m.roughness, m.metallic, float(m.baseColorTexture), 0)});
     if (gm.empty()) gm.push_back({});
     materialCount_ = int(mats.size());
     materials_ = gl::Buffer(ledger, "scene.materials", std::int64_t(gm.size() * sizeof(gpu::GpuMaterial)), gm.data(), 0);

@@ -822,6 +822,7 @@ private:
                 fail(at + ": emissiveFactor x emissiveStrength = " + num(brightestEmission) + " exceeds " +
                      num(kMaxRadiance) + " (float overflow on the GPU)");
             m.emissive = emissive * float(strength);
+            m.doubleSided = gm.doubleSided;
             int tex = pbr.baseColorTexture.index;
             if (tex != -1) {
                 if (tex < 0 || std::size_t(tex) >= model_.textures.size())

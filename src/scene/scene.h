@@ -45,6 +45,9 @@ struct Material {
     float metallic = 0.0f;
     float roughness = 1.0f;
     glm::vec3 emissive{0.0f};  // linear radiance (emissiveFactor × strength)
+    // glTF doubleSided: false (the default) = the surface emits only from its front face, the side
+    // its triangles are counter-clockwise from (docs/reference.md, "Emitters").
+    bool doubleSided = false;
     int baseColorTexture = -1;  // index into Scene::images
 };
 
