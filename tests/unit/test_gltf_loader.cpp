@@ -697,7 +697,7 @@ TEST_CASE("gltf: materials, base colour textures and the default material") {
     a.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
     a.doc["materials"][0]["emissiveFactor"] = {1.0, 0.5, 0.0};
     a.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 4.0;
-    a.doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}});
+    a.doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}, {"doubleSided", true}});
     // Second mesh: the same quad with the second material, third: without material.
     json prim = a.doc["meshes"][0]["primitives"][0];
     prim["material"] = 1;
@@ -719,6 +719,8 @@ TEST_CASE("gltf: materials, base colour textures and the default material") {
     CHECK(s.materials[2].baseColorTexture == -1);
     CHECK(near3(s.materials[0].emissive, {4.0f, 2.0f, 0.0f}));
     CHECK(s.materials[1].metallic == doctest::Approx(1.0));  // glTF default
+    CHECK_FALSE(s.materials[0].doubleSided);  // glTF default: single-sided (emits from the front face only)
+    CHECK(s.materials[1].doubleSided);
     REQUIRE(s.images.size() == 2);
     CHECK(s.materials[0].baseColorTexture == 0);
     CHECK(s.materials[1].baseColorTexture == 1);
