@@ -37,7 +37,9 @@ struct Hasher {
 std::string referenceCacheKey(const Scene& scene, const Settings& settings, const ReferenceConstants& c,
                               const View& view) {
     Hasher h;
-    h.str("rtgi-reference-v4");  // v4: G-buffer origins cover the interpolation error, running moments, caustics modes  // bump when the estimator changes
+    // Bump when the estimator changes. v4: G-buffer origins cover the interpolation error, running moments,
+    // caustics modes; v5: single-sided emitters (glTF doubleSided).
+    h.str("rtgi-reference-v5");
     h.str(scene.name);
     h.vec(scene.vertices);
     h.vec(scene.indices);
@@ -47,6 +49,7 @@ std::string referenceCacheKey(const Scene& scene, const Settings& settings, cons
         h.pod(m.metallic);
         h.pod(m.roughness);
         h.pod(m.emissive);
+        h.pod(m.doubleSided);
         h.pod(m.baseColorTexture);
     }
     for (auto& img : scene.images) h.vec(img.rgba);
