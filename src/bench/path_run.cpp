@@ -203,11 +203,14 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         ref->updateScene(state);
         const bool rebuilt = refCount == 0 || ref->lastSceneUpdate().geometry;  // ref.bvh_upload rebuilds on its next use
         ref->render(makeView(cam, size, nullptr, 0));
+        if (rebuilt)
+            if (Pass* bvhPass = ref->findPass("ref.bvh_upload"))
+                for (auto& [k, val] : bvhPass->stats())
+                    if (k == "build_ms") r.bvhMs = val;
         auto* out = dynamic_cast<ReferenceOutput*>(ref->findPass(kind == K::Ao ? "ref.ao" : "ref.path"));
         if (!out) throw ConfigError("--reference: the reference pass did not run");
         for (auto& [k, val] : ref->findPass(kind == K::Ao ? "ref.ao" : "ref.path")->stats()) {
             if (k == "seconds") refSeconds += val;
-            if (k == "build_ms" && rebuilt) r.bvhMs = val;
             refInfo[k] = val;  // the last frame's
         }
         ++refCount;
