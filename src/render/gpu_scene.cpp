@@ -282,7 +282,8 @@ void GpuScene::updateVertices(const Scene& scene) {
 
 bool GpuScene::registerObjects(const Scene& scene, const std::vector<Vertex>& rest) {
     const std::size_t n = std::size_t(vbo_.size()) / sizeof(GpuVertex);
-    if (scene.motions.empty() || rest.size() != n || scene.vertices.size() != n) return false;
+    // A state without motions is the rest pose (the caller checked): every object at the identity.
+    if ((scene.motions.empty() && objects_.empty()) || rest.size() != n || scene.vertices.size() != n) return false;
     std::vector<const RigidMotion*> fresh;
     for (auto& m : scene.motions) {
         for (auto [first, count] : m.ranges)

@@ -55,7 +55,8 @@ public:
     void updateVertices(const Scene& scene);
     // Object motion by transforms (docs/temporal.md, "Object motion"): `scene`
     // is a state whose vertices are `rest` moved by scene.motions (and rest
-    // elsewhere). Only the objects' matrices are uploaded (ObjectTransform,
+    // elsewhere; without motions: the rest pose itself, every object at the
+    // identity). Only the objects' matrices are uploaded (ObjectTransform,
     // 144 bytes per object); the object-space vertices of an object are
     // uploaded once, when it first moves. applyTransforms (Renderer::render,
     // profiled as "scene.transform") then writes the moved vertices into the

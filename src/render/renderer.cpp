@@ -131,7 +131,10 @@ void Renderer::updateScene(const Scene& state) {
         if (restVertices_.empty()) restVertices_ = scene_.vertices;  // the pose this renderer was built with
         scene_.vertices = state.vertices;
         scene_.motions = state.motions;
-        sceneUpdate_.transforms = gpuScene_->setTransforms(scene_, restVertices_);
+        // Moved by transforms: a state of rigid motions, or the rest pose again (no motions).
+        const bool atRest = state.motions.empty() && std::memcmp(state.vertices.data(), restVertices_.data(),
+                                                                  state.vertices.size() * sizeof(Vertex)) == 0;
+        sceneUpdate_.transforms = (!state.motions.empty() || atRest) && gpuScene_->setTransforms(scene_, restVertices_);
         if (!sceneUpdate_.transforms) gpuScene_->updateVertices(scene_);
         sceneUpdate_.geometry = true;
         geometryChanged();  // the light budget's cached local maps show the old geometry

@@ -147,9 +147,11 @@ TEST_CASE("transforms: the dispatch writes the CPU double transform of the objec
     for (auto& p : prof.results()) timed = timed || p.name == "scene.transform";
     CHECK(timed);  // the dispatch is profiled as its own scope (rtgi-bench: ms.scene.transform)
 
-    // Back to rest (no motion in the state): identity for the box, the previous positions m2.
+    // Back to the rest pose (a state without motions): the box at the identity by transforms, the previous positions m2.
     r.updateScene(rest);
     REQUIRE(r.lastSceneUpdate().geometry);
+    CHECK(r.lastSceneUpdate().transforms);
+    CHECK(r.lastSceneUpdate().uploadedBytes == std::int64_t(sizeof(gpu::ObjectTransform)));
     View v3 = makeView(resolveCamera(rest, st), size, &v2, 3);
     r.render(v3);
     checkVertices(download(r.gpuScene().vertices()), rest, glm::dmat4(1.0), true);
