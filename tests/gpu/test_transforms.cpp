@@ -233,8 +233,7 @@ TEST_CASE("transforms: a rotated, scaled object renders the G-buffer and velocit
         auto run = [&](bool transforms) {
             gl::Profiler prof(false);
             Renderer r(rest, st, prof);
-            Camera c0 = resolveCamera(rest, st), c1 = c0;
-            c1.position.x += 0.2f;
+            const Camera c0 = resolveCamera(rest, st), c1 = c0;  // a still camera: only the box has velocity
             View v0 = makeView(c0, size, nullptr, 0);
             Scene s1 = stateOf(rest, m1), s2 = stateOf(rest, m2);
             if (!transforms) s1.motions.clear(), s2.motions.clear();
@@ -263,9 +262,9 @@ TEST_CASE("transforms: a rotated, scaled object renders the G-buffer and velocit
                 glm::dvec2 va(a.velocity.at(x, y, 0), a.velocity.at(x, y, 1)),
                     vb(b.velocity.at(x, y, 0), b.velocity.at(x, y, 1));
                 CHECK(glm::length(va - vb) <= 2e-3 * glm::length(vb) + 1e-5);
-                boxPixels += glm::length(vb) > 0.02;  // the box moves a lot more than the camera shifts the floor
+                boxPixels += glm::length(vb) > 0.0;
             }
-        MESSAGE("same surface " << same << ", silhouette " << silhouette << ", fast-moving " << boxPixels);
+        MESSAGE("same surface " << same << ", silhouette " << silhouette << ", moving " << boxPixels);
         CHECK(silhouette <= size.x * size.y / 100);
         CHECK(boxPixels > 30);
     }
