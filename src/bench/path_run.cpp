@@ -311,9 +311,9 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         lit += r.lights;
     }
     j["scene_update_ms"] = {{"median", us.median}, {"max", us.max}, {"mean", us.mean},
-                            {"what", "CPU: vertices of the scene state at t, the GPU scene's update (per-object "
-                                     "transforms, or a vertex re-upload), light update (submission; the GPU side is "
-                                     "in the next frame: scene.transform)"}};
+                            {"what", "CPU: Renderer::updateScene (the states compared, the GPU scene's update by "
+                                     "per-object transforms or a vertex re-upload, the light update; submission only: "
+                                     "the transform dispatch is the next frame's scene.transform)"}};
     gl::TimingStats ub = gl::computeStats(uploaded);
     j["scene_upload_bytes"] = {{"median", ub.median}, {"max", ub.max}, {"mean", ub.mean},
                                {"what", "bytes the GPU scene uploaded per frame (vertices, object transforms, lights)"}};
@@ -323,8 +323,8 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
     if (!bvhMs.empty()) {
         gl::TimingStats bs = gl::computeStats(bvhMs);
         j["bvh_build_ms"] = {{"median", bs.median}, {"max", bs.max}, {"mean", bs.mean}, {"frames", bs.samples},
-                             {"what", "CPU: the reference's BVH rebuild (binned SAH) on referenced frames whose "
-                                      "geometry moved"}};
+                             {"what", "CPU: the reference's BVH build (binned SAH) on referenced frames that rebuilt "
+                                      "it (the first one, then those whose geometry moved)"}};
     }
     j["frames_geometry_moved"] = moved;
     j["frames_lights_changed"] = lit;
