@@ -37,7 +37,9 @@ namespace {
 
 struct FrameRecord {
     double time = 0, updateMs = 0;
-    bool geometry = false, lights = false;
+    std::int64_t uploadedBytes = 0;
+    bool geometry = false, lights = false, transforms = false;
+    std::optional<double> bvhMs;  // the reference's BVH rebuild (CPU) when this frame's reference rebuilt it
     bool referenced = false, fromCache = false;
     std::optional<double> rmse, rmseDebiased, flicker, rmseVisible, rmseDisoccluded, disoccludedFraction;
     std::map<std::string, double> filterDisoccluded;  // temporal pass -> pixels whose history it rejected
@@ -181,6 +183,8 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         r.time = t;
         r.updateMs = renderer.lastSceneUpdate().ms;
         r.geometry = renderer.lastSceneUpdate().geometry;
+        r.transforms = renderer.lastSceneUpdate().transforms;
+        r.uploadedBytes = renderer.lastSceneUpdate().uploadedBytes;
         r.lights = renderer.lastSceneUpdate().lights;
         if (!refs[std::size_t(i)]) continue;
 
@@ -197,7 +201,12 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         const gl::Texture& tested = comparedTexture(kind, renderer.resources());
         if (!tested) throw ConfigError("--reference: this path run produced no image of the compared kind");
         ref->updateScene(state);
+        const bool rebuilt = refCount == 0 || ref->lastSceneUpdate().geometry;  // ref.bvh_upload rebuilds on its next use
         ref->render(makeView(cam, size, nullptr, 0));
+        if (rebuilt)
+            if (Pass* bvhPass = ref->findPass("ref.bvh_upload"))
+                for (auto& [k, val] : bvhPass->stats())
+                    if (k == "build_ms") r.bvhMs = val;
         auto* out = dynamic_cast<ReferenceOutput*>(ref->findPass(kind == K::Ao ? "ref.ao" : "ref.path"));
         if (!out) throw ConfigError("--reference: the reference pass did not run");
         for (auto& [k, val] : ref->findPass(kind == K::Ao ? "ref.ao" : "ref.path")->stats()) {
@@ -253,13 +262,13 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
     for (auto& pt : profiler.results())
         if (pt.name != "frame") passNames.push_back(pt.name);
     std::ostringstream csv;
-    csv << "frame,time,frame_ms,scene_update_ms,geometry_moved,lights_changed";
+    csv << "frame,time,frame_ms,scene_update_ms,scene_upload_bytes,geometry_moved,geometry_by_transforms,lights_changed";
     for (auto& n : passNames) csv << ",ms." << n;
-    csv << ",referenced,reference_from_cache,rmse,rmse_debiased,flicker,disoccluded_fraction,rmse_visible,rmse_disoccluded";
+    csv << ",referenced,reference_from_cache,bvh_build_ms,rmse,rmse_debiased,flicker,disoccluded_fraction,rmse_visible,rmse_disoccluded";
     const char* filters[] = {"ao.temporal", "ssr.temporal"};
     for (const char* f : filters) csv << ",disoccluded." << f;
     csv << "\n";
-    std::vector<double> updateMs;
+    std::vector<double> updateMs, uploaded, bvhMs;
     for (int i = 0; i < frames; ++i) {
         const FrameRecord& r = rec[std::size_t(i)];
         const std::map<std::string, double>* tm = std::size_t(i) < timings.size() ? &timings[std::size_t(i)] : nullptr;
@@ -269,9 +278,9 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
             return it == tm->end() ? std::optional<double>(0.0) : std::optional<double>(it->second);
         };
         csv << i << "," << csvNumber(r.time) << "," << csvNumber(ms("frame")) << "," << csvNumber(r.updateMs) << ","
-            << int(r.geometry) << "," << int(r.lights);
+            << r.uploadedBytes << "," << int(r.geometry) << "," << int(r.transforms) << "," << int(r.lights);
         for (auto& n : passNames) csv << "," << csvNumber(ms(n));
-        csv << "," << int(r.referenced) << "," << int(r.fromCache) << "," << csvNumber(r.rmse) << ","
+        csv << "," << int(r.referenced) << "," << int(r.fromCache) << "," << csvNumber(r.bvhMs) << "," << csvNumber(r.rmse) << ","
             << csvNumber(r.rmseDebiased) << "," << csvNumber(r.flicker) << "," << csvNumber(r.disoccludedFraction) << ","
             << csvNumber(r.rmseVisible) << "," << csvNumber(r.rmseDisoccluded);
         for (const char* f : filters) {
@@ -280,6 +289,8 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         }
         csv << "\n";
         updateMs.push_back(r.updateMs);
+        uploaded.push_back(double(r.uploadedBytes));
+        if (r.bvhMs) bvhMs.push_back(*r.bvhMs);
     }
     std::filesystem::create_directories(opts.outDir);
     writeFileAtomic(opts.outDir + "/temporal.csv", csv.str());
@@ -300,8 +311,21 @@ nlohmann::json runPathFrames(Renderer& renderer, const Path& path, const RunOpti
         lit += r.lights;
     }
     j["scene_update_ms"] = {{"median", us.median}, {"max", us.max}, {"mean", us.mean},
-                            {"what", "CPU: scene state at t, vertex re-upload when geometry moved, light update "
-                                     "(submission; the GPU copy is in the next frame's first pass)"}};
+                            {"what", "CPU: Renderer::updateScene (the states compared, the GPU scene's update by "
+                                     "per-object transforms or a vertex re-upload, the light update; submission only: "
+                                     "the transform dispatch is the next frame's scene.transform)"}};
+    gl::TimingStats ub = gl::computeStats(uploaded);
+    j["scene_upload_bytes"] = {{"median", ub.median}, {"max", ub.max}, {"mean", ub.mean},
+                               {"what", "bytes the GPU scene uploaded per frame (vertices, object transforms, lights)"}};
+    int byTransforms = 0;
+    for (auto& r : rec) byTransforms += r.transforms;
+    j["frames_geometry_by_transforms"] = byTransforms;
+    if (!bvhMs.empty()) {
+        gl::TimingStats bs = gl::computeStats(bvhMs);
+        j["bvh_build_ms"] = {{"median", bs.median}, {"max", bs.max}, {"mean", bs.mean}, {"frames", bs.samples},
+                             {"what", "CPU: the reference's BVH build (binned SAH) on referenced frames that rebuilt "
+                                      "it (the first one, then those whose geometry moved)"}};
+    }
     j["frames_geometry_moved"] = moved;
     j["frames_lights_changed"] = lit;
     j["csv"] = "temporal.csv";

@@ -1,12 +1,14 @@
 #include "render/gpu_scene.h"
 
 #include "gl/embedded.h"
+#include "gl/program.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace rtgi {
 
@@ -183,9 +185,10 @@ std::vector<gpu::GpuLight> gpuLights(const Scene& scene) {
 
 }  // namespace
 
-GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings) : ledger_(&ledger) {
+GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings, bool restPose)
+    : ledger_(&ledger), rigid_(restPose) {
     std::vector<GpuVertex> verts = gpuVertices(scene);
-    // Dynamic storage: a moving scene rewrites it (updateVertices).
+    // Dynamic storage: a moving scene rewrites it (updateVertices, setTransforms).
     vbo_ = gl::Buffer(ledger, "scene.vertices", std::int64_t(verts.size() * sizeof(GpuVertex)), verts.data(),
                       GL_DYNAMIC_STORAGE_BIT);
     // Only indices of kept draws (validateAndRepair may have dropped some).
@@ -253,26 +256,157 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     textures_.setSampling(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_REPEAT);
 }
 
+void GpuScene::copyToPrevious() {
+    if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size(), nullptr, 0);
+    glCopyNamedBufferSubData(vbo_.id(), prevVbo_.id(), 0, 0, vbo_.size());
+    prevRigid_ = rigid_;
+}
+
 void GpuScene::updateVertices(const Scene& scene) {
     std::vector<GpuVertex> verts = gpuVertices(scene);
     if (std::int64_t(verts.size() * sizeof(GpuVertex)) != vbo_.size())
         throw std::logic_error("GpuScene::updateVertices: the vertex count changed");
     // The first rewrite since a rendered frame keeps that frame's geometry
     // (a GPU copy, ordered before the upload): later rewrites before the next
-    // frame replace states that were never rendered.
-    if (rendered_ && geometryVersion_ == renderedVersion_) {
-        if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size(), nullptr, 0);
-        glCopyNamedBufferSubData(vbo_.id(), prevVbo_.id(), 0, 0, vbo_.size());
-    }
+    // frame replace states that were never rendered. A transform state still
+    // waiting for its dispatch to write the previous positions left the
+    // vertex buffer as the last frame rendered it: copied the same way.
+    if ((rendered_ && geometryVersion_ == renderedVersion_) || writePrevious_) copyToPrevious();
+    transformPending_ = writePrevious_ = false;  // this upload replaces the pending state
     vbo_.upload(verts.data(), vbo_.size());
+    uploadedBytes_ += vbo_.size();
+    rigid_ = false;
     ++geometryVersion_;
     ++stateVersion_;
+}
+
+bool GpuScene::registerObjects(const Scene& scene, const std::vector<Vertex>& rest) {
+    const std::size_t n = std::size_t(vbo_.size()) / sizeof(GpuVertex);
+    // A state without motions is the rest pose (the caller checked): every object at the identity.
+    if ((scene.motions.empty() && objects_.empty()) || rest.size() != n || scene.vertices.size() != n) return false;
+    std::vector<const RigidMotion*> fresh;
+    for (auto& m : scene.motions) {
+        for (auto [first, count] : m.ranges)
+            if (first > n || count > n - first) return false;
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(m.delta[c][r])) return false;
+        if (objects_.count(m.ranges)) continue;
+        bool seen = false;
+        for (auto* f : fresh) seen = seen || f->ranges == m.ranges;
+        if (!seen) fresh.push_back(&m);
+    }
+    if (fresh.empty()) return true;
+    // A vertex belongs to one object: a new object overlapping another one
+    // (two motions of one state on shared vertices) goes by re-upload.
+    if (owner_.empty()) owner_.assign(n, -1);
+    std::vector<std::uint32_t> marked;
+    int id = int(objects_.size());
+    for (auto* f : fresh) {
+        for (auto [first, count] : f->ranges)
+            for (std::uint32_t v = first; v < first + count; ++v) {
+                if (owner_[v] != -1) {
+                    for (std::uint32_t u : marked) owner_[u] = -1;
+                    return false;
+                }
+                owner_[v] = id;
+                marked.push_back(v);
+            }
+        ++id;
+    }
+    // The object-space (rest) vertices of the new objects, appended; uploaded once.
+    std::vector<gpu::MovableVertex> added;
+    added.reserve(marked.size());
+    for (std::uint32_t v : marked) {
+        const Vertex& r = rest[v];
+        std::uint32_t obj = std::uint32_t(owner_[v]);
+        float vf, of;
+        std::memcpy(&vf, &v, 4);
+        std::memcpy(&of, &obj, 4);
+        added.push_back({glm::vec4(r.position, vf), glm::vec4(r.normal, of)});
+    }
+    const std::int64_t oldBytes = std::int64_t(movableCount_) * std::int64_t(sizeof(gpu::MovableVertex));
+    const std::int64_t addBytes = std::int64_t(added.size() * sizeof(gpu::MovableVertex));
+    gl::Buffer grown(*ledger_, "scene.movable_vertices", std::max<std::int64_t>(oldBytes + addBytes, 16), nullptr,
+                     GL_DYNAMIC_STORAGE_BIT);
+    if (oldBytes > 0) glCopyNamedBufferSubData(movable_.id(), grown.id(), 0, 0, oldBytes);
+    if (addBytes > 0) grown.upload(added.data(), addBytes, oldBytes);
+    uploadedBytes_ += addBytes;
+    movable_ = std::move(grown);
+    movableCount_ += std::uint32_t(added.size());
+    for (auto* f : fresh) objects_.emplace(f->ranges, int(objects_.size()));
+    return true;
+}
+
+void GpuScene::uploadTransforms() {
+    std::vector<gpu::ObjectTransform> t(objectMatrices_.size());
+    for (std::size_t o = 0; o < t.size(); ++o) {
+        const glm::dmat4 &m = objectMatrices_[o], &p = renderedMatrices_[o];
+        const glm::dmat3 nm = glm::transpose(glm::inverse(glm::dmat3(m)));
+        for (int r = 0; r < 3; ++r) {
+            t[o].current[r] = glm::vec4(m[0][r], m[1][r], m[2][r], m[3][r]);
+            t[o].normal[r] = glm::vec4(nm[0][r], nm[1][r], nm[2][r], 0.0);
+            t[o].previous[r] = glm::vec4(p[0][r], p[1][r], p[2][r], p[3][r]);
+        }
+    }
+    const std::int64_t bytes = std::int64_t(t.size() * sizeof(gpu::ObjectTransform));
+    if (transforms_.size() < bytes)
+        transforms_ = gl::Buffer(*ledger_, "scene.transforms", bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    transforms_.upload(t.data(), bytes);
+    uploadedBytes_ += bytes;
+}
+
+bool GpuScene::setTransforms(const Scene& scene, const std::vector<Vertex>& rest) {
+    if (!registerObjects(scene, rest)) return false;
+    const std::size_t count = objects_.size();
+    std::vector<glm::dmat4> m(count, glm::dmat4(1.0));  // objects not in this state are at rest
+    for (auto& motion : scene.motions) m[std::size_t(objects_.at(motion.ranges))] = motion.delta;  // a later one wins
+    // New objects stood at rest in the last rendered frame when it was a
+    // transform state (the vertex buffer held the rest pose outside the objects).
+    renderedMatrices_.resize(count, glm::dmat4(1.0));
+    if (rendered_ && geometryVersion_ == renderedVersion_) {
+        // The first change since a rendered frame: the previous positions of
+        // the objects from that frame's matrices when the previous-vertex
+        // buffer holds the rest pose elsewhere, else a copy of that frame's
+        // geometry (the vertex buffer is unchanged until the dispatch).
+        if (rigid_ && prevRigid_ && prevVbo_) writePrevious_ = true;
+        else copyToPrevious();
+    }
+    if (!rigid_) {  // a direct rewrite is in the buffer: back to rest + objects once
+        std::vector<GpuVertex> verts = gpuVertices(scene);
+        vbo_.upload(verts.data(), vbo_.size());
+        uploadedBytes_ += vbo_.size();
+        rigid_ = true;
+    }
+    objectMatrices_ = std::move(m);
+    uploadTransforms();
+    transformPending_ = true;
+    ++geometryVersion_;
+    ++stateVersion_;
+    return true;
+}
+
+void GpuScene::applyTransforms(gl::ProgramCache& programs) {
+    if (!transformPending_) return;
+    const gl::Program& p = programs.compute("scene/transform.comp");
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_VERTICES, vbo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_PREV_VERTICES, (prevVbo_ ? prevVbo_ : vbo_).id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_MOVABLE, movable_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_TRANSFORMS, transforms_.id());
+    p.set(RTGI_SCENE_LOC_COUNT, unsigned(movableCount_));
+    p.set(RTGI_SCENE_LOC_WRITE_PREVIOUS, writePrevious_ && prevVbo_ ? 1 : 0);
+    gl::dispatch(p, int(movableCount_));
+    // Read next as vertex attributes (hardware raster), storage (compute
+    // raster, reference) and by buffer copies (the next previous-frame copy).
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    transformPending_ = writePrevious_ = false;
 }
 
 void GpuScene::updateLights(const Scene& scene) {
     std::vector<gpu::GpuLight> gls = gpuLights(scene);
     if (int(gls.size()) != lightCount_) throw std::logic_error("GpuScene::updateLights: the light count changed");
     if (!gls.empty()) lights_.upload(gls.data(), std::int64_t(gls.size() * sizeof(gpu::GpuLight)));
+    uploadedBytes_ += std::int64_t(gls.size() * sizeof(gpu::GpuLight));
     ++stateVersion_;  // also when only the sun changed (it lives in the frame uniforms)
 }
 
@@ -284,6 +418,7 @@ void GpuScene::beginFrame() {
 void GpuScene::endFrame() {
     rendered_ = true;
     renderedVersion_ = geometryVersion_;
+    renderedMatrices_ = objectMatrices_;
 }
 
 void GpuScene::draw() const {

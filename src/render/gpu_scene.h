@@ -9,9 +9,15 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <map>
 #include <optional>
+#include <vector>
 
 namespace rtgi {
+
+namespace gl {
+class ProgramCache;
+}
 
 struct GpuVertex {
     float position[3];
@@ -37,7 +43,9 @@ std::vector<Material> resolveMaterials(const Scene& scene, const Settings& setti
 
 class GpuScene {
 public:
-    GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings);
+    // restPose: `scene` holds its rest pose (false: a moved state, which the
+    // transform path replaces by a full upload before it first moves objects).
+    GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings& settings, bool restPose = true);
     // A moving scene (issue 23): rewrites the vertex buffer (positions,
     // normals) or the punctual lights from the scene's current state; the
     // counts must not change.
@@ -45,6 +53,26 @@ public:
     // buffer is copied on the GPU into previousVertices() (allocated on the
     // first move), so the G-buffer velocity holds camera and object motion.
     void updateVertices(const Scene& scene);
+    // Object motion by transforms (docs/temporal.md, "Object motion"): `scene`
+    // is a state whose vertices are `rest` moved by scene.motions (and rest
+    // elsewhere; without motions: the rest pose itself, every object at the
+    // identity). Only the objects' matrices are uploaded (ObjectTransform,
+    // 144 bytes per object); the object-space vertices of an object are
+    // uploaded once, when it first moves. applyTransforms (Renderer::render,
+    // profiled as "scene.transform") then writes the moved vertices into the
+    // vertex buffer and their previous positions into previousVertices().
+    // Returns false (nothing changed) when the motions cannot be applied this
+    // way (ranges out of bounds, an object overlapping another one); the caller
+    // then re-uploads with updateVertices.
+    bool setTransforms(const Scene& scene, const std::vector<Vertex>& rest);
+    // The pending transform dispatch (no-op when none is pending).
+    void applyTransforms(gl::ProgramCache& programs);
+    bool transformsPending() const { return transformPending_; }
+    // Objects moved by transforms so far (0 in a static scene).
+    int transformObjectCount() const { return int(objectMatrices_.size()); }
+    // Bytes this GpuScene uploaded (buffer sub-data) since it was built, for
+    // the cost of a moving scene's update (lastSceneUpdate).
+    std::int64_t uploadedBytes() const { return uploadedBytes_; }
     void updateLights(const Scene& scene);
     // Brackets one rendered frame: beginFrame points previousVertices() (and
     // the VAO's RTGI_ATTR_PREV_POSITION) at the geometry the last frame
@@ -73,14 +101,35 @@ public:
     int materialCount() const { return materialCount_; }
     // Binds materials, lights and the texture array at their shared bindings.
     void bindTables() const;
+    // The buffers of the transform path (null until an object moves by transforms).
+    const gl::Buffer& movableVertices() const { return movable_; }
+    const gl::Buffer& objectTransforms() const { return transforms_; }
 
 private:
+    using Ranges = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
+    // Copies the vertex buffer (the last rendered frame's geometry) into prevVbo_.
+    void copyToPrevious();
+    void uploadTransforms();
+    bool registerObjects(const Scene& scene, const std::vector<Vertex>& rest);
     gl::VertexArrayHandle vao_;
     gl::MemoryLedger* ledger_ = nullptr;
     gl::Buffer vbo_, ibo_, materials_, lights_;
     gl::Buffer prevVbo_;  // the last rendered frame's vertices while they differ from vbo_
     bool rendered_ = false, prevDistinct_ = false;
     std::uint64_t renderedVersion_ = 0;  // geometryVersion_ of the last rendered frame
+    // Transform path: the objects (by their vertex ranges), each vertex's owner
+    // (-1: none; sized on the first move), the matrices of the current state
+    // and of the last rendered frame (double, rest -> world).
+    std::map<Ranges, int> objects_;
+    std::vector<int> owner_;
+    std::vector<glm::dmat4> objectMatrices_, renderedMatrices_;
+    gl::Buffer movable_, transforms_;
+    std::uint32_t movableCount_ = 0;
+    // rigid_: the vertex buffer holds the rest pose outside the objects (no
+    // direct rewrite since); prevRigid_: so does prevVbo_.
+    bool rigid_ = true, prevRigid_ = false;
+    bool transformPending_ = false, writePrevious_ = false;
+    std::int64_t uploadedBytes_ = 0;
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;
     std::uint64_t geometryVersion_ = 0, stateVersion_ = 0;

@@ -97,7 +97,7 @@ void Renderer::configure(const Settings& settings) {
     finite_.clear();  // --check counts belong to one configuration
     res_ = FrameResources{};  // release everything; the new frame allocates what it writes
     for (bool& b : writtenLastFrame_) b = false;
-    if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_);
+    if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_, restVertices_.empty());
     plan_ = FramePlan::build(frameScript(), frameFamilies(), scene_, settings_);
     resolveLights();
 }
@@ -124,11 +124,18 @@ void Renderer::updateScene(const Scene& state) {
         throw std::logic_error("Renderer::updateScene: a scene state must keep the vertex and light counts");
     sceneUpdate_ = {};
     const auto t0 = std::chrono::steady_clock::now();
+    const std::int64_t bytes0 = gpuScene_->uploadedBytes();
     static_assert(sizeof(Vertex) == 32, "Vertex is compared bytewise");
     if (!state.vertices.empty() &&
         std::memcmp(state.vertices.data(), scene_.vertices.data(), state.vertices.size() * sizeof(Vertex)) != 0) {
+        if (restVertices_.empty()) restVertices_ = scene_.vertices;  // the pose this renderer was built with
         scene_.vertices = state.vertices;
-        gpuScene_->updateVertices(scene_);
+        scene_.motions = state.motions;
+        // Moved by transforms: a state of rigid motions, or the rest pose again (no motions).
+        const bool atRest = state.motions.empty() && std::memcmp(state.vertices.data(), restVertices_.data(),
+                                                                  state.vertices.size() * sizeof(Vertex)) == 0;
+        sceneUpdate_.transforms = (!state.motions.empty() || atRest) && gpuScene_->setTransforms(scene_, restVertices_);
+        if (!sceneUpdate_.transforms) gpuScene_->updateVertices(scene_);
         sceneUpdate_.geometry = true;
         geometryChanged();  // the light budget's cached local maps show the old geometry
     }
@@ -161,6 +168,7 @@ void Renderer::updateScene(const Scene& state) {
     // CPU time only: no glFinish here (a stall on every moving frame); the GPU
     // side of the upload lands in the next frame's first pass.
     sceneUpdate_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    sceneUpdate_.uploadedBytes = gpuScene_->uploadedBytes() - bytes0;
 }
 
 // Every shared resource a pass of the frame writes, from its descriptor (by
@@ -276,6 +284,11 @@ void Renderer::render(const View& view) {
                      &plan_, 0, previousValid_};
     gl::Profiler::setPerDispatch(settings_.post.profileDispatches);
     profiler_.beginFrame();
+    if (gpuScene_->transformsPending()) {  // objects moved by transforms (a static scene never sees this)
+        auto scope = profiler_.scope("scene.transform");
+        gpuScene_->applyTransforms(programs_);
+        traceStep("scene.transform");
+    }
     for (std::size_t i = 0; i < passes().size(); ++i) {
         Pass& pass = *passes()[i];
         ctx.passIndex = int(i);

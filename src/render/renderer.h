@@ -39,10 +39,15 @@ public:
     // (same vertex and light counts; vertices, lights and cameras may move).
     // Rewrites the vertex buffer when a vertex moved, the lights when one
     // changed; lastSceneUpdate() says what and how long it took (CPU + upload).
+    // A state with rigid motions (Scene::motions, from evaluateScene) of this
+    // renderer's rest scene moves its objects by transforms instead
+    // (GpuScene::setTransforms): only their matrices are uploaded.
     void updateScene(const Scene& state);
     struct SceneUpdate {
         bool geometry = false, lights = false;
+        bool transforms = false;  // the geometry moved by per-object transforms (no vertex upload)
         double ms = 0;
+        std::int64_t uploadedBytes = 0;  // buffer uploads of this update (vertices, transforms, lights)
     };
     const SceneUpdate& lastSceneUpdate() const { return sceneUpdate_; }
 
@@ -80,6 +85,7 @@ public:
     FrameResources& resources() { return res_; }
     const FrameResources& resources() const { return res_; }
     const Scene& scene() const { return scene_; }
+    const GpuScene& gpuScene() const { return *gpuScene_; }
     const Settings& settings() const { return settings_; }
     gl::MemoryLedger& ledger() { return ledger_; }
     gl::ProgramCache& programs() { return programs_; }
@@ -115,6 +121,9 @@ private:
     int localCulled_ = 0, localShadowed_ = 0;
     bool check_ = false;
     SceneUpdate sceneUpdate_;
+    // The scene's vertices before its first geometry change (the rest pose the
+    // transform path moves; empty in a static scene).
+    std::vector<Vertex> restVertices_;
     std::vector<FiniteCount> finite_;
 };
 

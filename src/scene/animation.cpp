@@ -165,9 +165,11 @@ void transformVertices(Scene& scene, const Scene& rest,
             double len = glm::length(n);
             v.normal = len > 0 ? glm::vec3(n / len) : r.normal;
         }
+    scene.motions.push_back({ranges, delta});
 }
 
 bool applySceneAnimation(Scene& out, const Scene& rest, double t) {
+    out.motions.clear();
     const SceneAnimation& a = rest.animation;
     if (a.empty()) return false;
     const std::vector<glm::dmat4> w0 = a.restWorld(), wt = a.worldAt(t);

@@ -74,13 +74,24 @@ struct SceneAnimation {
     void offset(std::uint32_t vertices, int lights, int cameras);
 };
 
+// One rigid motion of a scene state: the vertex ranges (first, count) of one
+// object and the matrix that takes them from the rest pose to where they are.
+// The GPU scene moves such objects by their matrices instead of re-uploading
+// the vertices (GpuScene::setTransforms; docs/temporal.md, "Object motion").
+struct RigidMotion {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> ranges;
+    glm::dmat4 delta{1.0};
+};
+
 // Moves the rigid set of vertices `ranges` of `scene` by the matrix `delta`
-// (positions by delta, normals by its inverse transpose), reading from `rest`.
+// (positions by delta, normals by its inverse transpose), reading from `rest`,
+// and records the motion in scene.motions.
 void transformVertices(Scene& scene, const Scene& rest, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& ranges,
                        const glm::dmat4& delta);
 
 // The scene's own animation (glTF) at time t: `rest` with every animated
-// node's vertices, lights and cameras moved. Returns whether geometry moved.
+// node's vertices, lights and cameras moved (out.motions starts empty and
+// lists the moved nodes). Returns whether geometry moved.
 bool applySceneAnimation(Scene& out, const Scene& rest, double t);
 
 }  // namespace rtgi

@@ -112,6 +112,11 @@ struct Scene {
     // The glTF node animations (empty for a still scene): the vertices, lights
     // and cameras above are the rest pose; applySceneAnimation moves them.
     SceneAnimation animation;
+    // A scene state's rigid motions from the rest pose (transformVertices
+    // records them; empty for a rest scene or vertices written directly):
+    // `vertices` equal the rest pose's except in these ranges, which are the
+    // rest vertices moved by the motion's matrix (a later motion wins).
+    std::vector<RigidMotion> motions;
 
     Aabb bounds() const;
     std::size_t triangleCount() const { return indices.size() / 3; }

@@ -6,6 +6,8 @@
 
 #include "render/filter.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <cmath>
 
 using namespace rtgi;
@@ -23,9 +25,16 @@ Scene quadScene() {
     return s;
 }
 
-// The scene with the quad (the last 4 vertices) moved by d.
-Scene moved(const Scene& s, glm::vec3 d) {
+// The scene with the quad (the last 4 vertices) moved by d: its vertices
+// rewritten (a re-upload), or `rigid`: as a rigid motion of the rest scene
+// (GpuScene::setTransforms moves it by its matrix).
+Scene moved(const Scene& s, glm::vec3 d, bool rigid = false) {
     Scene m = s;
+    if (rigid) {
+        const auto quad = std::uint32_t(m.vertices.size() - 4);
+        transformVertices(m, s, {{quad, 4}}, glm::translate(glm::dmat4(1.0), glm::dvec3(d)));
+        return m;
+    }
     for (std::size_t i = m.vertices.size() - 4; i < m.vertices.size(); ++i) m.vertices[i].position += d;
     return m;
 }
@@ -107,13 +116,16 @@ VelocityCheck checkVelocity(const Renderer& r, const View& v, glm::ivec2 size, g
 
 }  // namespace
 
-TEST_CASE("motion: a quad moved by a known offset has the analytic velocity at every pixel, both raster paths") {
+TEST_CASE("motion: a quad moved by a known offset has the analytic velocity at every pixel, both raster paths, "
+          "re-uploaded or by transforms") {
     GpuFixture gpu;
     const Scene rest = quadScene();
     const glm::vec3 d(0.25f, 0.1f, -0.3f);  // the quad's world offset between frames 0 and 1
     const glm::ivec2 size(64, 48);
+    for (bool rigid : {false, true})
     for (auto path : {RasterSettings::Path::Hardware, RasterSettings::Path::Compute}) {
         CAPTURE(int(path));
+        CAPTURE(rigid);
         Settings st;
         st.raster.path = path;
         st.ao.variant = AoSettings::Variant::Off;
@@ -127,9 +139,10 @@ TEST_CASE("motion: a quad moved by a known offset has the analytic velocity at e
         View v0 = makeView(c0, size, nullptr, 0);
         r.render(v0);
         // Two states before the next frame: the previous positions are those frame 0 rendered.
-        r.updateScene(moved(rest, 0.5f * d));
-        r.updateScene(moved(rest, d));
+        r.updateScene(moved(rest, 0.5f * d, rigid));
+        r.updateScene(moved(rest, d, rigid));
         REQUIRE(r.lastSceneUpdate().geometry);
+        CHECK(r.lastSceneUpdate().transforms == rigid);
         View v1 = makeView(c1, size, &v0, 1);
         r.render(v1);
         VelocityCheck m = checkVelocity(r, v1, size, glm::dvec3(d), glm::dvec3(0.0));
@@ -139,7 +152,7 @@ TEST_CASE("motion: a quad moved by a known offset has the analytic velocity at e
         CHECK(m.floorPixels > 300);
         CHECK(m.edgePixels <= size.x * size.y / 50);
         // The quad stopped: frame 2 sees camera motion only, on the quad as on the floor.
-        r.updateScene(moved(rest, d));
+        r.updateScene(moved(rest, d, rigid));
         CHECK_FALSE(r.lastSceneUpdate().geometry);
         View v2 = makeView(c2, size, &v1, 2);
         r.render(v2);

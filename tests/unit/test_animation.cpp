@@ -213,6 +213,25 @@ TEST_CASE("path: the scene state at t (light switch, sun, rigid object)") {
     }
     CHECK(moved == 24);  // the short box: 6 faces x 4 vertices
     CHECK(kept == int(cornell.vertices.size()) - moved);
+    // The state records the motion (what the GPU scene moves by its matrix): the
+    // selected vertices and the matrix that takes each rest vertex where it is.
+    REQUIRE(st.motions.size() == 1);
+    std::uint32_t recorded = 0;
+    for (auto [first, count] : st.motions[0].ranges) {
+        recorded += count;
+        for (std::uint32_t i = first; i < first + count; ++i) {
+            const glm::dvec3 at = glm::dvec3(st.motions[0].delta * glm::dvec4(glm::dvec3(cornell.vertices[i].position), 1.0));
+            CHECK(glm::length(at - glm::dvec3(st.vertices[i].position)) < 1e-6);
+        }
+    }
+    CHECK(recorded == 24);
+    st = cornell;
+    evaluateScene(st, cornell, &box, 0.0);  // at rest: no motion
+    CHECK(st.motions.empty());
+    st = cornell;
+    evaluateScene(st, cornell, &box, 1.0);
+    evaluateScene(st, cornell, &box, 1.5);  // a state evaluated again starts its motions afresh
+    CHECK(st.motions.size() == 1);
 }
 
 TEST_CASE("temporal: flicker is the RMS change of the error between frames") {
