@@ -38,6 +38,22 @@ aoargs=(--scene builtin:box-on-plane --res 160x120 --set ao=gtao --set ao.resolu
 xvfb-run -a -s "-screen 0 640x480x24" "$view" "${aoargs[@]}" --frames 21 --script "$work/script.txt" > /dev/null 2>&1
 "$bench" "${aoargs[@]}" --set ao.radius=3 --set reference.cache=off --frames 1 --warmup 0 --reference --out "$work/ref" > /dev/null 2>&1
 
+# --path (docs/viewer.md, "Paths"): played from frame 0, the viewer's frame k is rtgi-bench's path frame k
+# (histories continued the same way); with the history reset every frame it is not.
+cat > "$work/path.txt" <<EOF
+0 path play
+5 screenshot $work/path5.png
+EOF
+cat > "$work/path_reset.txt" <<EOF
+0 path play
+0 history reset
+5 screenshot $work/path5_reset.png
+EOF
+pargs=(--scene builtin:cornell --res 160x120 --path cornell-moving-box)
+xvfb-run -a -s "-screen 0 640x480x24" "$view" "${pargs[@]}" --frames 6 --script "$work/path.txt" > /dev/null 2>&1
+xvfb-run -a -s "-screen 0 640x480x24" "$view" "${pargs[@]}" --frames 6 --script "$work/path_reset.txt" > /dev/null 2>&1
+"$bench" "${pargs[@]}" --frames 6 --warmup 0 --path-frames --out "$work/path" > /dev/null 2>&1
+
 /usr/bin/python3 - "$work" <<'PY'
 import sys
 import matplotlib.image as mpimg
@@ -60,6 +76,21 @@ assert tech_l < 0.01, "left of the split is not the technique's AO"
 assert ref_r < 1.5 / 255, "right of the split is not the reference"
 assert ref_vs_tech > 3 * ref_r, "the two sides would pass for each other: the check proves nothing"
 print("view_xvfb: panel and split view OK")
+PY
+
+/usr/bin/python3 - "$work" <<'PY'
+import sys
+import matplotlib.image as mpimg
+import numpy as np
+w = sys.argv[1]
+rgb = lambda p: mpimg.imread(p)[..., :3].astype(np.float64)
+view, reset, bench = rgb(w + "/path5.png"), rgb(w + "/path5_reset.png"), rgb(w + "/path/frames/frame_0005.png")
+d, r = np.abs(view - bench), np.abs(reset - bench)
+print("path frame 5: viewer vs rtgi-bench mean |diff| %.5f (off by > 2/255: %.4f %%); history reset vs rtgi-bench %.5f"
+      % (d.mean(), 100 * (d > 2 / 255).mean(), r.mean()))
+assert d.mean() <= 1 / 255 and (d > 2 / 255).mean() <= 0.01, "the viewer's path frame 5 is not rtgi-bench's"
+assert r.mean() > 2 * max(d.mean(), 1 / 255), "resetting the history every frame changed nothing"
+print("view_xvfb: path playback OK")
 PY
 
 /usr/bin/python3 - "$work/view.png" "$work/bench/final.png" <<'PY'
