@@ -39,15 +39,18 @@ xvfb-run -a -s "-screen 0 640x480x24" "$view" "${aoargs[@]}" --frames 21 --scrip
 "$bench" "${aoargs[@]}" --set ao.radius=3 --set reference.cache=off --frames 1 --warmup 0 --reference --out "$work/ref" > /dev/null 2>&1
 
 # --path (docs/viewer.md, "Paths"): played from frame 0, the viewer's frame k is rtgi-bench's path frame k
-# (histories continued the same way); with the history reset every frame it is not.
+# (histories continued the same way); with the history reset every frame the temporal AO is not the same.
 cat > "$work/path.txt" <<EOF
 0 path play
-5 screenshot $work/path5.png
+4 screenshot $work/path4.png
+5 image ao
+5 screenshot $work/path5_ao.png
 EOF
 cat > "$work/path_reset.txt" <<EOF
 0 path play
 0 history reset
-5 screenshot $work/path5_reset.png
+0 image ao
+5 screenshot $work/path5_ao_reset.png
 EOF
 pargs=(--scene builtin:cornell --res 160x120 --path cornell-moving-box)
 xvfb-run -a -s "-screen 0 640x480x24" "$view" "${pargs[@]}" --frames 6 --script "$work/path.txt" > /dev/null 2>&1
@@ -84,12 +87,16 @@ import matplotlib.image as mpimg
 import numpy as np
 w = sys.argv[1]
 rgb = lambda p: mpimg.imread(p)[..., :3].astype(np.float64)
-view, reset, bench = rgb(w + "/path5.png"), rgb(w + "/path5_reset.png"), rgb(w + "/path/frames/frame_0005.png")
-d, r = np.abs(view - bench), np.abs(reset - bench)
-print("path frame 5: viewer vs rtgi-bench mean |diff| %.5f (off by > 2/255: %.4f %%); history reset vs rtgi-bench %.5f"
-      % (d.mean(), 100 * (d > 2 / 255).mean(), r.mean()))
-assert d.mean() <= 1 / 255 and (d > 2 / 255).mean() <= 0.01, "the viewer's path frame 5 is not rtgi-bench's"
-assert r.mean() > 2 * max(d.mean(), 1 / 255), "resetting the history every frame changed nothing"
+view, bench = rgb(w + "/path4.png"), rgb(w + "/path/frames/frame_0004.png")
+ao, ao_reset = rgb(w + "/path5_ao.png"), rgb(w + "/path5_ao_reset.png")
+d, r = np.abs(view - bench), np.abs(ao - ao_reset)
+print("path frame 4: viewer vs rtgi-bench mean |diff| %.5f (off by > 2/255: %.4f %%); frame 5 AO, live vs reset "
+      "history: max |diff| %.4f, off by > 2/255: %.2f %%" % (d.mean(), 100 * (d > 2 / 255).mean(), r.max(),
+                                                           100 * (r > 2 / 255).mean()))
+assert d.mean() <= 1 / 255 and (d > 2 / 255).mean() <= 0.01, "the viewer's path frame 4 is not rtgi-bench's"
+# Without history the AO is one frame's noisy estimate: it differs from the filtered one by more than the
+# tolerance that the viewer and rtgi-bench agree within (measured: 0.22 max, 8.9 % of values).
+assert r.max() > 0.05 and (r > 2 / 255).mean() > 0.02, "resetting the history every frame changed nothing"
 print("view_xvfb: path playback OK")
 PY
 
