@@ -40,6 +40,9 @@ const OptionSpec kOptions[] = {
      "on a path with --reference: reference every K-th frame (+ the frame before it\n"
      "and the frames around step events); default 1, and 8 at the small default size of a\n"
      "path reference without --res (192x108, reference.spp=64; docs/temporal.md)"},
+    {"--path", "FILE|NAME", kView,
+     "play a camera/scene path (as rtgi-bench --path): Space play/pause, Left/Right\n"
+     "step a frame, Home frame 0, X reset the temporal history every frame (docs/viewer.md)"},
     {"--path-frames", nullptr, kBench,
      "with --path: write every path frame as <out>/frames/frame_NNNN.png and, when\n"
      "ffmpeg is on PATH, <out>/path.mp4 (H.264, the path's fps)"},

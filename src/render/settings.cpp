@@ -197,6 +197,10 @@ std::vector<SettingKey> buildKeys() {
                 : fmt(s.lpv.grid.x) + "x" + fmt(s.lpv.grid.y) + "x" + fmt(s.lpv.grid.z)),
         KEY("lpv.cell", "cell size in scene units (0 = fit the grid to the scene; > 0: camera-following, snapped)", "0|1e-4..1e4",
             s.lpv.cell = parseFloat("lpv.cell", v, 0, 1e4), fmt(s.lpv.cell)),
+        KEY("lpv.snap", "camera-following volumes (lpv.cell > 0, or every cascade but a scene-holding coarsest one) "
+            "snap their origin to whole cells (off: the origin follows the camera continuously and light shifts "
+            "within the cells as it moves; lpv.temporal keeps no history across such a move; docs/lpv.md, \"Snapping\")",
+            "on|off", s.lpv.snap = parseBool("lpv.snap", v), onOff(s.lpv.snap)),
         KEY("lpv.iterations", "propagation iterations", "1..64",
             s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),
         KEY("lpv.rsm", "reflective shadow map side", "16..4096", s.lpv.rsm = parseInt("lpv.rsm", v, 16, 4096),

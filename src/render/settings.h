@@ -64,6 +64,9 @@ struct LpvSettings {
     enum class Path { Compute, Raster } path = Path::Compute;
     glm::ivec3 grid{24};                 // per cascade (defaults measured in docs/lpv.md, "Cascades")
     float cell = 0.0f;                   // 0 = fit the grid to the scene bounds (auto, docs/lpv.md)
+    // Camera-following volumes snap their origin to whole cells (seed 000 3.7); off: the origin follows the
+    // camera continuously, so light shifts within the cells as the camera moves (docs/lpv.md, "Snapping").
+    bool snap = true;
     int iterations = 8;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;

@@ -66,6 +66,12 @@ KeyAction handleKey(int k, int mods, Settings& s) {
         case key::F12: a.screenshot = true; break;
         case 'J': a.dumpConfig = true; break;
         case 'Y': a.toggleVsync = true; break;
+        case key::Space: a.playPause = true; break;
+        case key::Right: a.frameStep = (mods & key::ModShift) ? 10 : 1; break;
+        case key::Left: a.frameStep = (mods & key::ModShift) ? -10 : -1; break;
+        case key::Home: a.pathHome = true; break;
+        case 'X': a.toggleHistoryReset = true; break;
+        case 'N': change(cycle(s, "lpv.snap", allowedValues("lpv.snap"), dir)); break;
         case 'L': change(cycle(s, "lpv", allowedValues("lpv"), dir)); break;
         case 'O': change(cycle(s, "ao", allowedValues("ao"), dir)); break;
         case 'R': change(cycle(s, "ssr", allowedValues("ssr"), dir)); break;
@@ -117,6 +123,11 @@ std::vector<std::string> keyHelp() {
         "G               AO full/half resolution",
         "R, Shift+R      next / previous SSR tracer",
         "M               reference off/ao/indirect/full",
+        "N               LPV cascade snapping on/off (lpv.snap)",
+        "Space           --path: play / pause",
+        "Left, Right     --path: step a frame (Shift: 10)",
+        "Home            --path: frame 0",
+        "X               temporal history: live reprojection / reset every frame",
         "V, Shift+V      next / previous named view",
         "C               scene camera",
         "P or F12        screenshot (PNG)",

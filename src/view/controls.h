@@ -14,7 +14,8 @@ namespace rtgi::view {
 
 namespace key {
 constexpr int Space = 32, Comma = 44, Period = 46, LeftBracket = 91, RightBracket = 93;
-constexpr int Escape = 256, Tab = 258, PageUp = 266, PageDown = 267, F1 = 290, F12 = 301;
+constexpr int Escape = 256, Tab = 258, Right = 262, Left = 263, PageUp = 266, PageDown = 267, Home = 268, F1 = 290,
+              F12 = 301;
 constexpr int ModShift = 0x0001;  // GLFW_MOD_SHIFT
 }  // namespace key
 
@@ -25,6 +26,10 @@ struct KeyAction {
     int viewStep = 0;          // +-1: next / previous named view
     bool resetCamera = false;  // back to the scene's camera
     bool screenshot = false, dumpConfig = false, toggleHelp = false, toggleVsync = false, quit = false;
+    // --path playback (view/path_player.h): Space, Left / Right, Home.
+    bool playPause = false, pathHome = false;
+    int frameStep = 0;
+    bool toggleHistoryReset = false;  // X: live reprojection <-> a reset history every frame
     std::string message;       // one line for the overlay ("ao=hbao")
 };
 

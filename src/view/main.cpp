@@ -6,11 +6,13 @@
 #include "gl/program.h"
 #include "gl/window_host.h"
 #include "render/renderer.h"
+#include "scene/path.h"
 #include "view/controls.h"
 #include "view/display.h"
 #include "view/fly_camera.h"
 #include "view/live_reference.h"
 #include "view/panel_model.h"
+#include "view/path_player.h"
 #include "view/ui.h"
 
 #define GLFW_INCLUDE_NONE
@@ -20,6 +22,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 using namespace rtgi;
@@ -59,6 +62,16 @@ int run(int argc, char** argv) {
     Settings settings = settingsFor(scene, cl);
     // What the panel's reset buttons restore: the defaults with the scene's suggestions.
     const Settings defaults = effectiveSettings(scene.suggestedSettings, {}, scene.name);
+    // --path (issue 23, docs/viewer.md "Paths"): the scene state at the player's time, evaluated from the
+    // rest scene every frame as rtgi-bench does; the path's camera keys, else the user's camera.
+    std::optional<Scene> rest;
+    std::optional<Path> path;
+    std::optional<view::PathPlayer> player;
+    if (!cl.run.path.empty()) {
+        rest = scene;
+        path = loadPath(cl.run.path, scene);
+        player.emplace(path->frameCount(), path->fps);
+    }
     Renderer renderer(scene, settings, profiler);
     gl::ProgramCache& programs = renderer.programs();
     view::ScreenPainter painter;
@@ -67,6 +80,13 @@ int run(int argc, char** argv) {
     view::Ui ui(host->nativeHandle());
     view::ViewState state;
     state.liveReference = cl.liveReference;
+    if (path) {
+        state.temporal.path = true;
+        state.temporal.pathName = path->name;
+        state.temporal.frames = path->frameCount();
+        state.temporal.fps = path->fps;
+    }
+    FloatImage lastFinal;  // the previous frame's final image (frame-to-frame change)
 
     const Camera sceneCamera = resolveCamera(scene, settings);
     const float diagonal = glm::length(scene.bounds().extent());
@@ -134,6 +154,15 @@ int run(int argc, char** argv) {
             else if (a.verb == "screenshot") viewShots.push_back(x);
             else if (a.verb == "window") windowShots.push_back(x);
             else if (a.verb == "panel") state.showPanel = x == "on";
+            else if (a.verb == "history") state.temporal.resetHistory = x == "reset";
+            else if (a.verb == "path") {
+                if (!player) throw ConfigError(cl.script + ": 'path " + x + "' needs --path");
+                if ((x == "play" && !player->playing()) || (x == "pause" && player->playing())) player->togglePlay();
+                else if (x == "home") player->home();
+                else if (x == "next" || x == "prev") player->step(x == "next" ? 1 : -1);
+                else if (x != "play" && x != "pause")
+                    throw ConfigError(cl.script + ": 'path " + x + "': expected play, pause, home, next or prev");
+            }
         }
 
         bool screenshot = false;
@@ -171,6 +200,16 @@ int run(int argc, char** argv) {
                 fly = view::FlyCamera::fromCamera(camera, diagonal);
                 cut = true;
                 say(a.resetCamera ? "scene camera" : "view " + s.camera.view);
+            }
+            if (a.playPause || a.frameStep != 0 || a.pathHome) {
+                if (!player) say("no --path given: Space, Left/Right and Home play a path");
+                else if (a.playPause) player->togglePlay();
+                else if (a.pathHome) player->home();
+                else player->step(a.frameStep);
+            }
+            if (a.toggleHistoryReset) {
+                state.temporal.resetHistory = !state.temporal.resetHistory;
+                say(state.temporal.resetHistory ? "history: reset every frame" : "history: live reprojection");
             }
             screenshot |= a.screenshot;
             if (a.dumpConfig) {
@@ -210,13 +249,53 @@ int run(int argc, char** argv) {
             if (flew) camera = fly.toCamera();  // the live reference restarts: its view changed
         }
 
+        // The panel's play button and frame slider (last frame's panel).
+        if (player && state.temporal.playToggled) player->togglePlay();
+        if (player && state.temporal.scrubTo >= 0) player->scrub(state.temporal.scrubTo);
+        state.temporal.playToggled = false;
+        state.temporal.scrubTo = -1;
+        Camera frameCamera = camera;
+        if (player) {
+            Scene sceneNow = *rest;
+            evaluateScene(sceneNow, *rest, &*path, player->time());
+            renderer.updateScene(sceneNow);
+            frameCamera = pathCamera(&*path, player->time(), camera);
+            cut = cut || player->jumped();  // a scrub or a step back: the histories belong to another time
+        }
+
         glm::ivec2 size = host->framebufferSize();
         if (size.x <= 0 || size.y <= 0) continue;  // minimized
         if (size != prev.size) cut = true;          // resized: histories do not match
-        View v = makeView(camera, size, cut ? nullptr : &prev, frame);
+        // X: every frame as a cut, so every temporal filter shows its no-history value.
+        View v = makeView(frameCamera, size, cut || state.temporal.resetHistory ? nullptr : &prev, frame);
         renderer.render(v);
         prev = v;
         cut = false;
+        if (player) player->rendered();
+        if (state.showPanel) {
+            // The live temporal numbers: the filters' disoccluded-pixel counts (a read-back) and the change of
+            // the final image since the last frame (with a still camera: its flicker).
+            state.temporal.disoccluded.clear();
+            for (const char* name : {"ao.temporal", "ssr.temporal"})
+                if (Pass* p = renderer.findPass(name)) {
+                    view::TemporalState::FilterCount c{name, 0, 0};
+                    for (auto& [k, val] : p->stats())
+                        if (k == "disoccluded_pixels") c.disoccluded = val;
+                    auto dbg = renderer.debugImages(*p);
+                    if (!dbg.empty() && dbg.front().tex) c.pixels = double(dbg.front().tex->width()) * dbg.front().tex->height();
+                    state.temporal.disoccluded.push_back(c);
+                }
+            FloatImage fin = readTexture(renderer.resources().ldr);
+            auto change = view::rmsChange(lastFinal, fin, 3);
+            state.temporal.haveChange = bool(change);
+            state.temporal.change = change.value_or(0.0);
+            lastFinal = std::move(fin);
+        }
+        if (player) {
+            state.temporal.frame = player->frame();
+            state.temporal.time = player->time();
+            state.temporal.playing = player->playing();
+        }
 
         // Live reference: a few more samples of the matching reference.
         if (state.liveReference) {
@@ -252,7 +331,7 @@ int run(int argc, char** argv) {
             opts.referenceMode = comparedImage.mode;
             shown = &comparedImage;
         }
-        if (shown) painter.drawImage(programs, *shown, size, camera.far, opts);
+        if (shown) painter.drawImage(programs, *shown, size, frameCamera.far, opts);
         for (auto& f : viewShots) {  // the view as drawn, without the panel
             view::writeWindowScreenshot(f, size);
             say("wrote " + f);
@@ -281,13 +360,14 @@ int run(int argc, char** argv) {
             // The displayed image at render resolution (as rtgi-bench writes it) and the window with the panel.
             std::string file = last && !screenshotPath.empty() ? screenshotPath
                                                                : "rtgi-view-" + std::to_string(shots++) + ".png";
-            view::writeScreenshot(file, *shown, camera.far);
+            view::writeScreenshot(file, *shown, frameCamera.far);
             std::string windowFile = file.substr(0, file.size() - (file.size() > 4 && file.substr(file.size() - 4) == ".png" ? 4 : 0)) + ".window.png";
             view::writeWindowScreenshot(windowFile, size);
             say("wrote " + file + " and " + windowFile);
         }
         host->swapBuffers();
         ++frame;
+        if (player) player->advance();
         if (last) break;
     }
     int glErrors = gl::takeDebugErrorCount();

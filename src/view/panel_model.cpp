@@ -145,7 +145,8 @@ void TimingHistory::clear() {
 std::vector<ScriptAction> parseScript(const std::string& text, const std::string& source) {
     static const std::map<std::string, std::size_t> arity = {
         {"set", 2},     {"image", 1},  {"exposure", 1},   {"channel", 1}, {"reference", 1},
-        {"compare", 1}, {"split", 1},  {"screenshot", 1}, {"window", 1},  {"panel", 1}};
+        {"compare", 1}, {"split", 1},  {"screenshot", 1}, {"window", 1},  {"panel", 1},
+        {"path", 1},    {"history", 1}};
     std::vector<ScriptAction> out;
     std::stringstream in(text);
     std::string line;
@@ -167,7 +168,7 @@ std::vector<ScriptAction> parseScript(const std::string& text, const std::string
         if (!(ls >> a.verb)) fail("missing action after the frame number");
         auto it = arity.find(a.verb);
         if (it == arity.end())
-            fail("unknown action '" + a.verb + "' (set image exposure channel reference compare split screenshot window panel)");
+            fail("unknown action '" + a.verb + "' (set image exposure channel reference compare split screenshot window panel path history)");
         std::string arg;
         while (ls >> arg) a.args.push_back(arg);
         if (a.args.size() != it->second)

@@ -52,7 +52,8 @@ private:
 // --script FILE: one action per line, "FRAME VERB ARGS..." ('#' comments):
 //   set KEY VALUE | image NAME | exposure X | channel rgb|r|g|b|a |
 //   reference on|off | compare off|split|side|toggle|heatmap | split X |
-//   screenshot FILE (the view without the panel) | window FILE (with it) | panel on|off
+//   screenshot FILE (the view without the panel) | window FILE (with it) | panel on|off |
+//   path play|pause|home|next|prev (--path playback, the keys' actions) | history live|reset (key X)
 struct ScriptAction {
     int frame = 0;
     std::string verb;

@@ -212,6 +212,26 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
         }
     }
 
+    if (ImGui::CollapsingHeader("temporal", ImGuiTreeNodeFlags_DefaultOpen)) {
+        TemporalState& t = state.temporal;
+        if (t.path) {
+            ImGui::Text("path %s: frame %d / %d, t = %.3f s", t.pathName.c_str(), t.frame, t.frames - 1, t.time);
+            if (ImGui::Button(t.playing ? "pause" : "play")) t.playToggled = true;
+            ImGui::SameLine();
+            int f = t.frame;
+            if (ImGui::SliderInt("frame", &f, 0, t.frames - 1, "%d", ImGuiSliderFlags_AlwaysClamp) && f != t.frame)
+                t.scrubTo = f;
+        } else {
+            ImGui::TextWrapped("no --path: the camera is yours (rtgi-view --path NAME plays one)");
+        }
+        ImGui::Checkbox("reset history every frame (X)", &t.resetHistory);
+        for (auto& c : t.disoccluded)
+            ImGui::Text("%-16s %8.0f disoccluded (%.2f %%)", c.pass.c_str(), c.disoccluded,
+                        c.pixels > 0 ? 100.0 * c.disoccluded / c.pixels : 0.0);
+        if (t.disoccluded.empty()) ImGui::TextWrapped("no screen-space temporal filter in this frame");
+        if (t.haveChange) ImGui::Text("frame-to-frame change (RMS, final) %.4g", t.change);
+    }
+
     if (ImGui::CollapsingHeader("GPU timings", ImGuiTreeNodeFlags_DefaultOpen)) {
         // Execution order, frame total last; each row: median and the rolling graph with its median line.
         for (auto& name : timings.order()) {

@@ -12,6 +12,25 @@
 
 namespace rtgi::view {
 
+// The temporal section (issue 23): --path playback and the live temporal numbers.
+struct TemporalState {
+    bool path = false;            // a --path is loaded
+    std::string pathName;
+    int frame = 0, frames = 1;
+    double time = 0, fps = 30;
+    bool playing = false;
+    int scrubTo = -1;             // set by the panel's slider (the host scrubs and clears it)
+    bool playToggled = false;     // the panel's play / pause button
+    bool resetHistory = false;    // X: a reset (cut) every frame instead of live reprojection
+    struct FilterCount {
+        std::string pass;
+        double disoccluded = 0, pixels = 0;  // the filter's count and its image's pixels (0: unknown)
+    };
+    std::vector<FilterCount> disoccluded;  // per screen-space temporal filter of the frame
+    bool haveChange = false;
+    double change = 0;            // RMS change of the final image since the last frame
+};
+
 // What the panels edit besides the settings.
 struct ViewState {
     std::string imageName = "final";
@@ -22,6 +41,7 @@ struct ViewState {
     int samplesPerFrame = 4;  // of the live reference (more: faster convergence, slower frames)
     bool showPanel = true;
     std::string message;
+    TemporalState temporal;
 };
 
 class Ui {

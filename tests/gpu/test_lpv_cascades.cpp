@@ -4,6 +4,7 @@
 #include "gpu_fixture.h"
 #include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_volumes.h"
+#include "scene/path.h"
 
 #include <glm/gtx/component_wise.hpp>
 
@@ -152,16 +153,13 @@ struct CascadeVolumes {
     glm::ivec3 grid{0};
 };
 
-// Every cascade's accumulated volume after one frame with the camera at `pos` looking along `dir`.
-CascadeVolumes renderVolumes(Scene scene, const Settings& s, glm::vec3 pos, glm::vec3 dir, gl::Profiler& prof) {
-    scene.cameras[0].position = pos;
-    scene.cameras[0].target = pos + dir;
-    auto r = renderFrames(scene, s, {16, 16}, prof);
-    Pass* p = r->findPass("lpv.propagate");
+// Every cascade's accumulated volume of the renderer's last frame.
+CascadeVolumes readVolumes(Renderer& r, const Settings& s) {
+    Pass* p = r.findPass("lpv.propagate");
     REQUIRE(p != nullptr);
     CascadeVolumes out;
     out.rgb.resize(std::size_t(s.lpv.cascades));
-    for (const auto& o : r->checkedOutputs(*p)) {
+    for (const auto& o : r.checkedOutputs(*p)) {
         int cascade = -1;
         for (int i = 0; i < s.lpv.cascades; ++i) {
             std::string prefix = i == 0 ? "lpv.accum." : "lpv.accum.cascade" + std::to_string(i) + ".";
@@ -179,6 +177,14 @@ CascadeVolumes renderVolumes(Scene scene, const Settings& s, glm::vec3 pos, glm:
     }
     for (auto& c : out.rgb) REQUIRE(c.size() == std::size_t(3 * 4 * out.grid.x * out.grid.y * out.grid.z));
     return out;
+}
+
+// Every cascade's accumulated volume after one frame with the camera at `pos` looking along `dir`.
+CascadeVolumes renderVolumes(Scene scene, const Settings& s, glm::vec3 pos, glm::vec3 dir, gl::Profiler& prof) {
+    scene.cameras[0].position = pos;
+    scene.cameras[0].target = pos + dir;
+    auto r = renderFrames(scene, s, {16, 16}, prof);
+    return readVolumes(*r, s);
 }
 
 // Relative L2 difference of cascade volumes a and b over the cells of a with x index in
@@ -247,6 +253,72 @@ TEST_CASE("LPV cascades: a camera move by a fraction of a cell changes no volume
         CHECK(f <= 1e-5);
         CHECK(m <= 1e-5);
         CHECK(wrong > 1e-2);
+    }
+}
+
+TEST_CASE("LPV cascades along a camera path: snapped, sub-cell moves change no volume; lpv.snap=off moves them") {
+    // docs/lpv.md "Snapping", issue 23. The scene and volumes of the single-move test above, rendered in one
+    // renderer along a 6-frame path: the camera slides 0.1 m along x in steps of 0.02 m (0.08 of the finest cell),
+    // inside one snapping interval of every cascade (cascade 0: floor((x - 1) / 0.25) = -4, cascade 1:
+    // floor((x - 2) / 0.5) = -4 for x in [0.1, 0.2]); nothing but the placement depends on the camera here
+    // (occlusion and bounce off, the RSM fitted to the coarsest cascade, which holds the scene and never moves).
+    // Snapped: every cascade's placement is bit-identical over the path and its volume equal to the last frame's
+    // up to the order of the injection's fp32 atomic adds (relative L2 1e-5, the bound of the single-move test;
+    // llvmpipe's threads do not add in a fixed order, so the volumes are not bitwise equal). lpv.snap=off:
+    // cascades 0 and 1 follow the camera by 0.02 m a frame and their volumes sample the light 0.08 / 0.04 of a
+    // cell further along (the striped floor's light is not uniform), so consecutive frames differ by far more;
+    // the scene-holding cascade 2 is centred on the scene in both modes and does not move.
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    const Scene scene = stripedFloor();
+    Settings s;
+    s.ao.variant = AoSettings::Variant::Off;
+    s.lpv.mode = Toggle::On;
+    s.lpv.cascades = 3;
+    s.lpv.grid = glm::ivec3(8);
+    s.lpv.cell = 0.25f;
+    s.lpv.iterations = 1;
+    s.lpv.occlusion = s.lpv.bounce = false;
+    s.lpv.rsm = 128;
+    s.lpv.format = LpvSettings::Format::Rgba32f;
+    const Path path = parsePath(R"({"fps": 10, "duration": 0.5, "camera": {"keys": [
+        {"t": 0, "position": [0.1, 1.2, 2.0], "target": [0.1, 0.7527864, 1.1055728]},
+        {"t": 0.5, "position": [0.2, 1.2, 2.0], "target": [0.2, 0.7527864, 1.1055728]}]}})", "test", "slide");
+    REQUIRE(path.frameCount() == 6);
+    for (bool snap : {true, false}) {
+        CAPTURE(snap);
+        s.lpv.snap = snap;
+        Renderer r(scene, s, prof);
+        const Camera fallback = resolveCamera(scene, s);
+        std::vector<CascadeVolumes> frames;
+        std::vector<std::vector<lpv::Placement>> placed;
+        View prev;
+        for (int f = 0; f < path.frameCount(); ++f) {
+            const Camera cam = pathCamera(&path, path.timeOfFrame(f), fallback);
+            View v = makeView(cam, {16, 16}, f ? &prev : nullptr, unsigned(f));
+            r.render(v);
+            prev = v;
+            frames.push_back(readVolumes(r, s));
+            placed.push_back(lpv::placeCascades(s.lpv, 3, scene.bounds(), v.position, v.forward()));
+        }
+        for (int f = 1; f < path.frameCount(); ++f) {
+            CAPTURE(f);
+            for (int i = 0; i < 3; ++i) {
+                CAPTURE(i);
+                // Relative L2 between consecutive frames' volumes, cell for cell.
+                const double rel = shiftedDifference(frames[std::size_t(f)], frames[std::size_t(f - 1)], i, 0, 0, 8);
+                const glm::vec3 step = placed[std::size_t(f)][std::size_t(i)].origin - placed[std::size_t(f - 1)][std::size_t(i)].origin;
+                if (f == path.frameCount() - 1) MESSAGE("snap " << snap << ", cascade " << i << ": frame-to-frame rel. L2 " << rel);
+                if (snap || i == 2) {
+                    CHECK(step == glm::vec3(0.0f));  // the placement is bit-identical
+                    CHECK(rel <= 1e-5);              // the volume: up to the order of fp32 atomic adds
+                } else {
+                    // The placement moved by the camera's step (0.02 m along x), not by a whole cell.
+                    CHECK(double(step.x) == doctest::Approx(0.02).epsilon(1e-3));
+                    CHECK(rel > 1e-3);
+                }
+            }
+        }
     }
 }
 

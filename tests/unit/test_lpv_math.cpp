@@ -210,6 +210,42 @@ TEST_CASE("LPV cascades: cells double, snapping per cascade, the coarsest holds 
     }
 }
 
+TEST_CASE("LPV placement with lpv.snap=off: the origin follows the camera continuously, history only without a move") {
+    // docs/lpv.md "Snapping": the unsnapped min corner is centre - extent/2 with the centre 30 % of the extent
+    // ahead of the camera (the same placement before the floor to whole cells).
+    LpvSettings s;
+    s.grid = {8, 4, 16};
+    s.cell = 0.5f;
+    s.snap = false;
+    const glm::vec3 fwd(0, 0, -1), cam(1.1f, 2.2f, 3.3f);
+    lpv::Placement a = lpv::placeVolume(s, Aabb{}, cam, fwd);
+    const glm::dvec3 extent = glm::dvec3(8, 4, 16) * 0.5;
+    const glm::dvec3 corner = glm::dvec3(cam) + 0.3 * glm::dvec3(fwd) * extent - 0.5 * extent;
+    for (int k = 0; k < 3; ++k) CHECK(double(a.origin[k]) == doctest::Approx(corner[k]).epsilon(1e-6));
+    CHECK_FALSE(a.snapped);
+    lpv::Placement b = lpv::placeVolume(s, Aabb{}, cam + glm::vec3(0.1f, 0, 0), fwd);
+    CHECK(double(b.origin.x - a.origin.x) == doctest::Approx(0.1).epsilon(1e-4));  // 0.2 of a cell, not 0 or 1
+    CHECK_FALSE(lpv::historyCompatible(b, a));  // the cells no longer line up with the previous volume's
+    CHECK(lpv::historyCompatible(a, lpv::placeVolume(s, Aabb{}, cam, fwd)));
+    // Snapped, the same move is no move at all (the origin is whole cells and history is re-indexed).
+    s.snap = true;
+    lpv::Placement sa = lpv::placeVolume(s, Aabb{}, cam, fwd), sb = lpv::placeVolume(s, Aabb{}, cam + glm::vec3(0.1f, 0, 0), fwd);
+    CHECK(sa.origin == sb.origin);
+    CHECK(lpv::historyCompatible(sb, sa));
+    CHECK_FALSE(lpv::historyCompatible(sa, a));  // switching the key drops the history
+    // Cascades: every camera-following cascade unsnapped; the cells still double.
+    s.snap = false;
+    s.grid = glm::ivec3(8);
+    auto c = lpv::placeCascades(s, 3, Aabb{}, cam, fwd);
+    for (int i = 0; i < 3; ++i) {
+        const double si = 0.5 * double(1 << i), ext = 8 * si;
+        const glm::dvec3 e(ext);
+        const glm::dvec3 ci = glm::dvec3(cam) + 0.3 * glm::dvec3(fwd) * e - 0.5 * e;
+        CHECK(c[std::size_t(i)].cell == doctest::Approx(si));
+        for (int k = 0; k < 3; ++k) CHECK(double(c[std::size_t(i)].origin[k]) == doctest::Approx(ci[k]).epsilon(1e-6));
+    }
+}
+
 // ---- Bands 0-2 (lpv.sh_order=2, docs/lpv.md "Second-order SH") ----
 namespace {
 

@@ -94,6 +94,10 @@ TEST_CASE("viewer --script: actions sorted by frame; malformed lines name the fi
     CHECK(a[0].verb == "compare");
     CHECK(a[1].args == std::vector<std::string>{"ao.radius", "2"});
     CHECK(a[2].args == std::vector<std::string>{"out.png"});
+    auto p = parseScript("0 path play\n4 history reset\n", "p.txt");  // --path playback and the history key
+    REQUIRE(p.size() == 2u);
+    CHECK(p[0].verb == "path");
+    CHECK(p[1].args == std::vector<std::string>{"reset"});
     for (const char* bad : {"x set a 1", "3 fly away", "3 set ao.radius", "3"}) {
         INFO(bad);
         try {

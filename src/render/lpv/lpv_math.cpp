@@ -5,6 +5,16 @@
 
 namespace rtgi::lpv {
 
+namespace {
+// The min corner of a camera-following volume: down to whole cells (snap), or as it is.
+void snapOrigin(Placement& p, glm::vec3 corner, bool snap) {
+    glm::vec3 lo = glm::floor(corner / p.cell);
+    p.originCells = glm::ivec3(lo);
+    p.origin = snap ? lo * p.cell : corner;
+    p.snapped = snap;
+}
+}  // namespace
+
 Placement placeVolume(const LpvSettings& s, const Aabb& sceneBounds, glm::vec3 cameraPos, glm::vec3 cameraForward) {
     Placement p;
     p.grid = glm::max(s.grid, glm::ivec3(1));
@@ -24,9 +34,7 @@ Placement placeVolume(const LpvSettings& s, const Aabb& sceneBounds, glm::vec3 c
     glm::vec3 f = glm::length(cameraForward) > 0.0f ? glm::normalize(cameraForward) : glm::vec3(0, 0, -1);
     glm::vec3 extent = g * p.cell;
     glm::vec3 centre = cameraPos + 0.3f * f * extent;
-    glm::vec3 lo = glm::floor((centre - 0.5f * extent) / p.cell);
-    p.originCells = glm::ivec3(lo);
-    p.origin = lo * p.cell;
+    snapOrigin(p, centre - 0.5f * extent, s.snap);
     return p;
 }
 
@@ -59,9 +67,7 @@ std::vector<Placement> placeCascades(const LpvSettings& s, int cascades, const A
                 float lo = bounds.lo[a] + 0.5f * extent[a], hi = bounds.hi[a] - 0.5f * extent[a];
                 centre[a] = lo <= hi ? std::clamp(centre[a], lo, hi) : 0.5f * (bounds.lo[a] + bounds.hi[a]);
             }
-        glm::vec3 lo = glm::floor((centre - 0.5f * extent) / p.cell);
-        p.originCells = glm::ivec3(lo);
-        p.origin = lo * p.cell;
+        snapOrigin(p, centre - 0.5f * extent, s.snap);
         out.push_back(p);
     }
     return out;
@@ -189,7 +195,7 @@ glm::ivec3 temporalShift(const Placement& cur, const Placement& prev) { return c
 
 bool historyCompatible(const Placement& cur, const Placement& prev) {
     return cur.grid == prev.grid && cur.cell == prev.cell && cur.fitted == prev.fitted &&
-           (!cur.fitted || cur.origin == prev.origin);
+           cur.snapped == prev.snapped && (!(cur.fitted || !cur.snapped) || cur.origin == prev.origin);
 }
 
 gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in) {

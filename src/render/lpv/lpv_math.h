@@ -25,8 +25,9 @@ struct Placement {
     glm::vec3 origin{0.0f};      // world position of the min corner
     float cell = 1.0f;           // cell size s
     glm::ivec3 grid{1};          // cells per axis
-    glm::ivec3 originCells{0};   // origin / s (integer when camera-following)
+    glm::ivec3 originCells{0};   // floor(origin / s) (origin / s exactly when snapped)
     bool fitted = false;         // lpv.cell = 0: fitted to the scene, camera-independent
+    bool snapped = true;         // camera-following with lpv.snap=on: the origin lies on whole cells
     Aabb box() const {
         Aabb b;
         b.lo = origin;
@@ -36,7 +37,8 @@ struct Placement {
 };
 
 // lpv.cell > 0: grid centre 30 % of the extent ahead of the camera (80/20,
-// seed 5.2, SPEC 11.1), origin snapped to whole cells (SPEC 3.1).
+// seed 5.2, SPEC 11.1), origin snapped to whole cells (SPEC 3.1; lpv.snap=off:
+// the unsnapped min corner).
 // lpv.cell = 0: cells just large enough that the grid holds the scene
 // bounds, centred on them (no camera dependence, so nothing to snap).
 Placement placeVolume(const LpvSettings& s, const Aabb& sceneBounds, glm::vec3 cameraPos, glm::vec3 cameraForward);
@@ -44,7 +46,7 @@ Placement placeVolume(const LpvSettings& s, const Aabb& sceneBounds, glm::vec3 c
 // lpv.cascades = C > 1 (docs/lpv.md, "Cascades"): cascade i has cells
 // s_0 * 2^i, each camera-following (centre 30 % of its extent ahead of the
 // camera), moved inside the scene bounds where it is smaller than them, and
-// its origin snapped to its own cells. s_0 = lpv.cell, or for lpv.cell = 0 the
+// its origin snapped to its own cells (lpv.snap=off: not snapped). s_0 = lpv.cell, or for lpv.cell = 0 the
 // coarsest cell is chosen so that the coarsest cascade holds the scene bounds
 // after snapping (extent >= bounds + 2 cells). C = 1: placeVolume().
 std::vector<Placement> placeCascades(const LpvSettings& s, int cascades, const Aabb& sceneBounds, glm::vec3 cameraPos,
@@ -95,7 +97,8 @@ double rsmTexelArea(const glm::mat4& lightViewProj, int rsmSize);
 
 // Cell shift from this frame's grid to the previous one (temporal re-indexing).
 glm::ivec3 temporalShift(const Placement& current, const Placement& previous);
-// Whether the previous volume can be re-indexed into this one at all.
+// Whether the previous volume can be re-indexed into this one at all: the same
+// grid and cells, and a whole-cell shift (an unsnapped volume only when it did not move).
 bool historyCompatible(const Placement& current, const Placement& previous);
 
 struct UniformInputs {
