@@ -532,12 +532,17 @@ private:
         for (std::size_t k = 0; k < st.cascades.size(); ++k) {
             LpvCascade& c = st.cascades[k];
             InjectCacheState& cs = c.cache;
-            if (!useCache || wanted.empty()) {  // nothing to keep: the cache is dropped (its memory kept)
+            if (!useCache) {
+                cs.volume.reset();
                 cs.valid = false;
-                if (!useCache) cs.volume.reset();
                 continue;
             }
+            // Allocated from the first frame with local lights (what the memory estimate counts).
             if (cs.volume.ensure(ctx.ledger, c.placement.grid, ls.shOrder)) cs.valid = false;
+            if (wanted.empty()) {  // nothing to keep: the cache is dropped
+                cs.valid = false;
+                continue;
+            }
             InjectCacheKey key;
             key.origin = c.uniforms.origin;
             key.grid = glm::ivec4(glm::ivec3(c.uniforms.grid), st.localSize);
