@@ -19,7 +19,8 @@
 
 // ---- bindings ----
 #define RTGI_UBO_LPV 1              // LpvUniforms
-#define RTGI_SSBO_LPV_STATS 3       // uint dropped RSM texels
+#define RTGI_SSBO_LPV_STATS 3       // uint[2] dropped RSM texels: [0] this frame's injections, [1] the injection cache's
+#define RTGI_SSBO_LPV_RSM_FACES 4   // LpvRsmFace[]: the local-light RSM faces of a batched injection (lpv/inject.comp)
 #define RTGI_LPV_MAX_CASCADES 6      // lpv.cascades range 1..6
 // Geometry accumulation channels: 4 SH of blocking, sum(A * albedo.rgb), sum(A), and with
 // lpv.blocking=two-sided (RTGI_LPV_TWO_SIDED) sum(A / s^2 |n|) (xyz: axis blocking, docs/lpv.md "Leaks").
@@ -77,6 +78,13 @@ RTGI_LPV_STRUCT(LpvUniforms) {
                           // z lpv.blocking=two-sided, w lpv.reflect=source
 };
 
+// One local-light RSM face of a batched injection (lpv/inject.comp with RTGI_LPV_INJECT_FACES; std430):
+// workgroup z of the dispatch reads entry RTGI_LPV_INJECT_LOC_FIRST_FACE + z (docs/lpv.md "Injection").
+RTGI_LPV_STRUCT(LpvRsmFace) {
+    mat4 invViewProj;  // RSM clip -> world of the view the face was drawn with
+    ivec4 layer;       // x: the face's layer in its RSM array
+};
+
 #ifndef RTGI_GLSL
 }  // namespace rtgi::gpu
 #endif
@@ -117,6 +125,10 @@ RTGI_LPV_STRUCT(LpvUniforms) {
 #define RTGI_LPV_INJECT_IMG_INJECT_R                0  // lpv/inject.comp
 #define RTGI_LPV_INJECT_IMG_INJECT_G                1  // lpv/inject.comp
 #define RTGI_LPV_INJECT_IMG_INJECT_B                2  // lpv/inject.comp
+#define RTGI_LPV_INJECT_LOC_FIRST_FACE   0  // lpv/inject.comp (RTGI_LPV_INJECT_FACES): first LpvRsmFace entry
+#define RTGI_LPV_INJECT_LOC_STATS_SLOT   1  // lpv/inject.comp (RTGI_LPV_INJECT_FACES): dropped-texel counter 0 or 1
+#define RTGI_LPV_INJECT_RASTER_LOC_LAYER 0  // lpv/inject_raster.vert (RTGI_LPV_RSM_ARRAY): layer of the face
+#define RTGI_LPV_INJECT_RASTER_LOC_INV_VIEW_PROJ 1  // and its RSM clip -> world (mat4: locations 1-4)
 #define RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM 0  // lpv/inject_geometry.comp
 #define RTGI_LPV_IMG_GEOMETRY                       0  // lpv/pack.comp
 #define RTGI_LPV_IMG_VOL_R                          0  // lpv/pack.comp

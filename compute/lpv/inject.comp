@@ -6,19 +6,32 @@
 // consumed). Texels outside the grid are counted. lpv.sh_order=2 (RTGI_LPV_SH2):
 // the 9 coefficients of the band-2 lobe; 4-7 in injectHi (4X, Y, Z), 8 of colour c
 // in injectLast at (3x + c, y, z) (lib/lpv_shared.h).
+// RTGI_LPV_INJECT_FACES: many local-light RSM faces in one dispatch (docs/lpv.md "Injection"):
+// the RSMs are layers of 2D arrays of one side, workgroup z injects face entry
+// uFirstFace + z of the LpvRsmFace list (its layer and the inverse of the view it was drawn
+// with); the volume's placement comes from the uniform block as for the sun's RSM.
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;
 
+#ifdef RTGI_LPV_INJECT_FACES
+layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2DArray uFlux;
+layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2DArray uNormal;
+layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2DArray uDepth;
+layout(std430, binding = RTGI_SSBO_LPV_RSM_FACES) readonly buffer Faces { LpvRsmFace faces[]; };
+layout(location = RTGI_LPV_INJECT_LOC_FIRST_FACE) uniform int uFirstFace;
+layout(location = RTGI_LPV_INJECT_LOC_STATS_SLOT) uniform int uStatsSlot;
+#else
 layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
 layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;
 layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2D uDepth;
+#endif
 layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_R) uniform image3D uInjectR;
 layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_G) uniform image3D uInjectG;
 layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_B) uniform image3D uInjectB;
-layout(std430, binding = RTGI_SSBO_LPV_STATS) buffer Stats { uint droppedTexels; };
+layout(std430, binding = RTGI_SSBO_LPV_STATS) buffer Stats { uint droppedTexels[]; };
 
 #ifdef RTGI_LPV_SH2
 layout(r32f, binding = RTGI_LPV_INJECT_IMG_INJECT_HI_R) uniform image3D uInjectHiR;
@@ -60,12 +73,24 @@ void lpvGlobalAdd(uint key, int channel, float value) {
 void main() {
     lpvReduceBegin();
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
-    vec4 nrm = all(lessThan(t, ivec2(lpv.grid.w))) ? texelFetch(uNormal, t, 0) : vec4(0.0);
+#ifdef RTGI_LPV_INJECT_FACES
+    LpvRsmFace face = faces[uFirstFace + int(gl_WorkGroupID.z)];
+    const int side = textureSize(uFlux, 0).x;
+    const int statsSlot = uStatsSlot;
+    ivec3 tex = ivec3(t, face.layer.x);
+#define LPV_RSM_POSITION(depth) rsmWorldPosition(face.invViewProj, side, t, depth)
+#else
+    const int side = lpv.grid.w;
+    const int statsSlot = 0;
+    ivec2 tex = t;
+#define LPV_RSM_POSITION(depth) rsmWorldPosition(t, depth)
+#endif
+    vec4 nrm = all(lessThan(t, ivec2(side))) ? texelFetch(uNormal, tex, 0) : vec4(0.0);
     if (nrm.w != 0.0) {  // a surface in this texel
         vec3 n = normalize(nrm.xyz);
         ivec3 c;
-        if (lpvInjectionCell(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, c)) {
-            vec3 flux = texelFetch(uFlux, t, 0).rgb;
+        if (lpvInjectionCell(LPV_RSM_POSITION(texelFetch(uDepth, tex, 0).r), n, c)) {
+            vec3 flux = texelFetch(uFlux, tex, 0).rgb;
 #ifdef RTGI_LPV_SH2
             mat3 lobe = shCosineLobe9(n) * INV_PI;
             float v[27];
@@ -86,7 +111,7 @@ void main() {
 #endif
             lpvReduceAdd(lpvKeyOfCell(c, lpv.grid.xyz), v);
         } else {
-            if (lpv.cascade.z != 0) atomicAdd(droppedTexels, 1u);  // the coarsest cascade counts (finer ones hold less by design)
+            if (lpv.cascade.z != 0) atomicAdd(droppedTexels[statsSlot], 1u);  // the coarsest cascade counts (finer ones hold less by design)
         }
     }
     lpvReduceEnd();

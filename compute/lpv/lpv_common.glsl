@@ -28,12 +28,15 @@ ivec3 lpvCellOfKey(uint key, ivec3 dims) {
     return ivec3(int(key % uint(dims.x)), int((key % xy) / uint(dims.x)), int(key / xy));
 }
 
-// World position of an RSM texel from its window-space depth (orthographic).
-vec3 rsmWorldPosition(ivec2 texel, float depth) {
-    vec2 uv = (vec2(texel) + 0.5) / float(lpv.grid.w);
-    vec4 w = lpv.rsmInvViewProj * vec4(uv * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+// World position of texel `texel` of an RSM of side `side` drawn with the inverse view-projection
+// `invViewProj`, from its window-space depth (orthographic or perspective).
+vec3 rsmWorldPosition(mat4 invViewProj, int side, ivec2 texel, float depth) {
+    vec2 uv = (vec2(texel) + 0.5) / float(side);
+    vec4 w = invViewProj * vec4(uv * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
     return w.xyz / w.w;
 }
+// The same for the RSM of the uniform block (the sun's, orthographic; side lpv.grid.w).
+vec3 rsmWorldPosition(ivec2 texel, float depth) { return rsmWorldPosition(lpv.rsmInvViewProj, lpv.grid.w, texel, depth); }
 
 // Cell receiving a surface point's light: moved half a cell along its normal
 // so a surface lights the cell in front of it, not itself (seed 3.3, SPEC 3.3).

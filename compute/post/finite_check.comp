@@ -4,6 +4,8 @@
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #ifdef RTGI_VOLUME
 layout(binding = RTGI_POST_TEX_SOURCE) uniform sampler3D uSource;
+#elif defined(RTGI_ARRAY)  // a 2D array texture: every layer
+layout(binding = RTGI_POST_TEX_SOURCE) uniform sampler2DArray uSource;
 #else
 layout(binding = RTGI_POST_TEX_SOURCE) uniform sampler2D uSource;
 #endif
@@ -11,7 +13,7 @@ layout(std430, binding = RTGI_POST_SSBO_COUNTS) buffer Counts { uint nanCount, i
 layout(location = RTGI_POST_LOC_CHANNELS) uniform int uChannels;
 layout(location = RTGI_POST_LOC_MAY_BE_NEGATIVE) uniform int uMayBeNegative;
 void main() {
-#ifdef RTGI_VOLUME
+#if defined(RTGI_VOLUME) || defined(RTGI_ARRAY)
     ivec3 p = ivec3(gl_GlobalInvocationID);
     if (any(greaterThanEqual(p, textureSize(uSource, 0)))) return;
     vec4 v = texelFetch(uSource, p, 0);

@@ -118,12 +118,14 @@ struct FrameResources {
     int localFacesCached = 0;        // this frame: needed faces reused from earlier frames
     int localShadowLayers = 1;       // layers of localShadowMaps (every light at once, so culling never reallocates)
     int localRsmSize = 0;            // side of each local-light RSM face (localRsmSize(), lights.h)
+    int localRsmFaces = 0;           // RSM faces of every local light (LocalLights::faces): the layers lpv.rsm allocates
     gl::Buffer localShadowMatrices;  // mat4[] per layer
     struct LocalShadowView {
         glm::mat4 viewProj;
         int light, layer;
         float tanHalfFov;  // of the square perspective frustum
         int face;          // fixed face index (LocalLight::firstFace + k)
+        bool valid = false;  // localRsmInject: the map is up to date (ShadowView::valid)
     };
     std::vector<LocalShadowView> localShadowViews;  // shadow layers drawn this frame
     std::vector<gpu::GpuLight> localLightsCpu;      // the uploaded list (lpv.rsm reads the lights' data)

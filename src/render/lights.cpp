@@ -410,7 +410,10 @@ LightSchedule::Frame LightSchedule::plan(const LocalLights& ll, FrameLights& sha
             ++out.waiting;
             continue;
         }
-        for (auto* v : n.rsmFaces) out.injectRsms.push_back(*v);
+        for (auto* v : n.rsmFaces) {
+            out.injectRsms.push_back(*v);
+            out.injectRsms.back().valid = faces_[std::size_t(v->face)].rsmValid;
+        }
         out.cachedFaces += n.stale;  // stale maps reused (over the budget this frame)
         for (auto* v : n.shadowFaces) out.cachedFaces += faces_[std::size_t(v->face)].shadowValid ? 1 : 0;
         for (auto* v : n.rsmFaces) out.cachedFaces += faces_[std::size_t(v->face)].rsmValid ? 1 : 0;

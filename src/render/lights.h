@@ -85,6 +85,10 @@ struct ShadowView {
     float tanHalfFov = 1.0f;
     int face = 0;
     bool inView = true;
+    // LightSchedule::Frame::injectRsms: the face's RSM is up to date (drawn since its light and the
+    // geometry last changed; never with light.budget=0). A stale map is injected until it is redrawn;
+    // the LPV's injection cache keeps only up-to-date faces (docs/lights.md "Injection cache").
+    bool valid = false;
 };
 
 // Per-frame culling and shadow layout: lights outside the frustum get type

@@ -134,12 +134,13 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         // against one BVH of the scene (docs/lpv.md, "Visibility moments").
         const int cascades = s.lpv.path == LpvSettings::Path::Raster ? 1 : s.lpv.cascades;
         if (hasFamily(r, "lpv.visibility")) by["lpv.grid=" + gridKey] += bvhBytesBound(triangleCount);
-        // The uniform block of every cascade and the dropped-texel counter.
-        by[fixedKey] += double(cascades) * double(sizeof(gpu::LpvUniforms)) + 4.0;
-        // The sun's RSM and one per face of every local light (spot 1, point
-        // / area 6, render/lights.h) at FrameResources::localRsmSize, each
-        // with one LPV uniform block per cascade: the descriptors lpv.rsm
-        // allocates from.
+        // The uniform block of every cascade and the two dropped-texel counters.
+        by[fixedKey] += double(cascades) * double(sizeof(gpu::LpvUniforms)) + 8.0;
+        // The sun's RSM and one layer per face of every local light (spot 1,
+        // point / area 6, render/lights.h) at FrameResources::localRsmSize in
+        // the local RSM arrays, and lpv.inject's face list (at most every face
+        // once for the frame's volumes and once per cascade's injection
+        // cache): what lpv.rsm and lpv.inject allocate.
         auto rsmBytes = [](int n) {
             const lpv::RsmDescs d = lpv::rsmDescs(n);
             return double(gl::textureBytes(d.flux) + gl::textureBytes(d.normal) + gl::textureBytes(d.depth));
@@ -150,7 +151,7 @@ MemoryEstimate estimateFrameMemory(const Renderer& r, glm::ivec2 res) {
         if (faces > 0)
             by["local lights (" + std::to_string(faces) + " RSM faces of " + std::to_string(ln) + "^2; light.budget=" +
                std::to_string(s.light.budget) + ")"] +=
-                double(faces) * (rsmBytes(ln) + double(cascades) * double(sizeof(gpu::LpvUniforms)));
+                double(faces) * (rsmBytes(ln) + double(1 + cascades) * double(sizeof(gpu::LpvRsmFace)));
     }
     // What the renderer holds already (the GPU scene, for one: vertices,
     // indices, BVH, textures) and the small fixed resources.

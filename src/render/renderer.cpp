@@ -110,6 +110,7 @@ void Renderer::resolveLights() {
     for (auto& [light, reason] : localLights_.leftOut) skipped_.push_back({"light:" + light, reason});
     res_.localShadowLayers = std::max(1, localLights_.shadowLayers);
     res_.localRsmSize = localRsmSize(settings_, localLights_.faces);
+    res_.localRsmFaces = localLights_.faces;
     lightSchedule_.reset(localLights_);
     res_.localLights = gl::Buffer(ledger_, "lights.local",
                                   std::int64_t(std::max<std::size_t>(1, localLights_.lights.size()) * sizeof(gpu::GpuLight)));
@@ -237,7 +238,7 @@ void Renderer::uploadFrameUniforms(const View& v) {
         res_.localLightShapes.upload(fl.shapes.data(), std::int64_t(fl.shapes.size() * sizeof(gpu::GpuLightShape)));
     res_.localLightCount = int(fl.gpu.size());
     auto local = [](const ShadowView& sv) {
-        return FrameResources::LocalShadowView{sv.viewProj, sv.light, sv.layer, sv.tanHalfFov, sv.face};
+        return FrameResources::LocalShadowView{sv.viewProj, sv.light, sv.layer, sv.tanHalfFov, sv.face, sv.valid};
     };
     res_.localShadowViews.clear();
     for (auto& sv : plan.drawShadows) res_.localShadowViews.push_back(local(sv));
@@ -318,9 +319,10 @@ FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger,
         case GL_RGBA16F: case GL_RGBA32F: case GL_RGBA8: channels = 4; break;
         default: return fc;  // integer / depth formats cannot hold non-finite values
     }
-    bool volume = t.desc().target == GL_TEXTURE_3D;
-    const gl::Program& prog =
-        programs.compute("post/finite_check.comp", volume ? gl::Defines{{"RTGI_VOLUME", ""}} : gl::Defines{});
+    const bool volume = t.desc().target == GL_TEXTURE_3D, array = t.desc().target == GL_TEXTURE_2D_ARRAY;
+    const gl::Program& prog = programs.compute(
+        "post/finite_check.comp",
+        volume ? gl::Defines{{"RTGI_VOLUME", ""}} : array ? gl::Defines{{"RTGI_ARRAY", ""}} : gl::Defines{});
     gl::Buffer counts(ledger, "check.counts", 16);
     counts.clearZero();
     glMemoryBarrier(GL_ALL_BARRIER_BITS);  // producer: whichever pass wrote t just before
@@ -329,7 +331,7 @@ FiniteCount countNonFinite(gl::ProgramCache& programs, gl::MemoryLedger& ledger,
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_POST_SSBO_COUNTS, counts.id());
     prog.set(RTGI_POST_LOC_CHANNELS, channels);
     prog.set(RTGI_POST_LOC_MAY_BE_NEGATIVE, mayBeNegative ? 1 : 0);
-    glDispatchCompute(gl::groupCount(t.width(), 8), gl::groupCount(t.height(), 8), GLuint(volume ? t.depth() : 1));
+    glDispatchCompute(gl::groupCount(t.width(), 8), gl::groupCount(t.height(), 8), GLuint(volume || array ? t.depth() : 1));
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::uint32_t c[4];
     counts.download(c, 16);

@@ -270,6 +270,10 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.fuse", "propagation iterations per dispatch (compute path, band 1; a tile plus halo in shared memory, "
             "docs/lpv.md, \"Fused propagation\")", "1..2",
             s.lpv.fuse = parseInt("lpv.fuse", v, 1, 2), fmt(s.lpv.fuse)),
+        KEY("lpv.inject_cache", "keep the local lights' injected light per cascade and re-use it while the lights, their "
+            "RSM faces, the geometry and the cascade stay (compute path; docs/lights.md, \"Injection cache\"); off: every "
+            "face injected every frame", "on|off",
+            s.lpv.injectCache = parseBool("lpv.inject_cache", v), onOff(s.lpv.injectCache)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

@@ -103,6 +103,8 @@ struct LpvSettings {
     bool halfApply = false;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
     int fuse = 1;
+    // Local lights' injection kept per cascade while nothing it depends on changed (docs/lights.md, "Injection cache").
+    bool injectCache = true;
 };
 
 struct AoSettings {

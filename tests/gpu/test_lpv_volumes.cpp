@@ -954,6 +954,144 @@ TEST_CASE("LPV injection of random RSM texels matches a CPU double implementatio
     CHECK(drop9t == cpuDropped);
 }
 
+TEST_CASE("LPV batched injection of local RSM faces (one dispatch over an RSM array) equals one injection per face and a CPU double implementation") {
+    // Issue 24 deliverable 2: lpv.inject injects every local-light RSM face of an array in one
+    // dispatch (workgroup z = entry of the face list: its layer and the inverse of its view). Five
+    // perspective faces of random texels (as the point lights' cube faces: 90 degrees, from inside
+    // the grid box), in shuffled layers of a 7-layer array, from entry 2 of the list; against (a)
+    // injectCompute of each face with its own uniform block (the path before the batching) and
+    // (b) the seed's injection in double. fp32 atomics sum in another order: relative L2 <= 1e-5
+    // (each coefficient is a sum of a few dozen fp32 terms, 1e-7 relative each).
+    GpuFixture gpu;
+    const int R = 16, K = 5, layers = 7;
+    const glm::ivec3 grid(5, 4, 6);
+    const float cell = 0.5f;  // box [0, 2.5] x [0, 2] x [0, 3]
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), s(-1.0f, 1.0f), d(0.85f, 0.98f);
+    const glm::vec3 eyes[K] = {{1.2f, 1.0f, 1.5f}, {0.4f, 1.7f, 0.5f}, {2.2f, 0.3f, 2.6f}, {1.0f, 1.0f, 0.2f}, {2.0f, 1.5f, 1.0f}};
+    const glm::vec3 dirs[K] = {{1, 0, 0}, {0, -1, 0}, {0, 0, -1}, {0, 0, 1}, {-1, 0, 0}};
+    const int layerOf[K] = {3, 0, 6, 1, 4};
+    std::vector<glm::mat4> vp(K);
+    for (int f = 0; f < K; ++f) {
+        glm::vec3 up = std::abs(dirs[f].y) > 0.5f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+        vp[std::size_t(f)] = glm::perspective(glm::radians(90.0f), 1.0f, 0.1f, 10.0f) *
+                             glm::lookAt(eyes[f], eyes[f] + dirs[f], up);
+    }
+    std::vector<std::vector<float>> flux(K), normal(K), depth(K);
+    for (int f = 0; f < K; ++f)
+        for (int i = 0; i < R * R; ++i) {
+            glm::vec3 n;
+            do n = {s(rng), s(rng), s(rng)};
+            while (glm::length(n) < 0.2f || glm::length(n) > 1.0f);
+            n = glm::normalize(n);
+            for (float x : {u(rng), u(rng), u(rng), 1.0f}) flux[std::size_t(f)].push_back(x);
+            for (float x : {n.x, n.y, n.z, (i + f) % 9 == 0 ? 0.0f : 1.0f}) normal[std::size_t(f)].push_back(x);
+            depth[std::size_t(f)].push_back(d(rng));
+        }
+    // CPU double oracle (bands 0-1 and 0-2).
+    CpuVolume expected(grid);
+    Cpu9 expected9(grid);
+    std::uint32_t cpuDropped = 0;
+    for (int f = 0; f < K; ++f) {
+        const glm::dmat4 inv = glm::inverse(glm::dmat4(vp[std::size_t(f)]));
+        for (int y = 0; y < R; ++y)
+            for (int x = 0; x < R; ++x) {
+                const std::size_t i = std::size_t(y * R + x);
+                const auto& nf = normal[std::size_t(f)];
+                if (nf[i * 4 + 3] == 0.0f) continue;
+                glm::dvec3 n = glm::normalize(glm::dvec3(nf[i * 4], nf[i * 4 + 1], nf[i * 4 + 2]));
+                glm::dvec4 w = inv * glm::dvec4((x + 0.5) / R * 2 - 1, (y + 0.5) / R * 2 - 1, depth[std::size_t(f)][i] * 2.0 - 1, 1.0);
+                glm::ivec3 c(glm::floor((glm::dvec3(w) / w.w + 0.5 * double(cell) * n) / double(cell)));
+                if (!expected.inside(c)) {
+                    ++cpuDropped;
+                    continue;
+                }
+                lpv::Sh9 l = lpv::shCosineLobe9(n);
+                for (int ch = 0; ch < 3; ++ch) {
+                    const double phi = double(flux[std::size_t(f)][i * 4 + std::size_t(ch)]) / kPi;
+                    expected.c[ch][expected.at(c)] += phi * lobe(n);
+                    for (int k = 0; k < 9; ++k) expected9.c[ch][expected9.at(c)][std::size_t(k)] += phi * l[std::size_t(k)];
+                }
+            }
+    }
+    REQUIRE(cpuDropped > 0);
+    REQUIRE(cpuDropped < std::uint32_t(K * R * R / 2));
+    gl::MemoryLedger ledger;
+    // The array: face f in layer layerOf[f]; the other layers hold texels that must not be read.
+    lpv::Rsm array;
+    const lpv::RsmDescs ad = lpv::rsmArrayDescs(R, layers);
+    array.flux = gl::Texture(ledger, "t.flux", ad.flux);
+    array.normal = gl::Texture(ledger, "t.normal", {GL_TEXTURE_2D_ARRAY, GL_RGBA32F, R, R, layers});
+    array.depth = gl::Texture(ledger, "t.depth", ad.depth);
+    array.flux.clear(100.0f, 100.0f, 100.0f, 1.0f);
+    array.normal.clear(0.0f, 1.0f, 0.0f, 1.0f);
+    array.depth.clear(0.9f);
+    for (int f = 0; f < K; ++f) {
+        const int l = layerOf[f];
+        glTextureSubImage3D(array.flux.id(), 0, 0, 0, l, R, R, 1, GL_RGBA, GL_FLOAT, flux[std::size_t(f)].data());
+        glTextureSubImage3D(array.normal.id(), 0, 0, 0, l, R, R, 1, GL_RGBA, GL_FLOAT, normal[std::size_t(f)].data());
+        glTextureSubImage3D(array.depth.id(), 0, 0, 0, l, R, R, 1, GL_DEPTH_COMPONENT, GL_FLOAT, depth[std::size_t(f)].data());
+    }
+    // Two entries before the list (a wrong first entry reads them: layer 2, unused above).
+    std::vector<gpu::LpvRsmFace> entries(2);
+    for (auto& e : entries) e.invViewProj = glm::inverse(vp[0]), e.layer = glm::ivec4(2, 0, 0, 0);
+    for (int f = 0; f < K; ++f) {
+        gpu::LpvRsmFace e{};
+        e.invViewProj = glm::inverse(vp[std::size_t(f)]);
+        e.layer = glm::ivec4(layerOf[f], 0, 0, 0);
+        entries.push_back(e);
+    }
+    gl::Buffer faces(ledger, "t.faces", std::int64_t(entries.size() * sizeof(gpu::LpvRsmFace)), entries.data());
+    auto run = [&](bool batched, int order, std::uint32_t& dropped, Cpu9* out9) {
+        GpuLpv g(grid, GL_RGBA32F, CpuOptions{}, cell, order);
+        g.settings.rsm = R;
+        gl::Buffer stats(ledger, "t.stats", 8);
+        stats.clearZero();
+        if (batched) {
+            lpv::injectFaces(g.programs, g.ubo, array, faces, 2, K, lpv::injectTarget(g.v), order, stats, 1);
+        } else {
+            for (int f = 0; f < K; ++f) {
+                lpv::UniformInputs in;
+                in.placement.grid = grid;
+                in.placement.cell = cell;
+                in.rsmViewProj = vp[std::size_t(f)];
+                g.upload(in);
+                lpv::Rsm one;
+                one.flux = gl::Texture(ledger, "t.one.flux", {GL_TEXTURE_2D, GL_RGBA32F, R, R});
+                one.normal = gl::Texture(ledger, "t.one.normal", {GL_TEXTURE_2D, GL_RGBA32F, R, R});
+                one.depth = gl::Texture(ledger, "t.one.depth", {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, R, R});
+                glTextureSubImage2D(one.flux.id(), 0, 0, 0, R, R, GL_RGBA, GL_FLOAT, flux[std::size_t(f)].data());
+                glTextureSubImage2D(one.normal.id(), 0, 0, 0, R, R, GL_RGBA, GL_FLOAT, normal[std::size_t(f)].data());
+                glTextureSubImage2D(one.depth.id(), 0, 0, 0, R, R, GL_DEPTH_COMPONENT, GL_FLOAT, depth[std::size_t(f)].data());
+                lpv::injectCompute(g.programs, g.ubo, one, R, g.v, stats);
+                glFinish();  // `one` is released at the end of the iteration
+            }
+        }
+        lpv::packLight(g.programs, g.ubo, g.v);
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        std::uint32_t counts[2];
+        stats.download(counts, 8);
+        dropped = counts[batched ? 1 : 0];
+        CHECK(counts[batched ? 0 : 1] == 0u);  // the batch counts into the slot it was given
+        if (out9) *out9 = read9(g.v.step[0], g.v.stepHi[0]);
+        return readRgb(g.v.step[0]);
+    };
+    std::uint32_t dropBatched = 0, dropFaces = 0, drop9 = 0, drop9f = 0;
+    CpuVolume batched = run(true, 1, dropBatched, nullptr), perFace = run(false, 1, dropFaces, nullptr);
+    CHECK(relL2(batched, expected) <= 1e-5);
+    CHECK(relL2(perFace, expected) <= 1e-5);
+    CHECK(relL2(batched, perFace) <= 1e-5);
+    CHECK(dropBatched == cpuDropped);
+    CHECK(dropFaces == cpuDropped);
+    // lpv.sh_order=2: the same with 27 reduction channels.
+    Cpu9 got9, got9f;
+    run(true, 2, drop9, &got9);
+    run(false, 2, drop9f, &got9f);
+    CHECK(relL2(got9, expected9) <= 1e-5);
+    CHECK(relL2(got9, got9f) <= 1e-5);
+    CHECK(drop9 == cpuDropped);
+}
+
 TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole-cell camera move re-indexes") {
     GpuFixture gpu;
     std::mt19937 rng(13);

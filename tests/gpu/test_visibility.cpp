@@ -617,12 +617,13 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size, bool lpv = true) {
         return d;
     };
     std::vector<float> localA = localDepths(*a);
-    // Local lights' RSM flux faces (lpv.rsm's private outputs), hardware path.
+    // Local lights' RSM flux faces (lpv.rsm's private outputs: arrays, a face per layer), hardware path.
     auto localRsms = [](Renderer& r) {
         std::vector<FloatImage> out;
         if (Pass* rp = r.findPass("lpv.rsm"))
             for (auto& o : r.checkedOutputs(*rp))
-                if (o.name.find("lpv.rsm.local") != std::string::npos && o.tex) out.push_back(readTexture(*o.tex));
+                if (o.name.find("lpv.rsm.local") != std::string::npos && o.tex && *o.tex)
+                    for (int layer = 0; layer < o.tex->depth(); ++layer) out.push_back(readTexture(*o.tex, layer));
         return out;
     };
     std::vector<FloatImage> localRsmA = localRsms(*a);

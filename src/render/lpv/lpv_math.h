@@ -13,6 +13,7 @@
 
 namespace rtgi::gpu {
 static_assert(sizeof(LpvUniforms) == 2 * 64 + (9 + RTGI_LPV_MAX_CASCADES) * 16, "LpvUniforms must match std140 layout");
+static_assert(sizeof(LpvRsmFace) == 64 + 16, "LpvRsmFace must match std430 layout");
 }
 
 namespace rtgi::lpv {

@@ -21,15 +21,32 @@
 namespace rtgi {
 namespace {
 
-// One local-light RSM face of the frame: its targets and, per cascade, a copy
-// of that cascade's uniform block with rsmViewProj / rsmInvViewProj of this
-// RSM, so injection loops over cascades x RSMs (docs/lpv.md "RSMs of local
-// lights", "Cascades").
+// One local-light RSM face: a layer of the local RSM arrays (LpvState::localArrays; docs/lpv.md
+// "Injection"), its framebuffer on the hardware path and the view it was drawn with.
 struct LocalRsm {
-    lpv::Rsm rsm;
     gl::FramebufferHandle fbo;
-    std::vector<gl::Buffer> ubo;  // one per cascade
-    glm::mat4 viewProj{1.0f};     // the view it was drawn with (the light budget may reuse it for frames)
+    glm::mat4 viewProj{1.0f};      // the view it was drawn with (the light budget may reuse it for frames)
+    std::uint64_t generation = 0;  // draws of this face so far (0: never drawn, the layer is empty)
+};
+
+// What a cascade's injection cache was filled for (docs/lpv.md "Injection cache"): the cascade's
+// placement, the injection cell rule, the SH order, the local RSMs' side and storage, the geometry.
+struct InjectCacheKey {
+    glm::vec4 origin{0.0f};  // min corner, cell size
+    glm::ivec4 grid{0};      // cells, local RSM side
+    int injectSide = 0, shOrder = 0;
+    std::uint64_t storage = 0, geometry = 0;
+    bool operator==(const InjectCacheKey&) const = default;
+};
+
+// The local lights' injection cache of one cascade: the sum of the faces in `held`, each as drawn
+// in its generation held[face] (0: not held).
+struct InjectCacheState {
+    lpv::InjectCache volume;
+    bool valid = false;
+    InjectCacheKey key;
+    std::vector<std::uint64_t> held;  // by face index
+    int heldCount = 0;
 };
 
 // One volume: the single LPV, or one cascade (docs/lpv.md, "Cascades").
@@ -47,6 +64,7 @@ struct LpvCascade {
     int lastStep = 0;                  // step[lastStep] holds the last propagation iteration
     glm::vec4 visibilityFor{0.0f};     // origin (xyz) and cell size (w) the moments were traced for
     std::uint64_t visibilityGeometry = 0;  // GpuScene::geometryVersion they were traced against
+    InjectCacheState cache;            // lpv.inject_cache=on with local lights (compute path)
 };
 
 struct LpvState {
@@ -54,10 +72,22 @@ struct LpvState {
     lpv::Rsm rsm;  // the sun's (orthographic, fitted to the coarsest cascade), when there is a sun
     gl::FramebufferHandle rsmFbo;
     bool sunRsm = false;
-    std::vector<LocalRsm> local;  // by fixed face index (LocalLight::firstFace + k), made when first drawn
-    std::vector<int> injectFaces; // this frame's injected faces (the lit lights', drawn now or cached)
+    // Local-light RSM faces, allocated when the first is drawn: face f is layer f % kRsmArrayLayers
+    // of localArrays[f / kRsmArrayLayers] (lpv::rsmArrayDescs), local[f] its state.
+    std::vector<lpv::Rsm> localArrays;
+    std::vector<LocalRsm> local;  // by fixed face index (LocalLight::firstFace + k)
+    std::uint64_t localStorage = 0;  // counts (re)allocations of localArrays (the injection cache's key)
+    struct InjectFace {
+        int face = 0;
+        bool cacheable = false;  // up to date and not drawn this frame (lpv.inject_cache)
+    };
+    std::vector<InjectFace> injectFaces;  // this frame's injected faces (the lit lights', drawn now or cached)
     int localSize = 0;            // side of the local RSMs (FrameResources::localRsmSize)
     int localDrawn = 0;           // faces drawn this frame
+    gl::Buffer faceList;          // lpv.inject's LpvRsmFace entries of this frame
+    // lpv.inject's stats of the frame: faces injected (into a volume or a cache, summed over the
+    // cascades), faces taken from a cascade's cache, caches rebuilt.
+    int facesInjected = 0, facesFromCache = 0, cacheRebuilds = 0;
     VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer stats;
     gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
@@ -189,7 +219,7 @@ public:
         if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
         if (st.sunRsm && useComputeRasterLightViews(ctx.settings)) {
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
-            rsmCompute(ctx, rsmViewProj_, n, st.rsm, nullptr, 0.0f);
+            rsmCompute(ctx, rsmViewProj_, n, st.rsm, -1, nullptr, 0.0f);
         } else if (st.sunRsm) {
             const gl::Program& prog =
                 ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag", {{"RTGI_LIGHT_VIEW", ""}});
@@ -198,55 +228,44 @@ public:
             rasterizeScene(ctx, prog, st.rsmFbo.id(), {n, n}, 2);
         }
         // Local lights: one perspective RSM per spot light, six per point /
-        // area light, at FrameResources::localRsmSize; the light budget
-        // (render/lights.h LightSchedule) picks the faces drawn this frame,
-        // the others keep theirs. Every face of a lit light gets its own
-        // uniform block per cascade (that cascade's placement, the view the
-        // face was drawn with): every RSM is injected into every cascade
-        // (issue 13: "and its cascades").
+        // area light, at FrameResources::localRsmSize, each a layer of the
+        // local RSM arrays; the light budget (render/lights.h LightSchedule)
+        // picks the faces drawn this frame, the others keep theirs. lpv.inject
+        // injects every face of a lit light into every cascade (issue 13: "and
+        // its cascades"), all faces of an array in one dispatch.
         const int ln = ctx.res.localRsmSize;
         st.localSize = ln;
         const auto& draws = ctx.res.localRsmViews;
         const auto& injects = ctx.res.localRsmInject;
-        std::size_t faces = st.local.size();
-        for (auto& v : draws) faces = std::max(faces, std::size_t(v.face) + 1);
-        if (st.local.size() < faces) st.local.resize(faces);
+        if (!draws.empty()) ensureLocalArrays(ctx, ln, ctx.res.localRsmFaces);
         const gl::Program& local = ctx.programs.raster("raster/scene.vert", "lpv/rsm.frag",
                                                        {{"RTGI_LIGHT_VIEW", ""}, {"RTGI_RSM_LOCAL", ""}});
         for (auto& v : draws) {
+            if (std::size_t(v.face) >= st.local.size()) throw std::logic_error("lpv.rsm: local face out of range");
             LocalRsm& r = st.local[std::size_t(v.face)];
-            ensureTargets(ctx, r.rsm, r.fbo, "lpv.rsm.local" + std::to_string(v.face), ln);
+            const int layer = v.face % lpv::kRsmArrayLayers;
+            lpv::Rsm& array = st.localArrays[std::size_t(v.face / lpv::kRsmArrayLayers)];
             r.viewProj = v.viewProj;
+            ++r.generation;
             const gpu::GpuLight& g = ctx.res.localLightsCpu[std::size_t(v.light)];
-            local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, v.viewProj);
-            glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
-            local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(v.tanHalfFov, float(ln)));
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
             if (useComputeRasterLightViews(ctx.settings)) {
-                rsmCompute(ctx, v.viewProj, ln, r.rsm, &g, v.tanHalfFov);
+                rsmCompute(ctx, v.viewProj, ln, array, layer, &g, v.tanHalfFov);
             } else {
+                if (!r.fbo) r.fbo = layerFbo(array, layer, "lpv.rsm.local" + std::to_string(v.face) + ".fbo");
+                local.set(RTGI_RASTER_LOC_LIGHT_VIEW_PROJ, v.viewProj);
+                glProgramUniform4fv(local.id(), RTGI_LPV_RSM_LOC_LIGHT, 4, &g.positionRange.x);
+                local.set(RTGI_LPV_RSM_LOC_FACE, glm::vec2(v.tanHalfFov, float(ln)));
                 rasterizeScene(ctx, local, r.fbo.id(), {ln, ln}, 2);
             }
         }
         st.localDrawn = int(draws.size());
         st.injectFaces.clear();
         for (auto& v : injects) {
-            if (std::size_t(v.face) >= st.local.size() || !st.local[std::size_t(v.face)].rsm.flux) continue;
-            LocalRsm& r = st.local[std::size_t(v.face)];
-            if (r.ubo.size() < st.cascades.size()) r.ubo.resize(st.cascades.size());
-            for (std::size_t k = 0; k < st.cascades.size(); ++k) {
-                gpu::LpvUniforms lu = st.cascades[k].uniforms;
-                lu.rsmViewProj = r.viewProj;
-                lu.rsmInvViewProj = glm::inverse(r.viewProj);
-                lu.grid.w = ln;  // the side of this RSM (lpv.rsm for the sun's)
-                if (!r.ubo[k])
-                    r.ubo[k] = gl::Buffer(ctx.ledger,
-                                          "lpv.uniforms.local" + std::to_string(v.face) +
-                                              (k == 0 ? std::string() : ".cascade" + std::to_string(k)),
-                                          sizeof(lu));
-                r.ubo[k].upload(&lu, sizeof(lu));
-            }
-            st.injectFaces.push_back(v.face);
+            if (std::size_t(v.face) >= st.local.size() || st.local[std::size_t(v.face)].generation == 0) continue;
+            bool drawnNow = false;
+            for (auto& d : draws) drawnNow = drawnNow || d.face == v.face;
+            st.injectFaces.push_back({v.face, v.valid && !drawnNow});
         }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
@@ -256,12 +275,12 @@ public:
     }
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         d.output("lpv.rsm.flux", &st_->rsm.flux).output("lpv.rsm.normal", &st_->rsm.normal, Check::signedValues);
-        // One flux map per local-light face; the frame renders the kept ones (culling).
+        // The local-light faces' flux arrays (every layer; the frame renders the kept lights' faces,
+        // the others stay zero).
         const int faces = maxShadowLayers(resolveLocalLights(scene, s));
-        for (int i = 0; i < faces; ++i)
-            d.output("lpv.rsm.local" + std::to_string(i) + ".flux", [st = st_, i]() -> const gl::Texture* {
-                return std::size_t(i) < st->local.size() && st->local[std::size_t(i)].rsm.flux
-                           ? &st->local[std::size_t(i)].rsm.flux : nullptr;
+        for (int c = 0; c * lpv::kRsmArrayLayers < faces; ++c)
+            d.output(localArrayLabel(c) + ".flux", [st = st_, c]() -> const gl::Texture* {
+                return std::size_t(c) < st->localArrays.size() ? &st->localArrays[std::size_t(c)].flux : nullptr;
             });
         d.debugImage("lpv.rsm.flux", [this] {
             return DebugImage{"lpv.rsm.flux", &st_->rsm.flux, 1.0f / std::max(maxFlux(), 1e-30f)};
@@ -271,12 +290,58 @@ public:
 
 private:
     glm::mat4 rsmViewProj_{1.0f};
+    // Label of local RSM array c (the first keeps the short name).
+    static std::string localArrayLabel(int c) {
+        return c == 0 ? std::string("lpv.rsm.local") : "lpv.rsm.local.array" + std::to_string(c);
+    }
+    // The local RSM arrays for `faces` faces of side n; on (re)allocation every layer is cleared
+    // (an empty texel injects nothing) and every face counts as never drawn.
+    void ensureLocalArrays(FrameContext& ctx, int n, int faces) {
+        LpvState& st = *st_;
+        const int arrays = (faces + lpv::kRsmArrayLayers - 1) / lpv::kRsmArrayLayers;
+        bool changed = int(st.localArrays.size()) != arrays;
+        st.localArrays.resize(std::size_t(arrays));
+        for (int c = 0; c < arrays; ++c) {
+            const lpv::RsmDescs d = lpv::rsmArrayDescs(n, std::min(lpv::kRsmArrayLayers, faces - c * lpv::kRsmArrayLayers));
+            lpv::Rsm& a = st.localArrays[std::size_t(c)];
+            const std::string label = localArrayLabel(c);
+            bool fresh = a.flux.ensure(ctx.ledger, label + ".flux", d.flux);
+            fresh |= a.normal.ensure(ctx.ledger, label + ".normal", d.normal);
+            fresh |= a.depth.ensure(ctx.ledger, label + ".depth", d.depth);
+            if (fresh) {
+                a.flux.clear();
+                a.normal.clear();
+                a.depth.clear(1.0f);
+            }
+            changed |= fresh;
+        }
+        if (!changed) return;
+        st.local.clear();
+        st.local.resize(std::size_t(faces));
+        ++st.localStorage;
+    }
+    // Hardware path: a framebuffer drawing into one layer of a local RSM array.
+    static gl::FramebufferHandle layerFbo(const lpv::Rsm& a, int layer, const std::string& label) {
+        GLuint f = 0;
+        glCreateFramebuffers(1, &f);
+        gl::FramebufferHandle fbo(f);
+        fbo.label(label.c_str());
+        glNamedFramebufferTextureLayer(f, GL_COLOR_ATTACHMENT0, a.flux.id(), 0, layer);
+        glNamedFramebufferTextureLayer(f, GL_COLOR_ATTACHMENT1, a.normal.id(), 0, layer);
+        glNamedFramebufferTextureLayer(f, GL_DEPTH_ATTACHMENT, a.depth.id(), 0, layer);
+        const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(f, 2, bufs);
+        if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("lpv.rsm: local face framebuffer incomplete");
+        return fbo;
+    }
     // Compute rasterizer: the light view's visibility buffer (one target for
     // every RSM; rasterizeVisibility orders its clear after the previous
     // reads), a resolve into flux/normal (lpv/rsm.glsl: the sun's texel, or
-    // with `local` a spot/point/area face of field tan(half fov)) and the depth copy.
-    void rsmCompute(FrameContext& ctx, const glm::mat4& viewProj, int n, lpv::Rsm& rsm, const gpu::GpuLight* local,
-                    float tanHalfFov) {
+    // with `local` a spot/point/area face of field tan(half fov)) and the depth
+    // copy; `layer` >= 0: into that layer of the arrays of `rsm`.
+    void rsmCompute(FrameContext& ctx, const glm::mat4& viewProj, int n, lpv::Rsm& rsm, int layer,
+                    const gpu::GpuLight* local, float tanHalfFov) {
         VisibilityTarget& t = st_->rsmVis;
         rasterizeVisibility(ctx.programs, ctx.ledger, ctx.gpuScene, viewProj, {n, n}, t, visibilityOptions(ctx.settings));
         if (!t.checked) {
@@ -291,10 +356,11 @@ private:
             glProgramUniform4fv(resolve.id(), RTGI_VISIBILITY_LOC_RSM_LIGHT, 4, &local->positionRange.x);
             resolve.set(RTGI_VISIBILITY_LOC_RSM_FACE, glm::vec2(tanHalfFov, float(n)));
         }
-        glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, rsm.flux.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, rsm.normal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+        const GLint l = std::max(layer, 0);  // a single layer (layered = false) of an array
+        glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_FLUX, rsm.flux.id(), 0, GL_FALSE, l, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(RTGI_VISIBILITY_IMG_RSM_NORMAL, rsm.normal.id(), 0, GL_FALSE, l, GL_WRITE_ONLY, GL_RGBA16F);
         gl::dispatch(resolve, n, n);
-        copyVisibilityDepth(ctx.programs, t, rsm.depth);
+        copyVisibilityDepth(ctx.programs, t, rsm.depth, layer);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
@@ -332,47 +398,52 @@ public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.inject"; }
     std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
-        return perCascade(s, lpv::lightTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder));
+        auto t = perCascade(s, lpv::lightTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder));
+        if (cacheFor_) {
+            auto c = perCascade(s, lpv::injectCacheTextures(volumeGrid(s), s.lpv.shOrder));
+            t.insert(t.end(), c.begin(), c.end());
+        }
+        return t;
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
-        if (!st.stats) st.stats = gl::Buffer(ctx.ledger, "lpv.stats", sizeof(std::uint32_t));
+        if (!st.stats) {
+            st.stats = gl::Buffer(ctx.ledger, "lpv.stats", 2 * sizeof(std::uint32_t));
+            st.stats.clearZero();
+        }
+        st.facesInjected = st.facesFromCache = st.cacheRebuilds = 0;
         // Every RSM of the frame (the sun's and each local-light face) adds
         // into the same accumulation of every cascade.
         const GLenum format = ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F;
-        if (ls.path == LpvSettings::Path::Compute) st.stats.clearZero();
-        for (std::size_t k = 0; k < st.cascades.size(); ++k) {
-            LpvCascade& c = st.cascades[k];
-            c.volumes.ensureLight(ctx.ledger, c.placement.grid, format, ls.shOrder);
-            if (ls.path == LpvSettings::Path::Raster) {
-                bool first = true;
-                if (st.sunRsm) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, first), first = false;
-                for (int i : st.injectFaces) {
-                    lpv::injectRaster(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
-                                      st.localSize, c.volumes, first);
-                    first = false;
-                }
-                if (first) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, 0, c.volumes, true);  // clears only
-            } else {
-                if (st.sunRsm) lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
-                for (int i : st.injectFaces)
-                    lpv::injectCompute(ctx.programs, st.local[std::size_t(i)].ubo[k], st.local[std::size_t(i)].rsm,
-                                       st.localSize, c.volumes, st.stats);
-            }
+        for (LpvCascade& c : st.cascades) c.volumes.ensureLight(ctx.ledger, c.placement.grid, format, ls.shOrder);
+        if (ls.path == LpvSettings::Path::Raster) {
+            injectRasterFrame(ctx);
+        } else {
+            const std::uint32_t zero = 0;  // this frame's counter; [1] belongs to the injection cache
+            glClearNamedBufferSubData(st.stats.id(), GL_R32UI, 0, sizeof(zero), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+            injectComputeFrame(ctx);
         }
         glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
     }
     std::vector<std::pair<std::string, double>> stats() override {
         if (!st_->stats) return {};
-        std::uint32_t dropped = 0;
+        std::uint32_t dropped[2] = {0, 0};
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: lpv.inject atomics
-        st_->stats.download(&dropped, sizeof(dropped));
-        return {{"dropped_texels", double(dropped)}};
+        st_->stats.download(dropped, sizeof(dropped));
+        return {{"dropped_texels", double(dropped[0]) + double(dropped[1])},
+                {"local_faces_injected", double(st_->facesInjected)},
+                {"local_faces_from_cache", double(st_->facesFromCache)},
+                {"cache_rebuilds", double(st_->cacheRebuilds)}};
     }
     // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
-    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         const LpvState* st = st_.get();
+        cacheFor_ = cacheUsed(s, resolveLocalLights(scene, s).faces);
+        if (cacheFor_)
+            outputCascadesRgb(d, st, s.lpv, "lpv.inject_cache", [](const LpvCascade& c) -> const lpv::Rgb* {
+                return c.cache.volume ? &c.cache.volume.rgb : nullptr;
+            });
         if (s.lpv.path == LpvSettings::Path::Raster) {
             outputCascadesRgb(d, st, s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
             outputCascadesRgb(d, st, s.lpv, "lpv.accum", [](const LpvCascade& c) { return &c.volumes.accum; });
@@ -390,6 +461,156 @@ public:
                                                                     : nullptr;
                     }, Check::signedValues);
                 }
+        }
+    }
+
+private:
+    mutable bool cacheFor_ = false;  // set by declare (the scene's local lights decide)
+
+    // lpv.inject_cache=on, the compute path, local lights and a light budget (with light.budget=0
+    // every face is redrawn every frame, so none is ever cacheable).
+    static bool cacheUsed(const Settings& s, int localFaces) {
+        return s.lpv.injectCache && s.lpv.path == LpvSettings::Path::Compute && localFaces > 0 && s.light.budget > 0;
+    }
+
+    // The seed's raster baseline: one draw per RSM and cascade (no batching, no cache).
+    void injectRasterFrame(FrameContext& ctx) {
+        LpvState& st = *st_;
+        const LpvSettings& ls = ctx.settings.lpv;
+        for (LpvCascade& c : st.cascades) {
+            bool first = true;
+            if (st.sunRsm) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, first), first = false;
+            for (const auto& f : st.injectFaces) {
+                const LocalRsm& r = st.local[std::size_t(f.face)];
+                lpv::injectRasterLayer(ctx.programs, c.ubo, st.localArrays[std::size_t(f.face / lpv::kRsmArrayLayers)],
+                                       f.face % lpv::kRsmArrayLayers, glm::inverse(r.viewProj), c.volumes, first);
+                first = false;
+            }
+            if (first) lpv::injectRaster(ctx.programs, c.ubo, st.rsm, 0, c.volumes, true);  // clears only
+            st.facesInjected += int(st.injectFaces.size());
+        }
+    }
+
+    // A run of face-list entries of one RSM array: one dispatch.
+    struct Batch {
+        int array = 0, first = 0, count = 0;
+    };
+    // Appends the faces (sorted by array) to `entries`, one batch per array.
+    std::vector<Batch> appendBatches(std::vector<gpu::LpvRsmFace>& entries, std::vector<int> faces) const {
+        const LpvState& st = *st_;
+        std::sort(faces.begin(), faces.end());
+        std::vector<Batch> out;
+        for (int f : faces) {
+            const int array = f / lpv::kRsmArrayLayers;
+            if (out.empty() || out.back().array != array) out.push_back({array, int(entries.size()), 0});
+            gpu::LpvRsmFace e{};
+            e.invViewProj = glm::inverse(st.local[std::size_t(f)].viewProj);
+            e.layer = glm::ivec4(f % lpv::kRsmArrayLayers, 0, 0, 0);
+            entries.push_back(e);
+            ++out.back().count;
+        }
+        return out;
+    }
+
+    // Compute path (docs/lpv.md "Injection", "Injection cache"): per cascade, the local faces
+    // that are up to date go through the cascade's cache (added to it once, or all of them again
+    // when it no longer matches), the cache is copied into the accumulation, and the sun's RSM and
+    // the other local faces (drawn this frame, or stale) are injected on top, one dispatch per RSM
+    // array for each list.
+    void injectComputeFrame(FrameContext& ctx) {
+        LpvState& st = *st_;
+        const LpvSettings& ls = ctx.settings.lpv;
+        const int faces = int(st.local.size());
+        const bool useCache = cacheUsed(ctx.settings, faces);
+        std::vector<gpu::LpvRsmFace> entries;
+        std::vector<int> dynamicFaces, wanted;
+        for (const auto& f : st.injectFaces) (useCache && f.cacheable ? wanted : dynamicFaces).push_back(f.face);
+        const std::vector<Batch> dynamic = appendBatches(entries, dynamicFaces);
+        // Per cascade: what its cache must add (all wanted faces after a rebuild).
+        std::vector<std::vector<Batch>> adds(st.cascades.size());
+        std::vector<bool> rebuild(st.cascades.size(), false), cached(st.cascades.size(), false);
+        for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+            LpvCascade& c = st.cascades[k];
+            InjectCacheState& cs = c.cache;
+            if (!useCache) {
+                cs.volume.reset();
+                cs.valid = false;
+                continue;
+            }
+            // Allocated from the first frame with local lights (what the memory estimate counts).
+            if (cs.volume.ensure(ctx.ledger, c.placement.grid, ls.shOrder)) cs.valid = false;
+            if (wanted.empty()) {  // nothing to keep: the cache is dropped
+                cs.valid = false;
+                continue;
+            }
+            InjectCacheKey key;
+            key.origin = c.uniforms.origin;
+            key.grid = glm::ivec4(glm::ivec3(c.uniforms.grid), st.localSize);
+            key.injectSide = c.uniforms.leak.x;
+            key.shOrder = ls.shOrder;
+            key.storage = st.localStorage;
+            key.geometry = ctx.gpuScene.geometryVersion();
+            bool again = !cs.valid || !(key == cs.key) || cs.held.size() != std::size_t(faces);
+            if (!again) {  // a held face that is no longer wanted, or was drawn again since
+                std::vector<char> isWanted(std::size_t(faces), 0);
+                for (int f : wanted) isWanted[std::size_t(f)] = 1;
+                for (int f = 0; f < faces && !again; ++f)
+                    again = cs.held[std::size_t(f)] != 0 &&
+                            (!isWanted[std::size_t(f)] || cs.held[std::size_t(f)] != st.local[std::size_t(f)].generation);
+            }
+            if (again) {
+                cs.held.assign(std::size_t(faces), 0);
+                cs.heldCount = 0;
+                rebuild[k] = true;
+                ++st.cacheRebuilds;
+            }
+            std::vector<int> add;
+            for (int f : wanted)
+                if (cs.held[std::size_t(f)] == 0) {
+                    add.push_back(f);
+                    cs.held[std::size_t(f)] = st.local[std::size_t(f)].generation;
+                }
+            st.facesFromCache += cs.heldCount;
+            cs.heldCount += int(add.size());
+            cs.key = key;
+            cs.valid = true;
+            cached[k] = true;
+            adds[k] = appendBatches(entries, add);
+        }
+        if (!entries.empty()) {
+            const std::int64_t bytes = std::int64_t(entries.size() * sizeof(gpu::LpvRsmFace));
+            const std::int64_t capacity =
+                std::int64_t(std::max(1, faces) * (1 + int(st.cascades.size())) * sizeof(gpu::LpvRsmFace));
+            st.faceList.ensure(ctx.ledger, "lpv.rsm.local.faces", std::max(capacity, bytes));
+            st.faceList.upload(entries.data(), bytes);
+        }
+        const std::uint32_t zero = 0;
+        for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+            LpvCascade& c = st.cascades[k];
+            const bool coarsest = c.uniforms.cascade.z != 0;  // the cascade that counts dropped texels
+            if (cached[k]) {
+                if (rebuild[k]) {
+                    c.cache.volume.clear();
+                    if (coarsest)
+                        glClearNamedBufferSubData(st.stats.id(), GL_R32UI, sizeof(zero), sizeof(zero), GL_RED_INTEGER,
+                                                  GL_UNSIGNED_INT, &zero);
+                }
+                for (const Batch& b : adds[k]) {
+                    lpv::injectFaces(ctx.programs, c.ubo, st.localArrays[std::size_t(b.array)], st.faceList, b.first,
+                                     b.count, c.cache.volume.target(), ls.shOrder, st.stats, 1);
+                    st.facesInjected += b.count;
+                }
+                lpv::copyInjectCache(c.cache.volume, c.volumes);
+            } else if (coarsest) {
+                glClearNamedBufferSubData(st.stats.id(), GL_R32UI, sizeof(zero), sizeof(zero), GL_RED_INTEGER,
+                                          GL_UNSIGNED_INT, &zero);
+            }
+            if (st.sunRsm) lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
+            for (const Batch& b : dynamic) {
+                lpv::injectFaces(ctx.programs, c.ubo, st.localArrays[std::size_t(b.array)], st.faceList, b.first,
+                                 b.count, lpv::injectTarget(c.volumes), ls.shOrder, st.stats, 0);
+                st.facesInjected += b.count;
+            }
         }
     }
 };

@@ -291,24 +291,113 @@ gl::Defines formatDefines(GLenum format, int shOrder) {
     return d;
 }
 
+InjectTarget injectTarget(Volumes& v) {
+    if (v.shOrder == 2) return {&v.inject, &v.injectHi, &v.injectLast};
+    return {&v.inject, nullptr, nullptr};
+}
+
+namespace {
+// The RSM textures and the accumulation of an injection dispatch (lpv/inject.comp).
+void bindInjection(const Rsm& rsm, const InjectTarget& t, const gl::Buffer& stats) {
+    // Producers: lpv.rsm (framebuffer writes, or the compute resolve's image stores); the zeroing
+    // of the accumulation by the previous lpv.pack (image stores), its clear at allocation or a
+    // copy of the injection cache.
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
+    glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
+    glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
+    bindRgbImages(*t.rgb, RTGI_LPV_INJECT_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
+    if (t.hi) {
+        bindRgbImages(*t.hi, RTGI_LPV_INJECT_IMG_INJECT_HI_R, GL_READ_WRITE, GL_R32F);
+        glBindImageTexture(RTGI_LPV_INJECT_IMG_INJECT_LAST, t.last->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LPV_STATS, stats.id());
+}
+}  // namespace
+
 void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
                    const gl::Buffer& stats) {
     const gl::Program& prog = programs.compute("lpv/inject.comp", v.shOrder == 2 ? gl::Defines{{"RTGI_LPV_SH2", ""}}
                                                                                  : gl::Defines{});
     bindUbo(ubo);
-    // Producers: lpv.rsm (framebuffer writes); the zeroing of the accumulation by the previous
-    // lpv.pack (image stores) or its clear at allocation.
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
-    glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
-    glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
-    bindRgbImages(v.inject, RTGI_LPV_INJECT_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
-    if (v.shOrder == 2) {
-        bindRgbImages(v.injectHi, RTGI_LPV_INJECT_IMG_INJECT_HI_R, GL_READ_WRITE, GL_R32F);
-        glBindImageTexture(RTGI_LPV_INJECT_IMG_INJECT_LAST, v.injectLast.id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
-    }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LPV_STATS, stats.id());
+    bindInjection(rsm, injectTarget(v), stats);
     gl::dispatch(prog, rsmSize, rsmSize);
+}
+
+void injectFaces(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsmArray, const gl::Buffer& faces,
+                 int first, int count, const InjectTarget& target, int shOrder, const gl::Buffer& stats,
+                 int statsSlot) {
+    if (count <= 0) return;
+    gl::Defines d{{"RTGI_LPV_INJECT_FACES", ""}};
+    if (shOrder == 2) d.push_back({"RTGI_LPV_SH2", ""});
+    const gl::Program& prog = programs.compute("lpv/inject.comp", d);
+    bindUbo(ubo);
+    bindInjection(rsmArray, target, stats);  // the face list: a buffer upload, ordered before the dispatch
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SSBO_LPV_RSM_FACES, faces.id());
+    prog.set(RTGI_LPV_INJECT_LOC_FIRST_FACE, first);
+    prog.set(RTGI_LPV_INJECT_LOC_STATS_SLOT, statsSlot);
+    const int n = rsmArray.flux.width();
+    gl::dispatch(prog, n, n, count);
+}
+
+bool InjectCache::ensure(gl::MemoryLedger& ledger, glm::ivec3 g, int shOrder) {
+    bool changed = ensureRgb(ledger, rgb, "lpv.inject_cache", injectDesc(g), false);
+    if (shOrder == 2) {
+        changed |= ensureRgb(ledger, hi, "lpv.inject_cache_hi", injectDesc(g), false);
+        changed |= last.ensure(ledger, "lpv.inject_cache_last", injectLastDesc(g));
+    } else {
+        for (auto& t : hi) t.reset();
+        last.reset();
+    }
+    if (changed) clear();
+    return changed;
+}
+
+void InjectCache::clear() const {
+    // Producer: earlier injections into the cache (image atomics).
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    for (auto& t : rgb) t.clear();
+    if (last) {
+        for (auto& t : hi) t.clear();
+        last.clear();
+    }
+}
+
+void InjectCache::reset() {
+    for (auto& t : rgb) t.reset();
+    for (auto& t : hi) t.reset();
+    last.reset();
+}
+
+InjectTarget InjectCache::target() {
+    if (last) return {&rgb, &hi, &last};
+    return {&rgb, nullptr, nullptr};
+}
+
+std::vector<gl::NamedTextureDesc> injectCacheTextures(glm::ivec3 g, int shOrder) {
+    std::vector<gl::NamedTextureDesc> t;
+    addRgb(t, "lpv.inject_cache", injectDesc(g));
+    if (shOrder == 2) {
+        addRgb(t, "lpv.inject_cache_hi", injectDesc(g));
+        t.push_back({"lpv.inject_cache_last", injectLastDesc(g)});
+    }
+    return t;
+}
+
+void copyInjectCache(const InjectCache& cache, Volumes& v) {
+    // Producers: the injections into the cache (image atomics) and the zeroing of v.inject by
+    // lpv.pack (image stores). No barrier bit names glCopyImageSubData: all of them.
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    auto copy = [](const gl::Texture& src, const gl::Texture& dst) {
+        if (src.desc() != dst.desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
+        glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, dst.id(), GL_TEXTURE_3D, 0, 0, 0, 0, dst.width(),
+                           dst.height(), dst.depth());
+    };
+    for (std::size_t c = 0; c < 3; ++c) copy(cache.rgb[c], v.inject[c]);
+    if (v.shOrder == 2) {
+        for (std::size_t c = 0; c < 3; ++c) copy(cache.hi[c], v.injectHi[c]);
+        copy(cache.last, v.injectLast);
+    }
 }
 
 void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
@@ -330,11 +419,9 @@ void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {
     }
 }
 
-void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
-                  bool clear) {
-    v.ensureRasterTargets();
-    const gl::Program& prog =
-        programs.raster("lpv/inject_raster.vert", "lpv/inject_raster.frag", {}, "lpv/inject_raster.geom");
+namespace {
+void injectRasterWith(const gl::Program& prog, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
+                      bool clear) {
     bindUbo(ubo);
     const float zero[4] = {0, 0, 0, 0};
     if (clear)
@@ -350,6 +437,25 @@ void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& 
     glDrawArrays(GL_POINTS, 0, rsmSize * rsmSize);
     gl::Profiler::noteDispatch();
     endRaster();
+}
+}  // namespace
+
+void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
+                  bool clear) {
+    v.ensureRasterTargets();
+    const gl::Program& prog =
+        programs.raster("lpv/inject_raster.vert", "lpv/inject_raster.frag", {}, "lpv/inject_raster.geom");
+    injectRasterWith(prog, ubo, rsm, rsmSize, v, clear);
+}
+
+void injectRasterLayer(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsmArray, int layer,
+                       const glm::mat4& invViewProj, Volumes& v, bool clear) {
+    v.ensureRasterTargets();
+    const gl::Program& prog = programs.raster("lpv/inject_raster.vert", "lpv/inject_raster.frag",
+                                              {{"RTGI_LPV_RSM_ARRAY", ""}}, "lpv/inject_raster.geom");
+    prog.set(RTGI_LPV_INJECT_RASTER_LOC_LAYER, layer);
+    prog.set(RTGI_LPV_INJECT_RASTER_LOC_INV_VIEW_PROJ, invViewProj);
+    injectRasterWith(prog, ubo, rsmArray, rsmArray.flux.width(), v, clear);
 }
 
 void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,

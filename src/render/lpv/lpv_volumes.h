@@ -42,6 +42,16 @@ inline gl::TextureDesc applyLowGeometryDesc(glm::ivec2 view) {
 inline RsmDescs rsmDescs(int n) {
     return {{GL_TEXTURE_2D, GL_RGBA32F, n, n}, {GL_TEXTURE_2D, GL_RGBA16F, n, n}, {GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, n, n}};
 }
+// Local-light RSM faces (lpv.rsm, docs/lpv.md "Injection"): layers of 2D arrays of one side n (an
+// Rsm whose textures are arrays), at most kRsmArrayLayers per array (GL 4.5's minimum of
+// GL_MAX_ARRAY_TEXTURE_LAYERS, as the local shadow array): face f is layer f % kRsmArrayLayers of
+// array f / kRsmArrayLayers.
+inline constexpr int kRsmArrayLayers = 2048;
+inline RsmDescs rsmArrayDescs(int n, int layers) {
+    return {{GL_TEXTURE_2D_ARRAY, GL_RGBA32F, n, n, layers},
+            {GL_TEXTURE_2D_ARRAY, GL_RGBA16F, n, n, layers},
+            {GL_TEXTURE_2D_ARRAY, GL_DEPTH_COMPONENT32F, n, n, layers}};
+}
 
 // The textures Volumes allocates, by ledger label, for a grid, volume format
 // and SH order (the ensure functions allocate from the same descriptors; the
@@ -106,6 +116,39 @@ gl::Defines formatDefines(GLenum format, int shOrder = 1);
 // packLight); `stats` (one uint) counts dropped texels and is not cleared here.
 void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
                    const gl::Buffer& stats);
+// fp32 accumulation targets of an injection: a volume's (inject, and with band 2 injectHi and
+// injectLast) or an injection cache's (below); hi and last are null for band 1.
+struct InjectTarget {
+    Rgb* rgb = nullptr;
+    Rgb* hi = nullptr;
+    gl::Texture* last = nullptr;
+};
+InjectTarget injectTarget(Volumes& v);
+// Batched injection of local-light RSM faces (docs/lpv.md "Injection"): entries [first, first +
+// count) of `faces` (gpu::LpvRsmFace: a layer of `rsmArray` and the inverse of the view it was drawn
+// with) in one dispatch of side² x count texels; the volume's placement from `ubo` (any of its RSM
+// fields are ignored). The same sums as injectCompute of each face with its own uniform block, in
+// another order. `statsSlot`: which of the two counters of `stats` gets the dropped texels.
+void injectFaces(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsmArray, const gl::Buffer& faces,
+                 int first, int count, const InjectTarget& target, int shOrder, const gl::Buffer& stats,
+                 int statsSlot = 0);
+// The local lights' injection cache of one volume (docs/lpv.md "Injection cache"): an fp32
+// accumulation of the same layout as Volumes::inject (band 2: injectHi, injectLast), holding the
+// sum of the faces injected into it since it was last cleared.
+struct InjectCache {
+    Rgb rgb, hi;
+    gl::Texture last;
+    // (Re)allocates for a grid and SH order; true when it did (the new textures are zero).
+    bool ensure(gl::MemoryLedger& ledger, glm::ivec3 grid, int shOrder);
+    void clear() const;
+    void reset();
+    explicit operator bool() const { return bool(rgb[0]); }
+    InjectTarget target();
+};
+std::vector<gl::NamedTextureDesc> injectCacheTextures(glm::ivec3 grid, int shOrder);
+// v.inject (and band 2's) = the cache: a copy, on which the frame's other injections add.
+// v.inject must not be in use by a pending dispatch other than the ones the barrier orders.
+void copyInjectCache(const InjectCache& cache, Volumes& v);
 // fp32 accumulation -> step[0] in the propagation format; zeroes v.inject behind
 // (the first propagation step starts accum from step[0]).
 void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v);
@@ -113,6 +156,9 @@ void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v);
 // `clear`: start from zero (the first RSM of a frame); later RSMs add on top.
 void injectRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize, Volumes& v,
                   bool clear = true);
+// The same for layer `layer` of a local-light RSM array, drawn with the inverse view-projection `invViewProj`.
+void injectRasterLayer(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsmArray, int layer,
+                       const glm::mat4& invViewProj, Volumes& v, bool clear = true);
 // Geometry volume from the RSM (skipped when rsmSize is 0: no orthographic sun
 // RSM) and (if linearDepth is non-null) the G-buffer at quarter resolution.
 struct GBufferView {
