@@ -100,6 +100,8 @@ struct LpvSettings {
     bool halfApply = false;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
     int fuse = 1;
+    bool jointCascades = true;  // lpv.propagate_cascades=joint: the cascades of an iteration in one dispatch
+    int geometryStride = 2;     // lpv.geometry_stride: G-buffer pixel stride (x and y) of the geometry injection
 };
 
 struct AoSettings {
