@@ -351,7 +351,9 @@ void main() {
 #endif
         // Where the cascade has no weight (U_i = 0) its light, sky and self terms are 0: the
         // lookup weights (the moments' fetches) are not computed either (docs/lpv.md, "Apply cost").
-        LpvLookup lk = cw.y != 0.0 ? lpvSurfaceLookup(lookupAt, wp, n) : lpvPlainLookup(lookupAt);
+        LpvLookup lk;
+        if (cw.y != 0.0) lk = lpvSurfaceLookup(lookupAt, wp, n);
+        else lk = lpvPlainLookup(lookupAt);
         if (lpvSample(lookupAt, lk, cw, r, g, b)) {
 #ifdef RTGI_LPV_SKY
             // Not mirrored: V(w) is a function of the direction looked along, I(w) of the flow.
