@@ -1,6 +1,6 @@
 // lpv.apply's exact shortcuts and merged stencil fetches (docs/lpv.md, "Apply cost"): the frame's
 // indirect diffuse and LPV specular outputs equal those of the apply before them (its source kept
-// only for this test, tests/gpu/shaders/lpv/apply.comp, loaded through RTGI_DATA_DIR) with the
+// only for this test, tests/gpu/shaders/compute/lpv/apply.comp, loaded through RTGI_DATA_DIR) with the
 // defaults that exercise every shortcut: two cascades (pixels outside the finer one, inside it, and
 // in the blend), the visibility-moment lookup, sky visibility, the self-illumination correction,
 // LPV specular. The independent oracles of the apply (CPU double) are in test_lpv_cascades.cpp and
@@ -64,7 +64,7 @@ TEST_CASE("LPV apply: the optimized apply equals the apply before the shortcuts 
                     if (c < 3 && v > 0.0) ++nonZero;
                     CHECK(std::abs(u - v) <= tol);
                 }
-        MESSAGE(what << ": peak " << peak << ", " << nonZero << " lit channels, worst difference / bound " << worst);
+        MESSAGE(std::string(what) << ": peak " << peak << ", " << nonZero << " lit channels, worst difference / bound " << worst);
         CHECK(peak > 0.0);
         CHECK(nonZero > size.x * size.y / 4);
     };
