@@ -71,3 +71,43 @@ TEST_CASE("LPV apply: the optimized apply equals the apply before the shortcuts 
     compare(diffuseNew, diffuseOld, "indirect diffuse (rgb, alpha: sky visibility)");
     compare(specularNew, specularOld, "LPV specular");
 }
+
+TEST_CASE("LPV frame: joint cascade propagation gives the frame of one propagation dispatch per cascade") {
+    // The composed passes (inject, pack, geometry, propagate, apply) with the defaults, once with
+    // lpv.propagate_cascades=joint and once separate: the same indirect light (docs/lpv.md, "Joint
+    // cascade propagation"; the volumes' own equality test is in test_lpv_volumes.cpp). fp16 volumes
+    // and outputs: 2^-9 relative (a half-precision ulp of a step may differ) plus 1e-6 of the peak.
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene scene = floorAndWallScene();
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = -glm::normalize(glm::vec3(0.4f, 1.0f, 0.7f));
+    sun.intensity = 3.0f;
+    scene.lights.push_back(sun);
+    Settings s;
+    s.ao.variant = AoSettings::Variant::Off;
+    s.lpv.mode = Toggle::On;
+    s.lpv.grid = glm::ivec3(8);
+    s.lpv.rsm = 64;
+    s.light.shadowSize = 256;
+    REQUIRE(s.lpv.jointCascades);
+    const glm::ivec2 size{64, 40};
+    auto frame = [&](bool joint) {
+        Settings t = s;
+        t.lpv.jointCascades = joint;
+        auto r = renderFrames(scene, t, size, prof);
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        return readTexture(r->resources().indirectDiffuse);
+    };
+    FloatImage a = frame(true), b = frame(false);
+    double peak = 0.0;
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x)
+            for (int c = 0; c < 3; ++c) peak = std::max(peak, double(b.at(x, y, c)));
+    REQUIRE(peak > 0.0);
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x)
+            for (int c = 0; c < 4; ++c)
+                CHECK(std::abs(a.at(x, y, c) - b.at(x, y, c)) <= std::ldexp(std::abs(b.at(x, y, c)), -9) + 1e-6 * peak);
+}
