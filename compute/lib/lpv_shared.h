@@ -259,6 +259,12 @@ RTGI_LPV_STRUCT(LpvRsmFace) {
 #define RTGI_LPV_VIS_IMG_SKY              1  // lpv/visibility.comp with RTGI_LPV_VIS_SKY: sky visibility SH per cell
 #define RTGI_LPV_SKY_STRATA               8  // lpv.sky=visibility: M x M rays per cell
 #define RTGI_LPV_TEX_PROPAGATE_VISIBILITY 10  // lpv/propagate.comp with RTGI_LPV_PROPAGATE_VISIBILITY (after axes 9): face openness
+// lpv.propagate_cascades=joint (lpv/propagate.comp with RTGI_LPV_JOINT): the second cascade's geometry volume
+// (the first's at RTGI_LPV_TEX_GEOMETRY, _ALBEDO, _AXES); near.comp's z offset into the stacked sum.
+#define RTGI_LPV_TEX_JOINT_GEOMETRY_1        11
+#define RTGI_LPV_TEX_JOINT_GEOMETRY_ALBEDO_1 12
+#define RTGI_LPV_TEX_JOINT_GEOMETRY_AXES_1   13
+#define RTGI_LPV_LOC_NEAR_OFFSET 1  // lpv/near.comp: z of the cascade's slab in the source (0 unless stacked)
 // lpv.blocking=visibility (docs/lpv.md, "Face openness"): per cell and axis, the open fraction of the
 // slab between its centre and the next cell's centre, from F x F parallel rays.
 #define RTGI_LPV_VIS_FACE_RAYS            4  // F

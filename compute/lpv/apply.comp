@@ -201,28 +201,58 @@ vec4 lpvFetch(sampler3D t, LpvLookup l) {
     return sum;
 }
 
+// lpvFetch of the r, g, b volumes of one lookup in one pass over the stencil: each cell's weight
+// test and clamped coordinate once for the three (the same sums, in the same order).
+void lpvFetchRgb(sampler3D tr, sampler3D tg, sampler3D tb, LpvLookup l, out vec4 r, out vec4 g, out vec4 b) {
+    if (!l.weighted) {
+        r = texture(tr, l.uvw);
+        g = texture(tg, l.uvw);
+        b = texture(tb, l.uvw);
+        return;
+    }
+    r = g = b = vec4(0.0);
+    ivec3 top = lpv.grid.xyz - 1;
+    for (int k = 0; k < 8; ++k) {
+        if (!(l.w[k] > 0.0)) continue;
+        ivec3 t = clamp(l.base + lpvStencilOffset(k), ivec3(0), top);
+        r += l.w[k] * texelFetch(tr, t, 0);
+        g += l.w[k] * texelFetch(tg, t, 0);
+        b += l.w[k] * texelFetch(tb, t, 0);
+    }
+}
+
+// Whether the lookup point lies in the grid (uvw in [0, 1]^3); outside it there is no LPV light.
+bool lpvInGrid(LpvLookup lk) { return all(greaterThanEqual(lk.uvw, vec3(0.0))) && all(lessThanEqual(lk.uvw, vec3(1.0))); }
+
 // Trilinear (or weighted) lookup; outside the grid there is no LPV light. Cascade i > 0:
-// u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md).
-bool lpvSample(vec3 world, LpvLookup lk, out LpvSh r, out LpvSh g, out LpvSh b) {
-    vec3 uvw = lk.uvw;
+// u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md); w = (u_i, U_i) at `world`
+// (lpvCascadeWeights, computed once by the caller; unused for a single volume).
+// Exact shortcuts (docs/lpv.md, "Apply cost"): where U_i = 0 (so u_i = 0) the cascade adds
+// nothing and nothing is fetched; where u_i = U_i (no finer cascade there) the near part's
+// weight u_i - U_i is 0 and only the total is fetched (U_i T_i, the same up to float rounding).
+bool lpvSample(vec3 world, LpvLookup lk, vec2 w, out LpvSh r, out LpvSh g, out LpvSh b) {
     r = g = b = LpvSh(0.0);
-    if (any(lessThan(uvw, vec3(0.0))) || any(greaterThan(uvw, vec3(1.0)))) return false;
+    if (!lpvInGrid(lk)) return false;
+#ifdef RTGI_LPV_CASCADED
+    if (w.y == 0.0) return true;
+#endif
 #ifdef RTGI_LPV_SH2
     vec4 last = lpvFetch(uLightLast, lk);
     r = shFromParts(lpvFetch(uLightR, lk), lpvFetch(uLightHiR, lk), last.r);
     g = shFromParts(lpvFetch(uLightG, lk), lpvFetch(uLightHiG, lk), last.g);
     b = shFromParts(lpvFetch(uLightB, lk), lpvFetch(uLightHiB, lk), last.b);
 #else
-    r = lpvFetch(uLightR, lk);
-    g = lpvFetch(uLightG, lk);
-    b = lpvFetch(uLightB, lk);
+    lpvFetchRgb(uLightR, uLightG, uLightB, lk, r, g, b);
 #endif
 #ifdef RTGI_LPV_CASCADED
-    vec2 w = lpvCascadeWeights(world);
     if (lpv.cascade.x == 0) {
         r *= w.x;
         g *= w.x;
         b *= w.x;
+    } else if (w.x == w.y) {
+        r *= w.y;
+        g *= w.y;
+        b *= w.y;
     } else {
 #ifdef RTGI_LPV_SH2
         vec4 nl = lpvFetch(uNearLast, lk);
@@ -230,7 +260,8 @@ bool lpvSample(vec3 world, LpvLookup lk, out LpvSh r, out LpvSh g, out LpvSh b) 
         mat3 ng = shFromParts(lpvFetch(uNearG, lk), lpvFetch(uNearHiG, lk), nl.g);
         mat3 nb = shFromParts(lpvFetch(uNearB, lk), lpvFetch(uNearHiB, lk), nl.b);
 #else
-        vec4 nr = lpvFetch(uNearR, lk), ng = lpvFetch(uNearG, lk), nb = lpvFetch(uNearB, lk);
+        vec4 nr, ng, nb;
+        lpvFetchRgb(uNearR, uNearG, uNearB, lk, nr, ng, nb);
 #endif
         r = w.x * nr + w.y * (r - nr);
         g = w.x * ng + w.y * (g - ng);
@@ -311,16 +342,24 @@ void main() {
         LpvSh r, g, b;
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
         vec3 lookupAt = wp + 0.5 * lpvCellSize() * n;
-        LpvLookup lk = lpvSurfaceLookup(lookupAt, wp, n);
-        if (lpvSample(lookupAt, lk, r, g, b)) {
+        // This cascade's weights (u_i, U_i) at the lookup point, once for the light, the sky
+        // visibility, the self-illumination term and the sky alpha below.
+#ifdef RTGI_LPV_CASCADED
+        vec2 cw = lpvCascadeWeights(lookupAt);
+#else
+        vec2 cw = vec2(1.0);
+#endif
+        // Where the cascade has no weight (U_i = 0) its light, sky and self terms are 0: the
+        // lookup weights (the moments' fetches) are not computed either (docs/lpv.md, "Apply cost").
+        LpvLookup lk;
+        if (cw.y != 0.0) lk = lpvSurfaceLookup(lookupAt, wp, n);
+        else lk = lpvPlainLookup(lookupAt);
+        if (lpvSample(lookupAt, lk, cw, r, g, b)) {
 #ifdef RTGI_LPV_SKY
             // Not mirrored: V(w) is a function of the direction looked along, I(w) of the flow.
-            skyVisible = clamp(shCosineIntegral(lpvFetch(uSky, lk), n) * INV_PI, 0.0, 1.0);
-#ifdef RTGI_LPV_CASCADED
-            skyWeight = lpvCascadeWeights(lookupAt).x;
-#else
-            skyWeight = 1.0;
-#endif
+            // Weighted by u_i: nothing to fetch where it is 0.
+            skyWeight = cw.x;
+            if (skyWeight != 0.0) skyVisible = clamp(shCosineIntegral(lpvFetch(uSky, lk), n) * INV_PI, 0.0, 1.0);
 #endif
 #ifdef RTGI_LPV_S3HO
             // S3HO is band 1: the band-2 part of the light has no visibility to meet.
@@ -339,7 +378,12 @@ void main() {
             {
                 LpvSh rb, gb, bb;
                 vec3 behind = wp - 0.5 * lpvCellSize() * n;
-                if (lpvSample(behind, lpvPlainLookup(behind), rb, gb, bb)) {
+#ifdef RTGI_LPV_CASCADED
+                vec2 cwb = lpvCascadeWeights(behind);
+#else
+                vec2 cwb = vec2(1.0);
+#endif
+                if (lpvSample(behind, lpvPlainLookup(behind), cwb, rb, gb, bb)) {
                     vec3 eb = vec3(shCosineIntegral(shMirror(rb), lookupN), shCosineIntegral(shMirror(gb), lookupN),
                                    shCosineIntegral(shMirror(bb), lookupN));
                     e *= lpvDamping(e, eb);
@@ -351,11 +395,11 @@ void main() {
             // Weighted like the volume it stands for: all steps, or near + far of a cascade.
             float kappa = lpv.cascadeParams.y;
 #ifdef RTGI_LPV_CASCADED
-            vec2 cw = lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n);
             kappa = lpv.cascade.x == 0 ? cw.x * lpv.cascadeParams.y
                                        : cw.x * lpv.cascadeParams.z + cw.y * (lpv.cascadeParams.y - lpv.cascadeParams.z);
 #endif
-            eSelf = kappa * lpvOwnExitance(wp, n);
+            // 0 where the cascade has no weight: the 17 RSM taps are skipped (M is finite).
+            if (kappa != 0.0) eSelf = kappa * lpvOwnExitance(wp, n);
 #endif
 #ifdef RTGI_LPV_CASCADED
             irradiance = e * invArea - eSelf;
@@ -373,7 +417,7 @@ void main() {
         }
         if (uLast == 0) imageStore(uSumE, o, vec4(irradiance, skySum));
         // Sum_i u_i = U of the last cascade: where no cascade covers the point the sky is not occluded.
-        skyAlpha = skySum + 1.0 - lpvCascadeWeights(wp + 0.5 * lpvCellSize() * n).y;
+        skyAlpha = skySum + 1.0 - cw.y;
         diffuse = lpvDiffuseFactor(albedo, rm.y) * max(irradiance, vec3(0.0));
 #endif
 #ifdef RTGI_LPV_SPECULAR
@@ -382,7 +426,12 @@ void main() {
         vec3 sum = vec3(0.0);
         for (int i = 1; i <= 3; ++i) {
             vec3 at = wp + R * (float(i) * lpvCellSize());
-            if (lpvSample(at, lpvPlainLookup(at), r, g, b))
+#ifdef RTGI_LPV_CASCADED
+            vec2 ws = lpvCascadeWeights(at);
+#else
+            vec2 ws = vec2(1.0);
+#endif
+            if (lpvSample(at, lpvPlainLookup(at), ws, r, g, b))
                 sum += max(vec3(shEvaluate(r, -R), shEvaluate(g, -R), shEvaluate(b, -R)), vec3(0.0));
         }
 #if defined(RTGI_LPV_APPLY_HALF)

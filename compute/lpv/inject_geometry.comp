@@ -5,7 +5,9 @@
 // pre-reduced per workgroup in shared memory (lpv_reduce.glsl); the
 // accumulation texture is zero on entry (the geometry pack zeroes it).
 // Default source: the RSM; RTGI_LPV_GV_GBUFFER: the camera G-buffer sampled
-// at quarter resolution (every second pixel in x and y, seed 5.2.3).
+// at quarter resolution (every second pixel in x and y, seed 5.2.3), or with
+// RTGI_LPV_GV_STRIDE = 4 (lpv.geometry_stride=4) every fourth, each sample's
+// surfel standing for the stride^2 pixels (docs/lpv.md, "Geometry injection stride").
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
@@ -21,7 +23,10 @@ layout(binding = RTGI_LPV_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
 layout(binding = RTGI_LPV_TEX_VIEW_NORMAL) uniform sampler2D uViewNormal;
 layout(binding = RTGI_LPV_TEX_ALBEDO) uniform sampler2D uAlbedo;
 layout(binding = RTGI_LPV_TEX_MATERIAL) uniform sampler2D uMaterial;
-const int kStride = 2;
+#ifndef RTGI_LPV_GV_STRIDE
+#define RTGI_LPV_GV_STRIDE 2
+#endif
+const int kStride = RTGI_LPV_GV_STRIDE;
 #else
 layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
 layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;

@@ -14,6 +14,8 @@ layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_NEAR_R) uniform image3D uNearR;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_NEAR_G) uniform image3D uNearG;
 layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_NEAR_B) uniform image3D uNearB;
 layout(location = RTGI_LPV_LOC_NEAR_FRACTION) uniform float uFraction;
+// lpv.propagate_cascades=joint: the sum is a stacked volume, this cascade's slab from z = uSlabZ.
+layout(location = RTGI_LPV_LOC_NEAR_OFFSET) uniform int uSlabZ = 0;
 #ifdef RTGI_LPV_SH2
 layout(binding = RTGI_LPV_TEX_SOURCE_HI_R) uniform sampler3D uAccumHiR;
 layout(binding = RTGI_LPV_TEX_SOURCE_HI_G) uniform sampler3D uAccumHiG;
@@ -28,9 +30,10 @@ layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_NEAR_LAST) uniform image3D uNearL
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);
     if (!lpvInside(c, lpv.grid.xyz)) return;
-    imageStore(uNearR, c, lpvStorable(mix(imageLoad(uNearR, c), texelFetch(uAccumR, c, 0), uFraction)));
-    imageStore(uNearG, c, lpvStorable(mix(imageLoad(uNearG, c), texelFetch(uAccumG, c, 0), uFraction)));
-    imageStore(uNearB, c, lpvStorable(mix(imageLoad(uNearB, c), texelFetch(uAccumB, c, 0), uFraction)));
+    ivec3 s = c + ivec3(0, 0, uSlabZ);
+    imageStore(uNearR, c, lpvStorable(mix(imageLoad(uNearR, c), texelFetch(uAccumR, s, 0), uFraction)));
+    imageStore(uNearG, c, lpvStorable(mix(imageLoad(uNearG, c), texelFetch(uAccumG, s, 0), uFraction)));
+    imageStore(uNearB, c, lpvStorable(mix(imageLoad(uNearB, c), texelFetch(uAccumB, s, 0), uFraction)));
 #ifdef RTGI_LPV_SH2
     imageStore(uNearHiR, c, lpvStorable(mix(imageLoad(uNearHiR, c), texelFetch(uAccumHiR, c, 0), uFraction)));
     imageStore(uNearHiG, c, lpvStorable(mix(imageLoad(uNearHiG, c), texelFetch(uAccumHiG, c, 0), uFraction)));

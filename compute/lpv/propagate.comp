@@ -4,6 +4,11 @@
 // bands 0-2 in 7 volumes (lo r, g, b + hi r, g, b + last); writing step k and
 // accum would need 14 image units (GL guarantees 8), so the sum is added by
 // lpv/accumulate.comp after each step.
+// lpv.propagate_cascades=joint (RTGI_LPV_JOINT, band 1; docs/lpv.md, "Joint cascade
+// propagation"): the step and sum volumes of two cascades stacked along z (cascade k's cell
+// c at c + (0, 0, k Z)), one dispatch for both; the workgroups are split by index (the z
+// groups of cascade 0, then those of cascade 1), so a workgroup belongs to one cascade and
+// reads its own geometry volume. Same arithmetic per cell as the per-cascade dispatch.
 #include "lpv/propagate.glsl"
 #include "lib/lpv_shared.h"
 
@@ -41,10 +46,31 @@ layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_ACCUM_B) uniform image3D uAccumB;
 
 layout(location = RTGI_LPV_LOC_ITERATION) uniform int uIteration;
 
+#ifdef RTGI_LPV_JOINT
+layout(binding = RTGI_LPV_TEX_JOINT_GEOMETRY_1) uniform sampler3D uGeometry1;
+layout(binding = RTGI_LPV_TEX_JOINT_GEOMETRY_ALBEDO_1) uniform sampler3D uGeometryAlbedo1;
+layout(binding = RTGI_LPV_TEX_JOINT_GEOMETRY_AXES_1) uniform sampler3D uGeometryAxes1;
+#endif
+
 void main() {
+#ifdef RTGI_LPV_JOINT
+    int zGroups = (lpv.grid.z + RTGI_LPV_LOCAL_3D - 1) / RTGI_LPV_LOCAL_3D;
+    int cascade = int(gl_WorkGroupID.z) / zGroups;  // uniform in the workgroup
+    ivec3 c = ivec3(gl_GlobalInvocationID.xy,
+                    (int(gl_WorkGroupID.z) - cascade * zGroups) * RTGI_LPV_LOCAL_3D + int(gl_LocalInvocationID.z));
+    lpvSlab = ivec3(0, 0, cascade * lpv.grid.z);
+#else
     ivec3 c = ivec3(gl_GlobalInvocationID);
+    const ivec3 lpvSlab = ivec3(0);
+#endif
     if (!lpvInside(c, lpv.grid.xyz)) return;
-    LpvRgb v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo, uGeometryAxes);
+    LpvRgb v;
+#ifdef RTGI_LPV_JOINT
+    if (cascade != 0)
+        v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry1, uGeometryAlbedo1, uGeometryAxes1);
+    else
+#endif
+        v = lpvGather(c, uIteration, uSrcR, uSrcG, uSrcB, uGeometry, uGeometryAlbedo, uGeometryAxes);
     v.r = lpvStorable(v.r);
     v.g = lpvStorable(v.g);
     v.b = lpvStorable(v.b);
@@ -57,6 +83,7 @@ void main() {
     imageStore(uDstHiB, c, shHi(v.b));
     imageStore(uDstLast, c, vec4(shLast(v.r), shLast(v.g), shLast(v.b), 0.0));
 #else
+    c += lpvSlab;  // the cell's texel in the (stacked) volumes
     imageStore(uDstR, c, v.r);
     imageStore(uDstG, c, v.g);
     imageStore(uDstB, c, v.b);

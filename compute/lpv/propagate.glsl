@@ -115,6 +115,15 @@ float lpvFacesFlux(LpvSh I, vec3 d) {
 void lpvSharedSource(ivec3 p, out LpvSh sh[3]);
 #endif
 
+// lpv.propagate_cascades=joint (RTGI_LPV_JOINT, lpv/propagate.comp): the sources are the
+// cascade's slab of a stacked volume, cell p at p + lpvSlab (set once by main).
+#ifdef RTGI_LPV_JOINT
+ivec3 lpvSlab;
+#define LPV_SOURCE_AT(p) ((p) + lpvSlab)
+#else
+#define LPV_SOURCE_AT(p) (p)
+#endif
+
 // The r, g, b SH of source cell p (band 2: the 9 coefficients, lpvSource9).
 void lpvFetchSource(ivec3 p, sampler3D srcR, sampler3D srcG, sampler3D srcB, out LpvSh sh[3]) {
 #if defined(RTGI_LPV_FUSED)
@@ -123,7 +132,8 @@ void lpvFetchSource(ivec3 p, sampler3D srcR, sampler3D srcG, sampler3D srcB, out
     sh = LpvSh[3](lpvSource9(texelFetch(srcR, p, 0), 0, p), lpvSource9(texelFetch(srcG, p, 0), 1, p),
                   lpvSource9(texelFetch(srcB, p, 0), 2, p));
 #else
-    sh = LpvSh[3](texelFetch(srcR, p, 0), texelFetch(srcG, p, 0), texelFetch(srcB, p, 0));
+    sh = LpvSh[3](texelFetch(srcR, LPV_SOURCE_AT(p), 0), texelFetch(srcG, LPV_SOURCE_AT(p), 0),
+                  texelFetch(srcB, LPV_SOURCE_AT(p), 0));
 #endif
 }
 

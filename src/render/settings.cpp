@@ -23,6 +23,12 @@ int parseInt(const std::string& key, const std::string& v, int lo, int hi) {
     return int(x);
 }
 
+int parseGeometryStride(const std::string& v) {
+    int x = parseInt("lpv.geometry_stride", v, 2, 4);
+    if (x == 3) bad("lpv.geometry_stride", v, "2 or 4");
+    return x;
+}
+
 float parseFloat(const std::string& key, const std::string& v, double lo, double hi) {
     char* end = nullptr;
     double x = std::strtod(v.c_str(), &end);
@@ -115,6 +121,7 @@ const char* const kSsrTracer[] = {"auto", "off", "linear", "dda", "hiz"};
 const char* const kReference[] = {"off", "ao", "indirect", "full"};
 const char* const kCaustics[] = {"on", "off", "regularized"};
 const char* const kResolution[] = {"full", "half"};
+const char* const kJointSeparate[] = {"joint", "separate"};
 
 template <class T>
 std::optional<float> optFloat(const std::string& key, const std::string& v, double lo, double hi) {
@@ -274,6 +281,15 @@ std::vector<SettingKey> buildKeys() {
             "RSM faces, the geometry and the cascade stay (compute path; docs/lights.md, \"Injection cache\"); off: every "
             "face injected every frame", "on|off",
             s.lpv.injectCache = parseBool("lpv.inject_cache", v), onOff(s.lpv.injectCache)),
+        KEY("lpv.propagate_cascades", "cascades of one propagation iteration in one dispatch (joint: a stacked volume, "
+            "compute path, band 1, lpv.fuse=1) or one dispatch per cascade (docs/lpv.md, \"Joint cascade propagation\")",
+            "joint|separate",
+            s.lpv.jointCascades = parseEnum<int>("lpv.propagate_cascades", v, kJointSeparate) == 0,
+            s.lpv.jointCascades ? "joint" : "separate"),
+        KEY("lpv.geometry_stride", "G-buffer pixel stride in x and y of the geometry injection: 2 (a quarter of the "
+            "pixels, seed 5.2.3) or 4 (a sixteenth, each sample standing for 16 pixels; docs/lpv.md, "
+            "\"Geometry injection stride\")", "2|4",
+            s.lpv.geometryStride = parseGeometryStride(v), fmt(s.lpv.geometryStride)),
         KEY("lpv.strength", "multiplier on LPV indirect light (1 = physical)", "0..1e6",
             s.lpv.strength = parseFloat("lpv.strength", v, 0, 1e6), fmt(s.lpv.strength)),
         // ---- AO ------------------------------------------------------------

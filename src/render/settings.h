@@ -105,6 +105,8 @@ struct LpvSettings {
     int fuse = 1;
     // Local lights' injection kept per cascade while nothing it depends on changed (docs/lights.md, "Injection cache").
     bool injectCache = true;
+    bool jointCascades = true;  // lpv.propagate_cascades=joint: the cascades of an iteration in one dispatch
+    int geometryStride = 2;     // lpv.geometry_stride: G-buffer pixel stride (x and y) of the geometry injection
 };
 
 struct AoSettings {

@@ -96,6 +96,7 @@ struct LpvState {
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
     gl::MemoryLedger* ledger = nullptr;
+    lpv::JointVolumes joint;  // lpv.propagate_cascades=joint: the stacked propagation volumes
     lpv::ProbeTracer probe;  // lpv.source=probe (docs/lpv.md, "Stage attribution")
     lpv::SceneBvh visibilityBvh;  // lpv.lookup=visibility
     LpvCascade& first() { return cascades.front(); }
@@ -659,7 +660,8 @@ public:
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const GBuffer& g = ctx.res.gbuffer;
-        lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size};
+        lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size,
+                            ctx.settings.lpv.geometryStride};
         // Blocking potential from the sun's orthographic RSM (its texel areas)
         // and the G-buffer; local lights' perspective RSMs are not used here.
         for (LpvCascade& c : st.cascades) {
@@ -691,14 +693,45 @@ public:
     std::string name() const override { return "lpv.propagate"; }
     // Cascades i > 0 keep their near part (compute path; the raster path has one volume).
     std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
-        return perCascade(s, lpv::nearTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder), 1);
+        std::vector<gl::NamedTextureDesc> t = perCascade(s, lpv::nearTextures(volumeGrid(s), volumeFormat(s), s.lpv.shOrder), 1);
+        if (joint(s)) {
+            auto j = lpv::jointTextures(volumeGrid(s), volumeFormat(s));
+            t.insert(t.end(), j.begin(), j.end());
+        }
+        return t;
+    }
+    // lpv.propagate_cascades=joint and a configuration it covers (docs/lpv.md, "Joint cascade propagation").
+    static bool joint(const Settings& s) {
+        return s.lpv.jointCascades && s.lpv.path == LpvSettings::Path::Compute &&
+               lpv::jointPropagationApplies(cascadeCount(s.lpv), s.lpv.shOrder, s.lpv.fuse, facesNeeded(s));
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
         const LpvSettings& ls = ctx.settings.lpv;
+        // Joint: cascades in groups of kJointCascades, one dispatch per iteration and group
+        // (a last group of one cascade propagates alone).
+        std::size_t jointEnd = 0;
+        if (joint(ctx.settings)) {
+            const std::size_t n = st.cascades.size();
+            jointEnd = n - n % std::size_t(lpv::kJointCascades);
+            if (jointEnd > 0) st.joint.ensure(ctx.ledger, st.first().volumes.grid, st.first().volumes.format);
+            for (std::size_t i0 = 0; i0 < jointEnd; i0 += lpv::kJointCascades) {
+                std::vector<lpv::Volumes*> vs;
+                std::vector<bool> near;
+                for (std::size_t i = i0; i < i0 + lpv::kJointCascades; ++i) {
+                    if (i > 0) st.cascades[i].volumes.ensureNear(ctx.ledger);
+                    vs.push_back(&st.cascades[i].volumes);
+                    near.push_back(i > 0);
+                }
+                const int last = lpv::propagateJoint(ctx.programs, st.cascades[i0].ubo, vs, near, st.joint, ls.iterations);
+                for (std::size_t i = i0; i < i0 + lpv::kJointCascades; ++i) st.cascades[i].lastStep = last;
+            }
+        }
         for (std::size_t i = 0; i < st.cascades.size(); ++i) {
             LpvCascade& c = st.cascades[i];
-            if (ls.path == LpvSettings::Path::Raster) {
+            if (i < jointEnd) {
+                // Propagated jointly above.
+            } else if (ls.path == LpvSettings::Path::Raster) {
                 c.lastStep = lpv::propagateRaster(ctx.programs, c.ubo, c.volumes, ls.iterations);
             } else {
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").

@@ -481,13 +481,14 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
         const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", [&] {
             gl::Defines d = variant;
             d.push_back({"RTGI_LPV_GV_GBUFFER", ""});
+            if (gb.stride != 2) d.push_back({"RTGI_LPV_GV_STRIDE", std::to_string(gb.stride)});
             return d;
         }());
         glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth->id());
         glBindTextureUnit(RTGI_LPV_TEX_VIEW_NORMAL, gb.normal->id());
         glBindTextureUnit(RTGI_LPV_TEX_ALBEDO, gb.albedo->id());
         glBindTextureUnit(RTGI_LPV_TEX_MATERIAL, gb.material->id());
-        gl::dispatch(fromGBuffer, (gb.size.x + 1) / 2, (gb.size.y + 1) / 2);
+        gl::dispatch(fromGBuffer, (gb.size.x + gb.stride - 1) / gb.stride, (gb.size.y + gb.stride - 1) / gb.stride);
     }
     const gl::Program& pack =
         programs.compute("lpv/pack.comp", [&] {
@@ -546,6 +547,7 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
                 bindHiImages(v.nearHi, RTGI_LPV_IMG_NEAR_HI_R, GL_READ_WRITE, v.format);
             }
             mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF);
+            mix.set(RTGI_LPV_LOC_NEAR_OFFSET, 0);
             gl::dispatch(mix, v.grid.x, v.grid.y, v.grid.z);
         }
     };
@@ -607,6 +609,112 @@ int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes&
         src = dst;
         for (int j = k; j < k + count; ++j) nearStep(j);
         k += count;
+    }
+    return src;
+}
+
+std::vector<gl::NamedTextureDesc> jointTextures(glm::ivec3 g, GLenum format) {
+    std::vector<gl::NamedTextureDesc> t;
+    const glm::ivec3 stacked{g.x, g.y, kJointCascades * g.z};
+    for (int k = 0; k < 2; ++k) addRgb(t, "lpv.joint.step" + std::to_string(k), volumeDesc(stacked, format));
+    addRgb(t, "lpv.joint.accum", volumeDesc(stacked, format));
+    return t;
+}
+
+void JointVolumes::ensure(gl::MemoryLedger& ledger, glm::ivec3 g, GLenum format) {
+    // Every texel is written before it is read (the copies in, then whole steps): no clear.
+    const gl::TextureDesc d = volumeDesc({g.x, g.y, kJointCascades * g.z}, format);
+    for (int k = 0; k < 2; ++k) ensureRgb(ledger, step[std::size_t(k)], "lpv.joint.step" + std::to_string(k), d, false);
+    ensureRgb(ledger, accum, "lpv.joint.accum", d, false);
+}
+
+bool jointPropagationApplies(int cascades, int shOrder, int fuse, bool visibility) {
+    return cascades >= 2 && shOrder == 1 && fuse == 1 && !visibility;
+}
+
+namespace {
+// Copies volume `from` (z from fromZ) into `to` (z from toZ), grid g, every channel.
+void copySlab(const Rgb& from, int fromZ, Rgb& to, int toZ, glm::ivec3 g) {
+    for (std::size_t c = 0; c < 3; ++c)
+        glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, fromZ, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, toZ, g.x,
+                           g.y, g.z);
+}
+}  // namespace
+
+int propagateJoint(gl::ProgramCache& programs, const gl::Buffer& ubo, const std::vector<Volumes*>& vs,
+                   const std::vector<bool>& near, JointVolumes& joint, int iterations) {
+    const int n = int(vs.size());
+    if (n < 1 || n > kJointCascades || int(near.size()) != n)
+        throw std::logic_error("lpv::propagateJoint: 1.." + std::to_string(kJointCascades) + " cascades");
+    const glm::ivec3 g = vs[0]->grid;
+    const GLenum format = vs[0]->format;
+    for (const Volumes* v : vs)
+        if (v->grid != g || v->format != format || v->shOrder != 1)
+            throw std::logic_error("lpv::propagateJoint: the cascades differ in grid, format or SH order");
+    gl::Defines defines = formatDefines(format);
+    defines.push_back({"RTGI_LPV_JOINT", ""});
+    const gl::Program& prog = programs.compute("lpv/propagate.comp", defines);
+    // The near part as in propagateCompute: accum_K, then mixed with accum_{K+1} by f.
+    int nearK = 0;
+    while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
+    float nearF = nearK + 1 <= iterations ? float(cascadeNearWeight(nearK + 1, iterations)) : 0.0f;
+    auto nearStep = [&](int k) {
+        for (int i = 0; i < n; ++i) {
+            if (!near[std::size_t(i)]) continue;
+            Volumes& v = *vs[std::size_t(i)];
+            if (k == nearK) {
+                // Producer: lpv.pack (k = 0, step[0]) or iteration k (the stacked sum), image stores.
+                glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                if (k == 0) copyVolume(v.step[0], v.near, g);
+                else copySlab(joint.accum, i * g.z, v.near, 0, g);
+            } else if (k == nearK + 1 && nearF > 0.0f) {
+                const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(format));
+                // Producers: the copy above and iteration k's stores into the stacked sum.
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                                GL_TEXTURE_UPDATE_BARRIER_BIT);
+                bindRgbTextures(joint.accum, RTGI_LPV_TEX_SOURCE_R);
+                bindRgbImages(v.near, RTGI_LPV_IMG_NEAR_R, GL_READ_WRITE, format);
+                mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF);
+                mix.set(RTGI_LPV_LOC_NEAR_OFFSET, i * g.z);
+                gl::dispatch(mix, g.x, g.y, g.z);
+            }
+        }
+    };
+    bindUbo(ubo);  // the first cascade's: the propagation reads only what all cascades share (grid, flags)
+    // Producer: lpv.pack (image stores into each cascade's step[0]).
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    for (int i = 0; i < n; ++i) copySlab(vs[std::size_t(i)]->step[0], 0, joint.step[0], i * g.z, g);
+    nearStep(0);
+    // Whole workgroups per cascade along z (the shader splits by workgroup index).
+    const int zGroups = (g.z + RTGI_LPV_LOCAL_3D - 1) / RTGI_LPV_LOCAL_3D;
+    int src = 0;
+    for (int k = 1; k <= iterations; ++k) {
+        const int dst = 1 - src;
+        // Rebound every iteration: the near part's mix uses units of its own.
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, vs[0]->geometry.id());
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, vs[0]->geometryAlbedo.id());
+        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, vs[0]->geometryAxes.id());
+        const Volumes& last = *vs[std::size_t(n - 1)];
+        glBindTextureUnit(RTGI_LPV_TEX_JOINT_GEOMETRY_1, last.geometry.id());
+        glBindTextureUnit(RTGI_LPV_TEX_JOINT_GEOMETRY_ALBEDO_1, last.geometryAlbedo.id());
+        glBindTextureUnit(RTGI_LPV_TEX_JOINT_GEOMETRY_AXES_1, last.geometryAxes.id());
+        bindRgbImages(joint.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, format);
+        // Producer: the copies in / the previous iteration (image stores into step[src] and accum).
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT);
+        bindRgbTextures(joint.step[std::size_t(src)], RTGI_LPV_TEX_SRC_R);
+        bindRgbImages(joint.step[std::size_t(dst)], RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, format);
+        prog.set(RTGI_LPV_LOC_ITERATION, k);
+        gl::dispatch(prog, g.x, g.y, n * zGroups * RTGI_LPV_LOCAL_3D);
+        src = dst;
+        nearStep(k);
+    }
+    // The results where the per-cascade propagation leaves them: accum and the last step.
+    // Producer: the last iteration (image stores).
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    for (int i = 0; i < n; ++i) {
+        copySlab(joint.accum, i * g.z, vs[std::size_t(i)]->accum, 0, g);
+        copySlab(joint.step[std::size_t(src)], i * g.z, vs[std::size_t(i)]->step[std::size_t(src)], 0, g);
     }
     return src;
 }

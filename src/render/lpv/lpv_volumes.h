@@ -167,6 +167,7 @@ struct GBufferView {
     const gl::Texture* albedo = nullptr;
     const gl::Texture* material = nullptr;
     glm::ivec2 size{0};
+    int stride = 2;  // lpv.geometry_stride: pixel stride in x and y (2 or 4), each sample stands for stride^2 pixels
 };
 void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
                     const GBufferView& gbuffer, Volumes& v);
@@ -182,6 +183,24 @@ inline constexpr int kMaxFuse = 2;
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
                      bool near = false, bool visibility = false, int fuse = kMaxFuse);
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
+
+// lpv.propagate_cascades=joint (docs/lpv.md, "Joint cascade propagation"): the step ping-pong and
+// the sum of up to kJointCascades cascades stacked along z (cascade i's cells at z + i Z), so one
+// dispatch per iteration propagates them all (compute path, band 1, unfused, no traced faces).
+inline constexpr int kJointCascades = 2;
+struct JointVolumes {
+    Rgb step[2];
+    Rgb accum;
+    void ensure(gl::MemoryLedger& ledger, glm::ivec3 grid, GLenum format);
+};
+std::vector<gl::NamedTextureDesc> jointTextures(glm::ivec3 grid, GLenum format);
+// Whether the joint propagation applies to a configuration (else one dispatch per cascade).
+bool jointPropagationApplies(int cascades, int shOrder, int fuse, bool visibility);
+// Propagates 1..kJointCascades cascades (same grid and format, band 1, geometry volumes as for
+// propagateCompute) with one dispatch per iteration: afterwards each one's accum, last step and
+// (near[i]) near part equal those of propagateCompute(v_i, near[i]). Returns the last step's index.
+int propagateJoint(gl::ProgramCache& programs, const gl::Buffer& ubo, const std::vector<Volumes*>& vs,
+                   const std::vector<bool>& near, JointVolumes& joint, int iterations);
 // lpv.apply: indirect diffuse (and specular when `specular` is set) radiance from
 // `volume` at the G-buffer's pixels; the frame uniforms must be bound (binding 0).
 struct ApplyInputs {
