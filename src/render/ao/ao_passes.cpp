@@ -123,6 +123,22 @@ public:
     explicit AoPassBase(std::shared_ptr<AoChain> c) : chain_(std::move(c)) {}
 
 protected:
+    // The estimator's output: the chain's ao.raw (allocated here) or the next stage's target.
+    gl::Texture& estimateTarget(FrameContext& ctx) const {
+        AoChain& c = *chain_;
+        glm::ivec2 a = c.aoSize(ctx);
+        gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
+        if (&out == &c.raw) out.ensure(ctx.ledger, rawTex(a).label, rawTex(a).desc);
+        return out;
+    }
+    // The directional term the estimator writes (ao.directional), or none.
+    static gl::Texture* directionalTarget(FrameContext& ctx) {
+        switch (ctx.settings.ao.directional) {
+            case AoSettings::Directional::BentNormals: return &ctx.res.bentNormal;
+            case AoSettings::Directional::S3ho: return &ctx.res.s3ho;
+            default: return nullptr;
+        }
+    }
     std::shared_ptr<AoChain> chain_;
 };
 
@@ -215,10 +231,9 @@ public:
         AoChain& c = *chain_;
         const AoSettings& s = ctx.settings.ao;
         glm::ivec2 a = c.aoSize(ctx);
-        gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
-        if (&out == &c.raw) out.ensure(ctx.ledger, rawTex(a).label, rawTex(a).desc);
+        gl::Texture& out = estimateTarget(ctx);
         int directional = int(s.directional);
-        gl::Texture* dirTex = directional == 1 ? &ctx.res.bentNormal : directional == 2 ? &ctx.res.s3ho : nullptr;
+        gl::Texture* dirTex = directionalTarget(ctx);
         bool light = s.depthSource == AoSettings::DepthSource::Light;
         int radius = s.radiusMode == AoSettings::RadiusMode::Fixed ? 0
                      : s.radiusMode == AoSettings::RadiusMode::Dual ? 1
@@ -278,10 +293,9 @@ public:
         AoChain& c = *chain_;
         const AoSettings& s = ctx.settings.ao;
         glm::ivec2 a = c.aoSize(ctx);
-        gl::Texture& out = c.target(ctx, Stage::Estimate, c.raw);
-        if (&out == &c.raw) out.ensure(ctx.ledger, rawTex(a).label, rawTex(a).desc);
+        gl::Texture& out = estimateTarget(ctx);
         int directional = int(s.directional);
-        gl::Texture* dirTex = directional == 1 ? &ctx.res.bentNormal : directional == 2 ? &ctx.res.s3ho : nullptr;
+        gl::Texture* dirTex = directionalTarget(ctx);
         bvh_.ensure(ctx, "ao.rtao.bvh");  // built once, rebuilt when the geometry moved
         const gl::Program& prog =
             ctx.programs.compute("ao/rtao.comp", {{"AO_DIRECTIONAL", std::to_string(directional)}});
