@@ -14,29 +14,8 @@
 # GI=1 also runs the GI suite's error (benchmarks/sweeps/gi-suite.json) with lpv.geometry_stride 2
 # and 4 (the joint propagation and the apply shortcuts do not change the result: tests).
 # Run from the repo root with BENCH, OUT and SCENES set.
-set -uo pipefail
-BENCH=${BENCH:-./build/rtgi-bench}
-OUT=${OUT:-out}
-SCENES=${SCENES:-../shared/scenes}
-COMMON=(--res ${RES:-1920x1080} --frames ${FRAMES:-60} --warmup 20 --no-images)
-DRAGON=(--scene builtin:plane --scene "$SCENES/stanford-dragon/dragon.gltf")
-
-one() {  # binary, out dir, name, args...
-  local bin=$1 dir=$2 name=$3; shift 3
-  "$bin" "$@" "${COMMON[@]}" --out "$dir/$name" >"$dir/$name.log" 2>&1 || echo "FAILED $name ($bin)"
-}
-
-suite() {  # binary, out dir, variants...
-  local bin=$1 dir=$2; shift 2
-  mkdir -p "$dir"
-  for v in "$@"; do
-    local tag=${v:-defaults}; tag=${tag//=/-}; tag=${tag// /+}
-    local set=(); for kv in $v; do set+=(--set "$kv"); done
-    one "$bin" "$dir" "atrium-$tag" --scene builtin:atrium "${set[@]}"
-    one "$bin" "$dir" "restaurant-$tag" --scene builtin:restaurant "${set[@]}"
-    one "$bin" "$dir" "dragon-$tag" "${DRAGON[@]}" "${set[@]}"
-  done
-}
+FRAMES=${FRAMES:-60}
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
 P=profile.dispatches=on
 suite "$BENCH" "$OUT/lpvcost" "" "$P" "$P lpv.propagate_cascades=separate" "$P lpv.geometry_stride=4" \

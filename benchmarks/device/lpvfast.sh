@@ -9,34 +9,12 @@
 # comparison; frame_table.py prints both side by side.
 # GI=1 also runs the GI suite's error with both apply resolutions (below).
 # Run from the repo root with BENCH, OUT and SCENES set.
-set -uo pipefail
-BENCH=${BENCH:-./build/rtgi-bench}
-OUT=${OUT:-out}
-SCENES=${SCENES:-../shared/scenes}
-COMMON=(--res ${RES:-1920x1080} --frames ${FRAMES:-100} --warmup 20 --no-images)
-DRAGON=(--scene builtin:plane --scene "$SCENES/stanford-dragon/dragon.gltf")
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-one() {  # binary, out dir, name, args...
-  local bin=$1 dir=$2 name=$3; shift 3
-  "$bin" "$@" "${COMMON[@]}" --out "$dir/$name" >"$dir/$name.log" 2>&1 || echo "FAILED $name ($bin)"
-}
-
-suite() {  # binary, out dir, variants...
-  local bin=$1 dir=$2; shift 2
-  mkdir -p "$dir"
-  for v in "" "$@"; do
-    local tag=${v:-defaults}; tag=${tag//=/-}; tag=${tag// /+}
-    local set=(); for kv in $v; do set+=(--set "$kv"); done
-    one "$bin" "$dir" "atrium-$tag" --scene builtin:atrium "${set[@]}"
-    one "$bin" "$dir" "restaurant-$tag" --scene builtin:restaurant "${set[@]}"
-    one "$bin" "$dir" "dragon-$tag" "${DRAGON[@]}" "${set[@]}"
-  done
-}
-
-suite "$BENCH" "$OUT/lpvfast" "lpv.apply_resolution=half" "lpv.fuse=2" "lpv.apply_resolution=half lpv.fuse=2" \
+suite "$BENCH" "$OUT/lpvfast" "" "lpv.apply_resolution=half" "lpv.fuse=2" "lpv.apply_resolution=half lpv.fuse=2" \
   "lpv=off" "profile.dispatches=on" "profile.dispatches=on lpv.apply_resolution=half lpv.fuse=2"
 # The base binary does not know lpv.apply_resolution / lpv.fuse (full-resolution apply, unfused).
-[ -n "${BASE:-}" ] && suite "$BASE" "$OUT/lpvfast-base" "lpv=off" "profile.dispatches=on"
+[ -n "${BASE:-}" ] && suite "$BASE" "$OUT/lpvfast-base" "" "lpv=off" "profile.dispatches=on"
 python3 benchmarks/device/frame_table.py "$OUT/lpvfast" ${BASE:+"$OUT/lpvfast-base"}
 # GI=1: the error side on the GI suite (benchmarks/sweeps/gi-suite.json, 15 views at 480x270, converged
 # full references, cached and shared by both cases): lpv.apply_resolution full vs half (and lpv.fuse 1

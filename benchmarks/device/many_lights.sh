@@ -12,19 +12,11 @@
 # binary (it does not know lpv.inject_cache: only its defaults) into $OUT/many_lights-base, same call.
 # Run from the repo root with BENCH, OUT and SCENES set (SCENES is unused: the scenes are builtin
 # and generated; it is accepted for symmetry with the other scripts).
-set -uo pipefail
-BENCH=${BENCH:-./build/rtgi-bench}
-OUT=${OUT:-out}
-SCENES=${SCENES:-../shared/scenes}
-COMMON=(--res ${RES:-1920x1080} --frames ${FRAMES:-60} --warmup ${WARMUP:-20} --no-images --set profile.dispatches=on)
+FRAMES=${FRAMES:-60}
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+COMMON+=(--set profile.dispatches=on)
 GEN="$OUT/many_lights/generated"
 mkdir -p "$GEN"
-
-one() {  # binary, out dir, name, args...
-  local bin=$1 dir=$2 name=$3; shift 3
-  mkdir -p "$dir"
-  "$bin" "$@" "${COMMON[@]}" --out "$dir/$name" >"$dir/$name.log" 2>&1 || echo "FAILED $name ($bin)"
-}
 
 for n in 16 64; do
   python3 benchmarks/device/point_lights.py "$n" "$GEN/points$n.gltf"
