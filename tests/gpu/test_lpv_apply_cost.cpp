@@ -12,25 +12,37 @@
 using namespace rtgi;
 using namespace rtgi::test;
 
-TEST_CASE("LPV apply: the optimized apply equals the apply before the shortcuts on a two-cascade frame") {
-    GpuFixture gpu;
-    gl::Profiler prof(false);
-    // The floor and wall under an oblique sun, a camera that sees both near and far floor.
+namespace {
+// The floor and wall under an oblique sun; the LPV on at 8^3 with the other defaults, no AO.
+Scene sunlitCorner() {
     Scene scene = floorAndWallScene();
     Light sun;
     sun.type = LightType::Directional;
     sun.direction = -glm::normalize(glm::vec3(0.4f, 1.0f, 0.7f));
     sun.intensity = 3.0f;
     scene.lights.push_back(sun);
-    scene.cameras[0].position = {0.6f, 0.8f, 1.9f};
-    scene.cameras[0].target = {-0.4f, 0.2f, -0.9f};
-    Settings s;  // the defaults: 2 cascades, lookup=visibility, sky=visibility, self-correction on
+    return scene;
+}
+Settings smallLpv() {
+    Settings s;
     s.ao.variant = AoSettings::Variant::Off;
     s.lpv.mode = Toggle::On;
     s.lpv.grid = glm::ivec3(8);
     s.lpv.rsm = 64;
-    s.lpv.specular = Toggle::On;
     s.light.shadowSize = 256;
+    return s;
+}
+}  // namespace
+
+TEST_CASE("LPV apply: the optimized apply equals the apply before the shortcuts on a two-cascade frame") {
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    // The floor and wall under an oblique sun, a camera that sees both near and far floor.
+    Scene scene = sunlitCorner();
+    scene.cameras[0].position = {0.6f, 0.8f, 1.9f};
+    scene.cameras[0].target = {-0.4f, 0.2f, -0.9f};
+    Settings s = smallLpv();  // the defaults: 2 cascades, lookup=visibility, sky=visibility, self-correction on
+    s.lpv.specular = Toggle::On;
     REQUIRE(s.lpv.cascades == 2);
     REQUIRE(s.lpv.lookup == LpvSettings::Lookup::Visibility);
     REQUIRE(s.lpv.sky == LpvSettings::Sky::Visibility);
@@ -79,18 +91,8 @@ TEST_CASE("LPV frame: joint cascade propagation gives the frame of one propagati
     // and outputs: 2^-9 relative (a half-precision ulp of a step may differ) plus 1e-6 of the peak.
     GpuFixture gpu;
     gl::Profiler prof(false);
-    Scene scene = floorAndWallScene();
-    Light sun;
-    sun.type = LightType::Directional;
-    sun.direction = -glm::normalize(glm::vec3(0.4f, 1.0f, 0.7f));
-    sun.intensity = 3.0f;
-    scene.lights.push_back(sun);
-    Settings s;
-    s.ao.variant = AoSettings::Variant::Off;
-    s.lpv.mode = Toggle::On;
-    s.lpv.grid = glm::ivec3(8);
-    s.lpv.rsm = 64;
-    s.light.shadowSize = 256;
+    Scene scene = sunlitCorner();
+    Settings s = smallLpv();
     REQUIRE_FALSE(s.lpv.jointCascades);  // the default (separate: joint measured slower on the device)
     const glm::ivec2 size{64, 40};
     auto frame = [&](bool joint) {
