@@ -4,6 +4,13 @@
 // the scene's vertex buffer, and (RTGI_SCENE_LOC_WRITE_PREVIOUS) the previous
 // frame's positions into the previous-vertex buffer. Every later pass reads
 // the vertex buffer as before.
+// With RTGI_SCENE_COPY defined it is the copy that precedes the transform when
+// the previous-vertex buffer needs the last rendered frame's whole geometry:
+// uCount vertices, vertex buffer -> previous-vertex buffer. A shader copy, not
+// glCopyNamedBufferSubData: the transform dispatch writes the buffer the copy
+// reads, and on NVIDIA (driver 580) a buffer copy was not finished before a
+// later dispatch's stores (the velocity of the hardware path read new
+// positions as previous ones); between two dispatches a memory barrier orders it.
 #include "lib/shared.h"
 #include "lib/scene_shared.h"
 
@@ -21,6 +28,10 @@ vec3 apply(vec4 rows[3], vec4 p) { return vec3(dot(rows[0], p), dot(rows[1], p),
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= uCount) return;
+#ifdef RTGI_SCENE_COPY
+    for (uint k = 0u; k < uint(RTGI_SCENE_VERTEX_FLOATS); ++k)
+        prevVertexData[RTGI_SCENE_VERTEX_FLOATS * i + k] = vertexData[RTGI_SCENE_VERTEX_FLOATS * i + k];
+#else
     MovableVertex mv = movable[i];
     uint v = floatBitsToUint(mv.positionVertex.w), o = floatBitsToUint(mv.normalObject.w);
     vec4 p = vec4(mv.positionVertex.xyz, 1.0);
@@ -42,4 +53,5 @@ void main() {
         prevVertexData[base + 1] = prev.y;
         prevVertexData[base + 2] = prev.z;
     }
+#endif
 }

@@ -271,8 +271,8 @@ void GpuScene::updateVertices(const Scene& scene) {
     // frame replace states that were never rendered. A transform state still
     // waiting for its dispatch to write the previous positions left the
     // vertex buffer as the last frame rendered it: copied the same way.
-    if ((rendered_ && geometryVersion_ == renderedVersion_) || writePrevious_) copyToPrevious();
-    transformPending_ = writePrevious_ = false;  // this upload replaces the pending state
+    if ((rendered_ && geometryVersion_ == renderedVersion_) || writePrevious_ || copyPrevious_) copyToPrevious();
+    transformPending_ = writePrevious_ = copyPrevious_ = false;  // this upload replaces the pending state
     vbo_.upload(verts.data(), vbo_.size());
     uploadedBytes_ += vbo_.size();
     rigid_ = false;
@@ -369,8 +369,16 @@ bool GpuScene::setTransforms(const Scene& scene, const std::vector<Vertex>& rest
         // the objects from that frame's matrices when the previous-vertex
         // buffer holds the rest pose elsewhere, else a copy of that frame's
         // geometry (the vertex buffer is unchanged until the dispatch).
+        // The copy of a rigid buffer is a dispatch before the transform's
+        // (applyTransforms: a buffer copy was not ordered before the
+        // transform's stores on NVIDIA); a direct rewrite is copied now,
+        // before the rest pose is uploaded over it below.
         if (rigid_ && prevRigid_ && prevVbo_) writePrevious_ = true;
-        else copyToPrevious();
+        else if (rigid_) {
+            if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size(), nullptr, 0);
+            copyPrevious_ = true;
+            prevRigid_ = true;
+        } else copyToPrevious();
     }
     if (!rigid_) {  // a direct rewrite is in the buffer: back to rest + objects once
         std::vector<GpuVertex> verts = gpuVertices(scene);
@@ -388,9 +396,17 @@ bool GpuScene::setTransforms(const Scene& scene, const std::vector<Vertex>& rest
 
 void GpuScene::applyTransforms(gl::ProgramCache& programs) {
     if (!transformPending_) return;
-    const gl::Program& p = programs.compute("scene/transform.comp");
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_VERTICES, vbo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_PREV_VERTICES, (prevVbo_ ? prevVbo_ : vbo_).id());
+    if (copyPrevious_) {  // the last rendered frame's geometry first (setTransforms)
+        const gl::Program& c = programs.compute("scene/transform.comp", {{"RTGI_SCENE_COPY", "1"}});
+        const auto vertices = unsigned(vbo_.size() / std::int64_t(sizeof(GpuVertex)));
+        c.set(RTGI_SCENE_LOC_COUNT, vertices);
+        gl::dispatch(c, int(vertices));
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        copyPrevious_ = false;
+    }
+    const gl::Program& p = programs.compute("scene/transform.comp");
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_MOVABLE, movable_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_SCENE_SSBO_TRANSFORMS, transforms_.id());
     p.set(RTGI_SCENE_LOC_COUNT, unsigned(movableCount_));

@@ -128,7 +128,9 @@ private:
     // rigid_: the vertex buffer holds the rest pose outside the objects (no
     // direct rewrite since); prevRigid_: so does prevVbo_.
     bool rigid_ = true, prevRigid_ = false;
-    bool transformPending_ = false, writePrevious_ = false;
+    // copyPrevious_: applyTransforms copies the vertex buffer into prevVbo_
+    // (a dispatch) before the transform.
+    bool transformPending_ = false, writePrevious_ = false, copyPrevious_ = false;
     std::int64_t uploadedBytes_ = 0;
     gl::Texture textures_;
     int indexCount_ = 0, lightCount_ = 0, materialCount_ = 0;

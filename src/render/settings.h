@@ -106,7 +106,7 @@ struct LpvSettings {
     // Local lights' injection kept per cascade while nothing it depends on changed (docs/lights.md, "Injection cache").
     bool injectCache = true;
     bool jointCascades = false;  // lpv.propagate_cascades=joint: the cascades of an iteration in one dispatch (2.2x slower on an H100)
-    int geometryStride = 2;     // lpv.geometry_stride: G-buffer pixel stride (x and y) of the geometry injection
+    int geometryStride = 4;     // lpv.geometry_stride: G-buffer pixel stride (x and y) of the geometry injection
 };
 
 struct AoSettings {

@@ -727,18 +727,35 @@ public:
                 for (std::size_t i = i0; i < i0 + lpv::kJointCascades; ++i) st.cascades[i].lastStep = last;
             }
         }
-        for (std::size_t i = 0; i < st.cascades.size(); ++i) {
+        // The compute cascades propagate interleaved: each round steps every cascade once with one
+        // barrier, so the small dispatches of independent volumes can overlap (docs/lpv.md,
+        // "Interleaved cascades").
+        std::vector<std::pair<std::size_t, lpv::ComputePropagation>> compute;
+        compute.reserve(st.cascades.size());
+        for (std::size_t i = jointEnd; i < st.cascades.size(); ++i) {
             LpvCascade& c = st.cascades[i];
-            if (i < jointEnd) {
-                // Propagated jointly above.
-            } else if (ls.path == LpvSettings::Path::Raster) {
+            if (ls.path == LpvSettings::Path::Raster) {
                 c.lastStep = lpv::propagateRaster(ctx.programs, c.ubo, c.volumes, ls.iterations);
             } else {
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
-                c.lastStep = lpv::propagateCompute(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
-                                                   facesNeeded(ctx.settings), ls.fuse);
+                compute.emplace_back(i, lpv::ComputePropagation(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
+                                                                facesNeeded(ctx.settings), ls.fuse));
             }
+        }
+        for (bool more = !compute.empty(); more;) {
+            more = false;
+            bool first = true;
+            for (auto& [i, p] : compute) {
+                if (p.done()) continue;
+                p.step(first);
+                first = false;
+                more = more || !p.done();
+            }
+        }
+        for (auto& [i, p] : compute) st.cascades[i].lastStep = p.last();
+        for (std::size_t i = 0; i < st.cascades.size(); ++i) {
+            LpvCascade& c = st.cascades[i];
             c.result = &c.volumes.accum;
             c.resultHi = ls.shOrder == 2 ? &c.volumes.accumHi : nullptr;
             c.nearResult = i > 0 ? &c.volumes.near : nullptr;

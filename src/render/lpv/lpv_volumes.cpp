@@ -518,99 +518,110 @@ void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
 
 }  // namespace
 
-int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
-                     bool visibility, int fuse) {
-    const bool sh2 = v.shOrder == 2;
-    gl::Defines defines = formatDefines(v.format, v.shOrder);
-    if (visibility) defines.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
-    const gl::Program& prog = programs.compute("lpv/propagate.comp", defines);
+ComputePropagation::ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v,
+                                       int iterations, bool near, bool visibility, int fuse)
+    : programs_(programs), ubo_(ubo), v_(v), iterations_(iterations), near_(near), visibility_(visibility),
+      sh2_(v.shOrder == 2), defines_(formatDefines(v.format, v.shOrder)) {
+    if (visibility) defines_.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
     // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
-    int nearK = 0;
-    while (nearK + 1 <= iterations && cascadeNearWeight(nearK + 1, iterations) >= 1.0) ++nearK;
-    float nearF = nearK + 1 <= iterations ? float(cascadeNearWeight(nearK + 1, iterations)) : 0.0f;
-    auto nearStep = [&](int k) {
-        if (!near) return;
-        if (k == nearK) {
-            // Producer: lpv.pack (k = 0, step[0]) or the iteration k (accum), image stores.
-            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            copyVolume(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
-            if (sh2) copyVolume(k == 0 ? v.stepHi[0] : v.accumHi, v.nearHi, v.grid);
-        } else if (k == nearK + 1 && nearF > 0.0f) {
-            const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(v.format, v.shOrder));
-            // Producers: the copy above and iteration k's accum stores.
-            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                            GL_TEXTURE_UPDATE_BARRIER_BIT);
-            bindRgbTextures(v.accum, RTGI_LPV_TEX_SOURCE_R);
-            bindRgbImages(v.near, RTGI_LPV_IMG_NEAR_R, GL_READ_WRITE, v.format);
-            if (sh2) {
-                bindHiTextures(v.accumHi, RTGI_LPV_TEX_SOURCE_HI_R);
-                bindHiImages(v.nearHi, RTGI_LPV_IMG_NEAR_HI_R, GL_READ_WRITE, v.format);
-            }
-            mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF);
-            mix.set(RTGI_LPV_LOC_NEAR_OFFSET, 0);
-            gl::dispatch(mix, v.grid.x, v.grid.y, v.grid.z);
-        }
-    };
+    while (nearK_ + 1 <= iterations && cascadeNearWeight(nearK_ + 1, iterations) >= 1.0) ++nearK_;
+    nearF_ = nearK_ + 1 <= iterations ? float(cascadeNearWeight(nearK_ + 1, iterations)) : 0.0f;
+    // Fused: band 1 only, and not with the traced face openness (its reflected flux was
+    // written against the unfused step and is not covered by the fused-equals-unfused test).
+    maxFuse_ = sh2_ || visibility ? 1 : std::clamp(fuse, 1, kMaxFuse);
     bindUbo(ubo);
     nearStep(0);
-    if (sh2) {
+    if (sh2_) {
         // Band 2 sums in lpv/accumulate.comp: accum starts as step 0 (lpv.pack's image stores).
         glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         copyVolume(v.step[0], v.accum, v.grid);
         copyVolume(v.stepHi[0], v.accumHi, v.grid);
     }
-    int src = 0;
-    // Fused: band 1 only, and not with the traced face openness (its reflected flux was
-    // written against the unfused step and is not covered by the fused-equals-unfused test).
-    const int maxFuse = sh2 || visibility ? 1 : std::clamp(fuse, 1, kMaxFuse);
-    for (int k = 1; k <= iterations;) {
-        // Iterations k .. k + count - 1 in this dispatch: a chunk ends where the near part is
-        // copied (after step nearK) or mixed (step nearK + 1).
-        int count = std::min(maxFuse, iterations - k + 1);
-        if (near)
-            for (int e : {nearK, nearK + 1})
-                if (e >= k && e < k + count - 1) count = e - k + 1;
-        // Rebound every iteration: the near part's mix and the band-2 sum use units of their own.
-        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
-        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
-        glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
-        if (visibility) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.faces.id());
-        if (!sh2) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
-        int dst = 1 - src;
-        // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        bindRgbTextures(v.step[std::size_t(src)], RTGI_LPV_TEX_SRC_R);
-        bindRgbImages(v.step[std::size_t(dst)], RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, v.format);
-        if (sh2) {
-            bindHiTextures(v.stepHi[std::size_t(src)], RTGI_LPV_TEX_SRC_HI_R);
-            bindHiImages(v.stepHi[std::size_t(dst)], RTGI_LPV_IMG_DST_HI_R, GL_WRITE_ONLY, v.format);
+}
+
+void ComputePropagation::nearStep(int k) {
+    Volumes& v = v_;
+    if (!near_) return;
+    if (k == nearK_) {
+        // Producer: lpv.pack (k = 0, step[0]) or the iteration k (accum), image stores.
+        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        copyVolume(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
+        if (sh2_) copyVolume(k == 0 ? v.stepHi[0] : v.accumHi, v.nearHi, v.grid);
+    } else if (k == nearK_ + 1 && nearF_ > 0.0f) {
+        const gl::Program& mix = programs_.compute("lpv/near.comp", formatDefines(v.format, v.shOrder));
+        // Producers: the copy above and iteration k's accum stores.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                        GL_TEXTURE_UPDATE_BARRIER_BIT);
+        bindRgbTextures(v.accum, RTGI_LPV_TEX_SOURCE_R);
+        bindRgbImages(v.near, RTGI_LPV_IMG_NEAR_R, GL_READ_WRITE, v.format);
+        if (sh2_) {
+            bindHiTextures(v.accumHi, RTGI_LPV_TEX_SOURCE_HI_R);
+            bindHiImages(v.nearHi, RTGI_LPV_IMG_NEAR_HI_R, GL_READ_WRITE, v.format);
         }
-        if (count > 1) {
-            gl::Defines fd = defines;
-            fd.push_back({"RTGI_LPV_FUSE", std::to_string(maxFuse)});
-            const gl::Program& fused = programs.compute("lpv/propagate_fused.comp", fd);
-            fused.set(RTGI_LPV_LOC_ITERATION, k);
-            fused.set(RTGI_LPV_LOC_FUSED_COUNT, count);
-            gl::dispatch(fused, v.grid.x, v.grid.y, v.grid.z);
-        } else {
-            prog.set(RTGI_LPV_LOC_ITERATION, k);
-            gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
-        }
-        if (sh2) {
-            const gl::Program& acc = programs.compute("lpv/accumulate.comp", formatDefines(v.format));
-            // Producer: the step just written (image stores), read as textures here.
-            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            bindRgbTextures(v.step[std::size_t(dst)], RTGI_LPV_ACC_TEX_STEP_R);
-            bindHiTextures(v.stepHi[std::size_t(dst)], RTGI_LPV_ACC_TEX_STEP_HI_R);
-            bindRgbImages(v.accum, RTGI_LPV_ACC_IMG_ACCUM_R, GL_READ_WRITE, v.format);
-            bindHiImages(v.accumHi, RTGI_LPV_ACC_IMG_ACCUM_HI_R, GL_READ_WRITE, v.format);
-            gl::dispatch(acc, v.grid.x, v.grid.y, v.grid.z);
-        }
-        src = dst;
-        for (int j = k; j < k + count; ++j) nearStep(j);
-        k += count;
+        mix.set(RTGI_LPV_LOC_NEAR_FRACTION, nearF_);
+        mix.set(RTGI_LPV_LOC_NEAR_OFFSET, 0);
+        gl::dispatch(mix, v.grid.x, v.grid.y, v.grid.z);
     }
-    return src;
+}
+
+void ComputePropagation::step(bool leadingBarrier) {
+    Volumes& v = v_;
+    const int k = k_;
+    // Iterations k .. k + count - 1 in this dispatch: a chunk ends where the near part is
+    // copied (after step nearK) or mixed (step nearK + 1).
+    int count = std::min(maxFuse_, iterations_ - k + 1);
+    if (near_)
+        for (int e : {nearK_, nearK_ + 1})
+            if (e >= k && e < k + count - 1) count = e - k + 1;
+    // Rebound every step: the near part's mix and the band-2 sum use units of their own, and an
+    // interleaved cascade binds its own block and volumes in between.
+    bindUbo(ubo_);
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY, v.geometry.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_ALBEDO, v.geometryAlbedo.id());
+    glBindTextureUnit(RTGI_LPV_TEX_GEOMETRY_AXES, v.geometryAxes.id());
+    if (visibility_) glBindTextureUnit(RTGI_LPV_TEX_PROPAGATE_VISIBILITY, v.faces.id());
+    if (!sh2_) bindRgbImages(v.accum, RTGI_LPV_IMG_ACCUM_R, GL_READ_WRITE, v.format);
+    const int src = src_, dst = 1 - src;
+    // Producer: lpv.pack / the previous iteration (image stores into step[src] and accum).
+    if (leadingBarrier) glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    bindRgbTextures(v.step[std::size_t(src)], RTGI_LPV_TEX_SRC_R);
+    bindRgbImages(v.step[std::size_t(dst)], RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, v.format);
+    if (sh2_) {
+        bindHiTextures(v.stepHi[std::size_t(src)], RTGI_LPV_TEX_SRC_HI_R);
+        bindHiImages(v.stepHi[std::size_t(dst)], RTGI_LPV_IMG_DST_HI_R, GL_WRITE_ONLY, v.format);
+    }
+    if (count > 1) {
+        gl::Defines fd = defines_;
+        fd.push_back({"RTGI_LPV_FUSE", std::to_string(maxFuse_)});
+        const gl::Program& fused = programs_.compute("lpv/propagate_fused.comp", fd);
+        fused.set(RTGI_LPV_LOC_ITERATION, k);
+        fused.set(RTGI_LPV_LOC_FUSED_COUNT, count);
+        gl::dispatch(fused, v.grid.x, v.grid.y, v.grid.z);
+    } else {
+        const gl::Program& prog = programs_.compute("lpv/propagate.comp", defines_);
+        prog.set(RTGI_LPV_LOC_ITERATION, k);
+        gl::dispatch(prog, v.grid.x, v.grid.y, v.grid.z);
+    }
+    if (sh2_) {
+        const gl::Program& acc = programs_.compute("lpv/accumulate.comp", formatDefines(v.format));
+        // Producer: the step just written (image stores), read as textures here.
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        bindRgbTextures(v.step[std::size_t(dst)], RTGI_LPV_ACC_TEX_STEP_R);
+        bindHiTextures(v.stepHi[std::size_t(dst)], RTGI_LPV_ACC_TEX_STEP_HI_R);
+        bindRgbImages(v.accum, RTGI_LPV_ACC_IMG_ACCUM_R, GL_READ_WRITE, v.format);
+        bindHiImages(v.accumHi, RTGI_LPV_ACC_IMG_ACCUM_HI_R, GL_READ_WRITE, v.format);
+        gl::dispatch(acc, v.grid.x, v.grid.y, v.grid.z);
+    }
+    src_ = dst;
+    for (int j = k; j < k + count; ++j) nearStep(j);
+    k_ += count;
+}
+
+int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
+                     bool visibility, int fuse) {
+    ComputePropagation p(programs, ubo, v, iterations, near, visibility, fuse);
+    while (!p.done()) p.step();
+    return p.last();
 }
 
 std::vector<gl::NamedTextureDesc> jointTextures(glm::ivec3 g, GLenum format) {

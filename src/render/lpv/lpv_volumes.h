@@ -182,6 +182,30 @@ inline constexpr int kMaxFuse = 2;
 // the same steps; docs/lpv.md, "Fused propagation"), split where the near part is taken.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
                      bool near = false, bool visibility = false, int fuse = kMaxFuse);
+// propagateCompute one dispatch (chunk of iterations) at a time, so the caller can interleave the
+// cascades: step(leadingBarrier = false) issues no barrier before its dispatch, which lets it run
+// beside another cascade's step issued just before it (independent volumes); the barrier of the
+// first step of the next round covers both (docs/lpv.md, "Interleaved cascades").
+class ComputePropagation {
+public:
+    ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
+                       bool visibility, int fuse);
+    bool done() const { return k_ > iterations_; }
+    void step(bool leadingBarrier = true);
+    int last() const { return src_; }  // the last written step's index
+
+private:
+    void nearStep(int k);
+    gl::ProgramCache& programs_;
+    const gl::Buffer& ubo_;
+    Volumes& v_;
+    int iterations_;
+    bool near_, visibility_, sh2_;
+    gl::Defines defines_;
+    int nearK_ = 0;
+    float nearF_ = 0.0f;
+    int maxFuse_ = 1, k_ = 1, src_ = 0;
+};
 int propagateRaster(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations);
 
 // lpv.propagate_cascades=joint (docs/lpv.md, "Joint cascade propagation"): the step ping-pong and
