@@ -256,15 +256,9 @@ GpuScene::GpuScene(gl::MemoryLedger& ledger, const Scene& scene, const Settings&
     textures_.setSampling(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_REPEAT);
 }
 
-void GpuScene::keepAsPrevious() {
-    // A swap, not a copy: on NVIDIA (driver 580) glCopyNamedBufferSubData from
-    // the vertex buffer after a glNamedBufferSubData into it copied the
-    // buffer's storage from before that upload (the re-upload path's velocity
-    // used the rest pose as the previous frame, tests/gpu/test_transforms.cpp).
-    // The caller uploads the whole vertex buffer next; beginFrame rebinds both
-    // VAO bindings.
-    if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size());
-    std::swap(vbo_, prevVbo_);
+void GpuScene::copyToPrevious() {
+    if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size(), nullptr, 0);
+    glCopyNamedBufferSubData(vbo_.id(), prevVbo_.id(), 0, 0, vbo_.size());
     prevRigid_ = rigid_;
 }
 
@@ -272,12 +266,12 @@ void GpuScene::updateVertices(const Scene& scene) {
     std::vector<GpuVertex> verts = gpuVertices(scene);
     if (std::int64_t(verts.size() * sizeof(GpuVertex)) != vbo_.size())
         throw std::logic_error("GpuScene::updateVertices: the vertex count changed");
-    // The first rewrite since a rendered frame keeps that frame's geometry as
-    // the previous-vertex buffer (keepAsPrevious): later rewrites before the
-    // next frame replace states that were never rendered. A transform state
-    // still waiting for its dispatch to write the previous positions left the
-    // vertex buffer as the last frame rendered it: kept the same way.
-    if ((rendered_ && geometryVersion_ == renderedVersion_) || writePrevious_ || copyPrevious_) keepAsPrevious();
+    // The first rewrite since a rendered frame keeps that frame's geometry
+    // (a GPU copy, ordered before the upload): later rewrites before the next
+    // frame replace states that were never rendered. A transform state still
+    // waiting for its dispatch to write the previous positions left the
+    // vertex buffer as the last frame rendered it: copied the same way.
+    if ((rendered_ && geometryVersion_ == renderedVersion_) || writePrevious_ || copyPrevious_) copyToPrevious();
     transformPending_ = writePrevious_ = copyPrevious_ = false;  // this upload replaces the pending state
     vbo_.upload(verts.data(), vbo_.size());
     uploadedBytes_ += vbo_.size();
@@ -331,14 +325,15 @@ bool GpuScene::registerObjects(const Scene& scene, const std::vector<Vertex>& re
         std::memcpy(&of, &obj, 4);
         added.push_back({glm::vec4(r.position, vf), glm::vec4(r.normal, of)});
     }
-    // The whole list again from the CPU copy (no GPU buffer copy: see keepAsPrevious).
-    movableCpu_.insert(movableCpu_.end(), added.begin(), added.end());
-    const std::int64_t bytes = std::int64_t(movableCpu_.size() * sizeof(gpu::MovableVertex));
-    movable_ = gl::Buffer(*ledger_, "scene.movable_vertices", std::max<std::int64_t>(bytes, 16), nullptr,
-                          GL_DYNAMIC_STORAGE_BIT);
-    if (bytes > 0) movable_.upload(movableCpu_.data(), bytes);
-    uploadedBytes_ += bytes;
-    movableCount_ = std::uint32_t(movableCpu_.size());
+    const std::int64_t oldBytes = std::int64_t(movableCount_) * std::int64_t(sizeof(gpu::MovableVertex));
+    const std::int64_t addBytes = std::int64_t(added.size() * sizeof(gpu::MovableVertex));
+    gl::Buffer grown(*ledger_, "scene.movable_vertices", std::max<std::int64_t>(oldBytes + addBytes, 16), nullptr,
+                     GL_DYNAMIC_STORAGE_BIT);
+    if (oldBytes > 0) glCopyNamedBufferSubData(movable_.id(), grown.id(), 0, 0, oldBytes);
+    if (addBytes > 0) grown.upload(added.data(), addBytes, oldBytes);
+    uploadedBytes_ += addBytes;
+    movable_ = std::move(grown);
+    movableCount_ += std::uint32_t(added.size());
     for (auto* f : fresh) objects_.emplace(f->ranges, int(objects_.size()));
     return true;
 }
@@ -375,15 +370,15 @@ bool GpuScene::setTransforms(const Scene& scene, const std::vector<Vertex>& rest
         // buffer holds the rest pose elsewhere, else a copy of that frame's
         // geometry (the vertex buffer is unchanged until the dispatch).
         // The copy of a rigid buffer is a dispatch before the transform's
-        // (applyTransforms: the transform rewrites only the objects' vertices,
-        // so the buffer must stay whole); a direct rewrite is kept as the
-        // previous buffer now (keepAsPrevious), the rest pose uploaded whole below.
+        // (applyTransforms: a buffer copy was not ordered before the
+        // transform's stores on NVIDIA); a direct rewrite is copied now,
+        // before the rest pose is uploaded over it below.
         if (rigid_ && prevRigid_ && prevVbo_) writePrevious_ = true;
         else if (rigid_) {
-            if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size());
+            if (!prevVbo_) prevVbo_ = gl::Buffer(*ledger_, "scene.prev_vertices", vbo_.size(), nullptr, 0);
             copyPrevious_ = true;
             prevRigid_ = true;
-        } else keepAsPrevious();
+        } else copyToPrevious();
     }
     if (!rigid_) {  // a direct rewrite is in the buffer: back to rest + objects once
         std::vector<GpuVertex> verts = gpuVertices(scene);
@@ -433,7 +428,6 @@ void GpuScene::updateLights(const Scene& scene) {
 
 void GpuScene::beginFrame() {
     prevDistinct_ = rendered_ && geometryVersion_ != renderedVersion_;
-    glVertexArrayVertexBuffer(vao_.id(), 0, vbo_.id(), 0, sizeof(GpuVertex));  // keepAsPrevious swaps the two
     glVertexArrayVertexBuffer(vao_.id(), 1, previousVertices().id(), 0, sizeof(GpuVertex));
 }
 

@@ -50,9 +50,8 @@ public:
     // normals) or the punctual lights from the scene's current state; the
     // counts must not change.
     // Object motion: before the first rewrite after a rendered frame, the
-    // buffer becomes previousVertices() and the rewrite goes into the other
-    // buffer (a swap; allocated on the first move), so the G-buffer velocity
-    // holds camera and object motion.
+    // buffer is copied on the GPU into previousVertices() (allocated on the
+    // first move), so the G-buffer velocity holds camera and object motion.
     void updateVertices(const Scene& scene);
     // Object motion by transforms (docs/temporal.md, "Object motion"): `scene`
     // is a state whose vertices are `rest` moved by scene.motions (and rest
@@ -108,9 +107,8 @@ public:
 
 private:
     using Ranges = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
-    // The vertex buffer (the last rendered frame's geometry) becomes prevVbo_
-    // by a swap; the caller uploads the whole vertex buffer next.
-    void keepAsPrevious();
+    // Copies the vertex buffer (the last rendered frame's geometry) into prevVbo_.
+    void copyToPrevious();
     void uploadTransforms();
     bool registerObjects(const Scene& scene, const std::vector<Vertex>& rest);
     gl::VertexArrayHandle vao_;
@@ -126,7 +124,6 @@ private:
     std::vector<int> owner_;
     std::vector<glm::dmat4> objectMatrices_, renderedMatrices_;
     gl::Buffer movable_, transforms_;
-    std::vector<gpu::MovableVertex> movableCpu_;  // movable_'s contents, appended to as objects register
     std::uint32_t movableCount_ = 0;
     // rigid_: the vertex buffer holds the rest pose outside the objects (no
     // direct rewrite since); prevRigid_: so does prevVbo_.
