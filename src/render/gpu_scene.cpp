@@ -262,6 +262,19 @@ void GpuScene::copyToPrevious() {
     prevRigid_ = rigid_;
 }
 
+void GpuScene::uploadVertices(const std::vector<GpuVertex>& verts) {
+    // A new buffer holding the data, copied on the GPU, not glNamedBufferSubData
+    // into the vertex buffer: on NVIDIA (driver 580.159.04, H200) an update
+    // made before the first frame was undone by that frame (the buffer held
+    // the pose it was created with again, so the next frame's previous
+    // positions were wrong), with a glFinish, any barrier or
+    // glInvalidateBufferData around the update too; a staging copy was not
+    // (docs/temporal.md, "Object motion in the velocity").
+    gl::Buffer staging(*ledger_, "scene.vertices.staging", vbo_.size(), verts.data(), 0);
+    glCopyNamedBufferSubData(staging.id(), vbo_.id(), 0, 0, vbo_.size());
+    uploadedBytes_ += vbo_.size();
+}
+
 void GpuScene::updateVertices(const Scene& scene) {
     std::vector<GpuVertex> verts = gpuVertices(scene);
     if (std::int64_t(verts.size() * sizeof(GpuVertex)) != vbo_.size())
@@ -273,8 +286,7 @@ void GpuScene::updateVertices(const Scene& scene) {
     // vertex buffer as the last frame rendered it: copied the same way.
     if ((rendered_ && geometryVersion_ == renderedVersion_) || writePrevious_ || copyPrevious_) copyToPrevious();
     transformPending_ = writePrevious_ = copyPrevious_ = false;  // this upload replaces the pending state
-    vbo_.upload(verts.data(), vbo_.size());
-    uploadedBytes_ += vbo_.size();
+    uploadVertices(verts);
     rigid_ = false;
     ++geometryVersion_;
     ++stateVersion_;
@@ -381,9 +393,7 @@ bool GpuScene::setTransforms(const Scene& scene, const std::vector<Vertex>& rest
         } else copyToPrevious();
     }
     if (!rigid_) {  // a direct rewrite is in the buffer: back to rest + objects once
-        std::vector<GpuVertex> verts = gpuVertices(scene);
-        vbo_.upload(verts.data(), vbo_.size());
-        uploadedBytes_ += vbo_.size();
+        uploadVertices(gpuVertices(scene));
         rigid_ = true;
     }
     objectMatrices_ = std::move(m);

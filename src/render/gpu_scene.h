@@ -109,6 +109,8 @@ private:
     using Ranges = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
     // Copies the vertex buffer (the last rendered frame's geometry) into prevVbo_.
     void copyToPrevious();
+    // Replaces the whole vertex buffer (a staging buffer and a GPU copy).
+    void uploadVertices(const std::vector<GpuVertex>& verts);
     void uploadTransforms();
     bool registerObjects(const Scene& scene, const std::vector<Vertex>& rest);
     gl::VertexArrayHandle vao_;
