@@ -72,4 +72,6 @@ RTGI_STRUCT(AoParams) {
 #define RTGI_AO_LOC_SHADOW_TO_VIEW 1  // ao/ao.comp
 #define RTGI_AO_LOC_ACCUMULATE     0  // ao/nearfield.comp
 #define RTGI_AO_LOC_HISTORY_VALID  1  // ao/nearfield.comp
+#define RTGI_AO_RTAO_LOC_FILL_DEPTH  0  // ao/rtao.comp (ao.ray_rate > 1): float, relative depth difference
+#define RTGI_AO_RTAO_LOC_FILL_NORMAL 1  // ao/rtao.comp (ao.ray_rate > 1): float, minimum normal cosine
 #endif
