@@ -77,7 +77,7 @@ struct Surfaces {
 
 }  // namespace
 
-TEST_CASE("rtao ao.ray_rate: 1 is the default; the traced pixels of rates 2 and 4 are bit-identical to rate 1") {
+TEST_CASE("rtao ao.ray_rate: 1 is the default, and the traced pixels of rates 2 and 4 are bit-identical to rate 1") {
     // Rate 1 compiles the previous entry point's arithmetic unchanged (its own
     // main in rtao.comp); sparse rates run the same trace for the pixels that
     // trace, with the same per-pixel random sequence. So at every frame each
