@@ -166,8 +166,6 @@ shared float sAo[RTAO_TILE_PIXELS];
 #if AO_DIRECTIONAL
 shared vec4 sDir[RTAO_TILE_PIXELS];
 #endif
-shared uint sFallbackCount;             // pixels of the tile that trace their own rays (step 3)
-shared int sFallback[RTAO_TILE_PIXELS];  // their tile indices
 
 // The pixel of the block that traces this frame: rate 2 a checkerboard whose
 // parity flips each frame; rate 4 the quad's corners in the order (0,0),
@@ -195,7 +193,6 @@ void main() {
         ivec2 t = local + ivec2(k % RTAO_BLOCK.x, k / RTAO_BLOCK.x);
         sDepth[rtaoTileIndex(t)] = 0.0;
     }
-    if (gl_LocalInvocationIndex == 0u) sFallbackCount = 0u;
     ivec2 p = tileOrigin + traced;
     bool inside = all(lessThan(p, size));
     RtaoSurface s = inside ? rtaoSurface(p) : RtaoSurface(0.0, vec3(0.0), vec3(0.0, 0.0, 1.0));
@@ -212,11 +209,8 @@ void main() {
     barrier();
     // 2. Fill the block's other pixels from the traced pixels of their 3x3
     // neighbourhood in the tile whose surface continues theirs (the blur's
-    // edge stop). A pixel with none (a depth or crease edge, sky around)
-    // traces its own rays, so no value crosses an edge: it joins the tile's
-    // fallback list, traced in step 3 by all invocations together. Traced
-    // here, each of an invocation's 1-3 fills would be a divergent trace of
-    // the warp in turn (measured on an H200: rate 4 then took 1.75x rate 1).
+    // edge stop); a pixel with none (a depth or crease edge, sky around)
+    // traces its own rays, so no value crosses an edge.
     for (int k = 0; k < RTAO_RAY_RATE; ++k) {
         ivec2 t = local + ivec2(k % RTAO_BLOCK.x, k / RTAO_BLOCK.x);
         ivec2 u = tileOrigin + t;
@@ -240,23 +234,16 @@ void main() {
 #endif
                 ++n;
             }
+        RtaoValue w;
         if (n == 0) {
-            sFallback[atomicAdd(sFallbackCount, 1u)] = rtaoTileIndex(t);
-            continue;
-        }
-        RtaoValue w = RtaoValue(sum.a / float(n), sum.dir / float(n));
+            w = rtaoTrace(u, su);  // fallback: nothing compatible to borrow
+        } else {
+            w = RtaoValue(sum.a / float(n), sum.dir / float(n));
 #if AO_DIRECTIONAL == 1
-        w.dir.xyz = dot(w.dir.xyz, w.dir.xyz) > 1e-12 ? normalize(w.dir.xyz) : su.nView;
+            w.dir.xyz = dot(w.dir.xyz, w.dir.xyz) > 1e-12 ? normalize(w.dir.xyz) : su.nView;
 #endif
+        }
         rtaoStore(u, w);
-    }
-    // The list is complete.
-    barrier();
-    // 3. The fallbacks, one per invocation (same rays as at ray_rate 1).
-    for (uint f = gl_LocalInvocationIndex; f < sFallbackCount; f += gl_WorkGroupSize.x * gl_WorkGroupSize.y) {
-        int j = sFallback[f];
-        ivec2 u = tileOrigin + ivec2(j % RTAO_TILE.x, j / RTAO_TILE.x);
-        rtaoStore(u, rtaoTrace(u, rtaoSurface(u)));
     }
 }
 
