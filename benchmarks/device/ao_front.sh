@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # AO accuracy front (issue 25): cost of the AO chain (every ao.* pass, median
-# GPU ms over 100 frames) and RMSE against the ray-traced AO reference
+# GPU ms over 100 frames after 100 warm-up frames) and RMSE against the ray-traced AO reference
 # (reference=ao, 256 rays of length ao.radius per pixel, cached per view) at
 # 1080p on every named view of the atrium, the restaurant and the dragon, for
 # gtao (defaults), vbao (defaults chosen by benchmarks/ao_tune.py on the
