@@ -29,10 +29,8 @@
 // One invocation per block of RTAO_RAY_RATE pixels: 1x1, a pair 2x1, a quad
 // 2x2. Exactly one pixel of a block traces in a frame, so the threads of a
 // workgroup all trace (no idle lanes); the tile of a workgroup is 8x8 blocks.
-// The C++ side dispatches over blocks (ao_passes.cpp rtaoBlock).
-#define RTAO_BLOCK_X (RTAO_RAY_RATE == 1 ? 1 : 2)
-#define RTAO_BLOCK_Y (RTAO_RAY_RATE == 4 ? 2 : 1)
-const ivec2 RTAO_BLOCK = ivec2(RTAO_BLOCK_X, RTAO_BLOCK_Y);
+// The C++ side dispatches over blocks of the same size (ao_shared.h).
+const ivec2 RTAO_BLOCK = ivec2(RTGI_AO_RTAO_BLOCK_X(RTAO_RAY_RATE), RTGI_AO_RTAO_BLOCK_Y(RTAO_RAY_RATE));
 
 layout(local_size_x = 8, local_size_y = 8) in;
 

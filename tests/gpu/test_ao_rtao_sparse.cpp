@@ -6,6 +6,7 @@
 // or trace their own rays when none is.
 #include "ao_test_util.h"
 
+#include "render/ao/ao_params.h"  // ao_shared.h: the block size
 #include "render/filter.h"
 #include "render/reference/reference_passes.h"
 
@@ -29,7 +30,7 @@ bool traces(glm::ivec2 p, int rate, unsigned f) {
 }
 
 // A workgroup's tile of AO pixels: 8x8 invocations of one block each (1x1, 2x1, 2x2).
-glm::ivec2 tileSize(int rate) { return glm::ivec2(8) * glm::ivec2(rate == 1 ? 1 : 2, rate == 4 ? 2 : 1); }
+glm::ivec2 tileSize(int rate) { return glm::ivec2(8) * glm::ivec2(RTGI_AO_RTAO_BLOCK_X(rate), RTGI_AO_RTAO_BLOCK_Y(rate)); }
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 

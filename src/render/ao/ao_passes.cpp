@@ -280,6 +280,7 @@ private:
 // ---- ao.rtao ------------------------------------------------------------------
 // Ray-traced AO through the scene BVH (compute/ao/rtao.comp): the same slot in
 // the chain as ao.<variant>, so the blur / temporal / upsample stages filter it.
+// ao.ray_rate 2 / 4: one pixel of each block traces, the others are filled (docs/ao.md "Sparse rays").
 class RtaoPass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
@@ -317,8 +318,8 @@ public:
             .texture(RTGI_AO_RTAO_TEX_FULL_NORMAL, ctx.res.gbuffer.normal)
             .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
         if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
-        // One invocation per block of ao.ray_rate pixels (1x1, 2x1, 2x2; rtao.comp RTAO_BLOCK).
-        const glm::ivec2 block(s.rayRate == 1 ? 1 : 2, s.rayRate == 4 ? 2 : 1);
+        // One invocation per block of ao.ray_rate pixels.
+        const glm::ivec2 block(RTGI_AO_RTAO_BLOCK_X(s.rayRate), RTGI_AO_RTAO_BLOCK_Y(s.rayRate));
         gl::dispatch(prog, int(gl::groupCount(a.x, block.x)), int(gl::groupCount(a.y, block.y)));
         c.current = &out;
     }
