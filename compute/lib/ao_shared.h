@@ -72,4 +72,9 @@ RTGI_STRUCT(AoParams) {
 #define RTGI_AO_LOC_SHADOW_TO_VIEW 1  // ao/ao.comp
 #define RTGI_AO_LOC_ACCUMULATE     0  // ao/nearfield.comp
 #define RTGI_AO_LOC_HISTORY_VALID  1  // ao/nearfield.comp
+// ao.rtao: AO pixels per invocation (a block) in x and y at ao.ray_rate r: 1x1, 2x1, 2x2 (docs/ao.md "Sparse rays")
+#define RTGI_AO_RTAO_BLOCK_X(r) ((r) == 1 ? 1 : 2)
+#define RTGI_AO_RTAO_BLOCK_Y(r) ((r) == 4 ? 2 : 1)
+#define RTGI_AO_RTAO_LOC_FILL_DEPTH  0  // ao/rtao.comp (ao.ray_rate > 1): float, relative depth difference
+#define RTGI_AO_RTAO_LOC_FILL_NORMAL 1  // ao/rtao.comp (ao.ray_rate > 1): float, minimum normal cosine
 #endif

@@ -149,10 +149,13 @@ bool bvhTrace(vec3 o, vec3 d, float tMin, inout Hit hit, bool anyHit) {
                 continue;
             }
         }
+        // A pushed child's box was hit when pushed, against hit.t then. An
+        // any-hit trace has not changed hit.t since (it returns at its first
+        // hit), so the re-test would pass: only closest-hit traces repeat it.
         bool next = false;
         while (sp > 0) {
             node = stack[--sp];
-            if (bvhBox(node, o, invD, tMin, hit.t) < BVH_MISS) {
+            if (anyHit || bvhBox(node, o, invD, tMin, hit.t) < BVH_MISS) {
                 next = true;
                 break;
             }

@@ -2,15 +2,21 @@
 // the temporal blend of seed 000 listing 11, depth-aware upsampling.
 #pragma once
 
+// Whether a neighbour's surface (linear depth depthS, normal nS) continues
+// the centre's: not sky, relative depth difference at most depthThreshold,
+// normal cosine not below normalThreshold. The blur's edge stop and the
+// sparse ray-traced AO's fill (ao/rtao.comp) decide with it.
+bool surfaceCompatible(float depthC, float depthS, vec3 nC, vec3 nS, float depthThreshold, float normalThreshold) {
+    if (!(depthS > 0.0)) return false;  // sky
+    if (abs(depthS - depthC) > depthThreshold * depthC) return false;
+    return !(dot(nC, nS) < normalThreshold);  // a NaN normal does not stop (as the blur always did)
+}
+
 // Edge-preserving Gaussian tap weight ([FM08], seed 000 4.5): zero when the
-// relative depth difference exceeds depthThreshold or the normals diverge
-// below normalThreshold (cosine); the caller renormalizes.
+// tap's surface is not compatible with the centre's; the caller renormalizes.
 float bilateralWeight(float gaussian, float depthC, float depthS, vec3 nC, vec3 nS, float depthThreshold,
                       float normalThreshold) {
-    if (!(depthS > 0.0)) return 0.0;  // sky
-    if (abs(depthS - depthC) > depthThreshold * depthC) return 0.0;
-    if (dot(nC, nS) < normalThreshold) return 0.0;
-    return gaussian;
+    return surfaceCompatible(depthC, depthS, nC, nS, depthThreshold, normalThreshold) ? gaussian : 0.0;
 }
 
 // Seed 000 listing 11: history blend factor from the depth difference times

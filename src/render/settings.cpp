@@ -29,6 +29,12 @@ int parseGeometryStride(const std::string& v) {
     return x;
 }
 
+int parseRayRate(const std::string& v) {
+    int x = parseInt("ao.ray_rate", v, 1, 4);
+    if (x == 3) bad("ao.ray_rate", v, "1, 2 or 4");
+    return x;
+}
+
 float parseFloat(const std::string& key, const std::string& v, double lo, double hi) {
     char* end = nullptr;
     double x = std::strtod(v.c_str(), &end);
@@ -336,6 +342,9 @@ std::vector<SettingKey> buildKeys() {
             kAoThicknessMode[int(s.ao.thicknessMode)]),
         KEY("ao.rays", "rtao: rays per AO pixel and frame", "1..4", s.ao.rays = parseInt("ao.rays", v, 1, 4),
             fmt(s.ao.rays)),
+        KEY("ao.ray_rate", "rtao: one pixel in ray_rate traces per frame (2: checkerboard, 4: one per 2x2 quad, "
+            "rotating with the frame); the others take their compatible traced neighbours' value (docs/ao.md, "
+            "\"Sparse rays\")", "1|2|4", s.ao.rayRate = parseRayRate(v), fmt(s.ao.rayRate)),
         KEY("ao.probe", "dynamic radius probe size K", "4|9|20|328",
             s.ao.dynamicProbe = parseInt("ao.probe", v, 4, 328);
             if (s.ao.dynamicProbe != 4 && s.ao.dynamicProbe != 9 && s.ao.dynamicProbe != 20 &&

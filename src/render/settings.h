@@ -135,6 +135,7 @@ struct AoSettings {
     enum class ThicknessMode { Constant, Depth, Infinite } thicknessMode = ThicknessMode::Depth;
     float thickness = 0.08f;          // view units (constant) or a fraction of the sample's depth (depth)
     int rays = 2;                     // rtao: rays per AO pixel and frame
+    int rayRate = 1;                  // rtao: 1 in rayRate pixels traces per frame (1, 2, 4; docs/ao.md "Sparse rays")
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328
     bool dualCombineMin = false;      // dual radii: min instead of product (Loos & Sloan)
     bool blurAfterTemporal = false;   // ao.filter_chain=blur-temporal-blur ([Wes14])

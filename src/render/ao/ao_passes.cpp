@@ -280,6 +280,7 @@ private:
 // ---- ao.rtao ------------------------------------------------------------------
 // Ray-traced AO through the scene BVH (compute/ao/rtao.comp): the same slot in
 // the chain as ao.<variant>, so the blur / temporal / upsample stages filter it.
+// ao.ray_rate 2 / 4: one pixel of each block traces, the others are filled (docs/ao.md "Sparse rays").
 class RtaoPass final : public AoPassBase {
 public:
     using AoPassBase::AoPassBase;
@@ -297,8 +298,15 @@ public:
         int directional = int(s.directional);
         gl::Texture* dirTex = directionalTarget(ctx);
         bvh_.ensure(ctx, "ao.rtao.bvh");  // built once, rebuilt when the geometry moved
-        const gl::Program& prog =
-            ctx.programs.compute("ao/rtao.comp", {{"AO_DIRECTIONAL", std::to_string(directional)}});
+        const gl::Program& prog = ctx.programs.compute(
+            "ao/rtao.comp",
+            {{"AO_DIRECTIONAL", std::to_string(directional)}, {"RTAO_RAY_RATE", std::to_string(s.rayRate)}});
+        if (s.rayRate > 1) {
+            // The untraced pixels borrow only across what the blur does not blur across.
+            const BlurThresholds edge;
+            prog.set(RTGI_AO_RTAO_LOC_FILL_DEPTH, edge.depth);
+            prog.set(RTGI_AO_RTAO_LOC_FILL_NORMAL, edge.normal);
+        }
         c.bindParams(ctx);
         bvh_.bind(ctx);
         // Producers: ao.downsample (image stores), gbuffer.
@@ -310,7 +318,9 @@ public:
             .texture(RTGI_AO_RTAO_TEX_FULL_NORMAL, ctx.res.gbuffer.normal)
             .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
         if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(prog, a.x, a.y);
+        // One invocation per block of ao.ray_rate pixels.
+        const glm::ivec2 block(RTGI_AO_RTAO_BLOCK_X(s.rayRate), RTGI_AO_RTAO_BLOCK_Y(s.rayRate));
+        gl::dispatch(prog, int(gl::groupCount(a.x, block.x)), int(gl::groupCount(a.y, block.y)));
         c.current = &out;
     }
 
