@@ -147,6 +147,16 @@ float vbaoOccludedArc(uint occluded, float n) {
     return sum;
 }
 
+// Thickness of the column behind sample S (linear depth zS) with a second
+// depth layer z2 along the same view ray (docs/ao.md "Second depth layer"):
+// the column ends at the second surface, z2 - zS, when that surface lies
+// inside the ball |X - P| < R; otherwise (none, beyond the ball, or a layer
+// that belongs to another texel's surface: z2 <= zS) the thickness model's T.
+float vbaoLayerThickness(vec3 P, vec3 S, float zS, float z2, float R, float T) {
+    if (!(z2 > zS && z2 < 1e30)) return T;
+    return distance(S * (z2 / zS), P) < R ? z2 - zS : T;
+}
+
 // Parameter interval [t0, t1] of the column X(t) = S + t s (s unit, t in
 // [0, tMax]) inside the sphere |X - P| < R; false when it misses.
 bool vbaoColumnInSphere(vec3 D, vec3 s, float tMax, float R, out vec2 t) {

@@ -14,6 +14,10 @@
 //                                             variants: 0 free .. 1 occluded
 //                                             (camera depth: aoCameraPointOcclusion;
 //                                             light depth: the shadow map)
+//   float aoSceneDepth2(vec2 uv)              vbao with a second layer: linear depth
+//                                             of the nearest surface at least the
+//                                             thickness behind the first (texel of
+//                                             uv); none: 0 or FLT_MAX
 //   vec3  aoKernel(int i)                     unit-ball offset i (RTGI_AO_MAX_KERNEL)
 //   vec4  aoVoSample(int i)                   VO pair i: xy disk position, z half-
 //                                             length, w normalized volume weight
@@ -28,6 +32,7 @@
 #include "lib/sh.glsl"
 
 float aoSceneDepth(vec2 uv);
+float aoSceneDepth2(vec2 uv);
 float aoPointOcclusion(vec3 P, vec3 S, float R);
 vec3 aoKernel(int i);
 vec4 aoVoSample(int i);
@@ -242,9 +247,10 @@ float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise
 // thickness < 0: infinite (GTAO's assumption: everything below the horizon of
 // a sample within R is occluded, up to the hemisphere's edge). noise: x slice
 // rotation, y step jitter, z sector jitter. Visibility cosine-weighted and
-// self-normalized as gtao (vis / open).
+// self-normalized as gtao (vis / open). secondLayer: a finite thickness is
+// replaced per sample by the second layer's (vbaoLayerThickness).
 float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise, int slices, int steps,
-             float thickness, bool depthScaled) {
+             float thickness, bool depthScaled, bool secondLayer) {
     vec2 rUv = aoTextureRadius(R, d, cam.focal);
     vec3 V = normalize(-P);
     float vis = 0.0, open = 0.0;
@@ -272,6 +278,7 @@ float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise
                     b = sgn * PI;  // to the hemisphere's edge on this side
                 } else {
                     float T = depthScaled ? thickness * zS : thickness;
+                    if (secondLayer) T = vbaoLayerThickness(P, S, zS, aoSceneDepth2(uvS), R, T);
                     float lenS = length(S);
                     vec3 sHat = S / lenS;
                     vec2 t;
