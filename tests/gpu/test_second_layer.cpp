@@ -149,21 +149,22 @@ TEST_CASE_FIXTURE(GpuFixture, "second layer: box-on-plane, the layer under the b
     const glm::ivec2 size(64, 48);
     // Constant 0.25 m: the cube's back faces 0.25 m or more behind its front
     // are the second layer, closer exits (near the edges, through the bottom
-    // face on the plane) give the plane. Depth-scaled 0.05 (~0.25 m at 5 m).
+    // face on the plane) give the plane. Depth-scaled 0.05 (~0.25 m at 5 m);
+    // 2 m skips the cube's back faces and most of the plane behind it.
     for (auto [mode, t] : {std::pair{AoSettings::ThicknessMode::Constant, 0.25f},
                            std::pair{AoSettings::ThicknessMode::Depth, 0.05f},
                            std::pair{AoSettings::ThicknessMode::Constant, 2.0f}}) {
         CAPTURE(int(mode));
         CAPTURE(t);
         LayerCompare c = compareLayers(s, layerSettings(mode, t), size, true);
-        MESSAGE("separation " << t << (mode == AoSettings::ThicknessMode::Depth ? " x depth" : " m") << ": " << c.compared
+        MESSAGE("separation " << t << std::string(mode == AoSettings::ThicknessMode::Depth ? " x depth" : " m") << ": " << c.compared
                               << " pixels compared, " << c.mismatched << " mismatched, " << c.edge << " edge ties, "
                               << c.boxOverPlane << " box pixels with the plane behind, " << c.planeOnly
                               << " plane pixels with nothing behind");
         // Silhouette and threshold ties only (fill rule vs the ray's rounding).
         CHECK(c.edge <= size.x * size.y / 50);
         CHECK(c.mismatched == 0);
-        CHECK(c.boxOverPlane >= 20);  // the plane seen under the box
+        if (t < 1.0f) CHECK(c.boxOverPlane >= 20);  // the plane seen under the box (2 m skips most of it)
         CHECK(c.planeOnly >= 500);    // only the plane there: "none"
     }
 }
@@ -304,8 +305,8 @@ TEST_CASE_FIXTURE(GpuFixture, "second layer: vbao on a thin floating slab moves 
             double mean = 0;
             for (int i = 0; i < 16; ++i) mean += r[(mi * 2 + std::size_t(layer)) * 16 + std::size_t(i)] / 16.0;
             const double want = layer ? exact : thin;
-            MESSAGE((models[mi].depthScaled ? "depth-scaled" : "constant") << " thickness 0.05 at the slab, second layer "
-                    << (layer ? "on" : "off") << ": vbao " << mean << ", closed form " << want);
+            MESSAGE(std::string(models[mi].depthScaled ? "depth-scaled" : "constant") << " thickness 0.05 at the slab, second layer "
+                    << std::string(layer ? "on" : "off") << ": vbao " << mean << ", closed form " << want);
             // 128 steps: the band edges to ~half a step (test_ao_bitmask.cpp: within 0.02).
             CHECK(std::abs(mean - want) < 0.02);
         }
@@ -363,7 +364,7 @@ TEST_CASE_FIXTURE(GpuFixture, "second layer: settings, config errors and the all
             if (p->name() == name) return true;
         return false;
     };
-    auto ledgerHas = [](const Renderer& r, const std::string& label) {
+    auto ledgerHas = [](Renderer& r, const std::string& label) {
         for (auto& [name, bytes] : r.ledger().entries())
             if (name == label) return true;
         return false;
