@@ -147,16 +147,6 @@ float vbaoOccludedArc(uint occluded, float n) {
     return sum;
 }
 
-// Thickness of the column behind sample S (linear depth zS) with a second
-// depth layer z2 along the same view ray (docs/ao.md "Second depth layer"):
-// the column ends at the second surface, z2 - zS, when that surface lies
-// inside the ball |X - P| < R; otherwise (none, beyond the ball, or a layer
-// that belongs to another texel's surface: z2 <= zS) the thickness model's T.
-float vbaoLayerThickness(vec3 P, vec3 S, float zS, float z2, float R, float T) {
-    if (!(z2 > zS && z2 < 1e30)) return T;
-    return distance(S * (z2 / zS), P) < R ? z2 - zS : T;
-}
-
 // Parameter interval [t0, t1] of the column X(t) = S + t s (s unit, t in
 // [0, tMax]) inside the sphere |X - P| < R; false when it misses.
 bool vbaoColumnInSphere(vec3 D, vec3 s, float tMax, float R, out vec2 t) {
@@ -167,4 +157,21 @@ bool vbaoColumnInSphere(vec3 D, vec3 s, float tMax, float R, out vec2 t) {
     float q = sqrt(disc);
     t = vec2(max(-b - q, 0.0), min(-b + q, tMax));
     return t.x < t.y;
+}
+
+// Sectors of side sgn (+1 towards the marching direction) that the column
+// behind the surface point S (linear depth zS) occludes: S pushed away from
+// the camera along its view ray to depth zS + T, clipped to the ball
+// |X - P| < R (docs/ao.md "Visibility bitmask", "Thickness").
+uint vbaoColumnMask(vec3 P, vec3 V, vec3 S, float zS, float T, float R, float sgn, float nAngle, float jitter) {
+    float lenS = length(S);
+    vec3 sHat = S / lenS, D = S - P;
+    vec2 t;
+    if (!vbaoColumnInSphere(D, sHat, T * lenS / zS, R, t)) return 0u;
+    vec3 D0 = D + t.x * sHat, D1 = D + t.y * sHat;
+    float l0 = length(D0), l1 = length(D1);
+    if (l0 < 1e-6 || l1 < 1e-6) return 0u;
+    float a = sgn * acos(clamp(dot(D0 / l0, V), -1.0, 1.0));
+    float b = sgn * acos(clamp(dot(D1 / l1, V), -1.0, 1.0));
+    return vbaoSectorMask(min(a, b), max(a, b), nAngle, jitter);
 }

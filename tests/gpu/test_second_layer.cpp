@@ -199,35 +199,30 @@ TEST_CASE_FIXTURE(GpuFixture, "second layer: a surface closer than the separatio
 
 namespace {
 
-// The floating slab of test_ao_bitmask.cpp (receiver on the view axis at the
-// floor, normal = V): front face at depth df = Z0 - h - T over radii a..b,
-// extending T along the view rays, so its back face lies at depth Z0 - h on
-// the same rays. aoSceneDepth2 is that back face (the second layer with any
-// separation below T), nothing behind the floor.
+// Two floating slabs on the same view rays (receiver P on the view axis at
+// the floor, depth Z0, normal = V, as the slab of test_ao_bitmask.cpp): slab
+// A's front face at depth dA over radii a..b, extending TA along the view
+// rays; slab B, hidden behind A, from depth dB to dB + TB on the same rays.
+// The first layer sees A and the floor; the second layer (separation TA) is
+// B's front face under A, nothing elsewhere. vbao's thickness model gives A
+// exactly its column TA; the second layer adds B's column.
 const char* kSlabSource = R"(
 #include "lib/ao_estimators.glsl"
 layout(local_size_x = 1) in;
-struct Case { vec4 slab; vec4 params; vec4 noise; };  // slab: Z0, h, T, a; params: b, R, thickness, second layer
+struct Case { vec4 slab; vec4 params; vec4 noise; };  // slab: Z0, dA, dB, a; params: b, R, thickness, second layer
 layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
 layout(std430, binding = 1) writeonly buffer Out { float results[]; };
 const float kTanHalf = 0.57735027;
 const float kAspect = 1.5;
 uint gCase;
 
-bool onSlab(vec2 uv, out float df) {
+bool onSlab(vec2 uv) {
     Case c = cases[gCase];
-    df = c.slab.x - c.slab.y - c.slab.z;
-    float rf = df * length(viewPositionFromDepth(uv, 1.0, kTanHalf, kAspect).xy);
+    float rf = c.slab.y * length(viewPositionFromDepth(uv, 1.0, kTanHalf, kAspect).xy);
     return rf >= c.slab.w && rf <= c.params.x;
 }
-float aoSceneDepth(vec2 uv) {
-    float df;
-    return onSlab(uv, df) ? df : cases[gCase].slab.x;
-}
-float aoSceneDepth2(vec2 uv) {
-    float df;
-    return onSlab(uv, df) ? df + cases[gCase].slab.z : 3.402823e38;
-}
+float aoSceneDepth(vec2 uv) { return onSlab(uv) ? cases[gCase].slab.y : cases[gCase].slab.x; }
+float aoSceneDepth2(vec2 uv) { return onSlab(uv) ? cases[gCase].slab.z : 3.402823e38; }
 AoCamera camera() {
     float cot = 1.0 / kTanHalf;
     return AoCamera(vec2(cot / kAspect, cot), kTanHalf, kAspect, vec2(480.0, 320.0));
@@ -251,38 +246,49 @@ struct SlabCase {
     glm::vec4 slab, params, noise;
 };
 
-// Closed form (CPU, double) of the visible fraction under a slab whose column
-// behind each front point has length L (L = T: the true slab): from P the
-// slab's cross-section is the quadrilateral of its front edge (radii a, b at
-// height h + T above P) and the column ends (radii scaled by (df + L)/df at
-// height h + T - L); it covers tan(theta) from the front inner corner
-// a/(h + T) to the far outer corner b (df + L) / (df (h + T - L)), and the
-// cosine-weighted visible fraction is 1 - (sin^2 t2 - sin^2 t1).
-double slabVisible(double Z0, double h, double T, double a, double b, double L) {
+// Closed form (CPU, double). A slab on the view rays through the front radii
+// a..b at depth dA, occupying depths [z0, z1] along them, is seen from P
+// (height Z0 - z above it, lateral radius r z / dA) over
+// tan(theta) in [a z0 / (dA (Z0 - z0)), b z1 / (dA (Z0 - z1))] (its nearest
+// inner and farthest outer corners); the cosine-weighted occluded fraction
+// of an interval is sin^2 t2 - sin^2 t1, of a union the measure of the union.
+double slabsVisible(double Z0, double dA, double a, double b, std::vector<std::pair<double, double>> slabs) {
     auto sin2 = [](double t) { return t * t / (1 + t * t); };
-    double df = Z0 - h - T;
-    double t1 = a / (h + T), t2 = b * (df + L) / (df * (h + T - L));
-    return 1.0 - (sin2(t2) - sin2(t1));
+    std::vector<std::pair<double, double>> iv;
+    for (auto [z0, z1] : slabs) iv.push_back({sin2(a * z0 / (dA * (Z0 - z0))), sin2(b * z1 / (dA * (Z0 - z1)))});
+    std::sort(iv.begin(), iv.end());
+    double occluded = 0, lo = iv[0].first, hi = iv[0].second;
+    for (std::size_t i = 1; i < iv.size(); ++i) {
+        if (iv[i].first > hi) {
+            occluded += hi - lo;
+            lo = iv[i].first;
+        }
+        hi = std::max(hi, iv[i].second);
+    }
+    return 1.0 - (occluded + hi - lo);
 }
 
 }  // namespace
 
-TEST_CASE_FIXTURE(GpuFixture, "second layer: vbao on a thin floating slab moves from the thickness model to the slab's true thickness") {
-    const double Z0 = 1.5, h = 0.4, T = 0.15, a = 0.25, b = 0.5, R = 1.0;
-    const double df = Z0 - h - T;
-    // Thickness models thinner than the slab: constant 0.05, depth-scaled
-    // 0.05 / df (the same 0.05 at the slab's depth).
+TEST_CASE_FIXTURE(GpuFixture, "second layer: vbao adds the hidden slab's column (closed form)") {
+    // Slab A as in test_ao_bitmask.cpp (front at 0.95, 0.15 thick, radii
+    // 0.25..0.5, floor at 1.5, R 1); slab B 0.2 behind A's front (beyond the
+    // separation 0.15), 0.15 thick, entirely within R of P.
+    const double Z0 = 1.5, dA = 0.95, TA = 0.15, dB = 1.15, a = 0.25, b = 0.5, R = 1.0;
+    // Constant thickness TA, and depth-scaled TA / dA (TA at A; B's column
+    // then reaches dB + TA dB / dA).
     struct Model {
         double thickness;
         bool depthScaled;
+        double TB;
     };
-    const Model models[] = {{0.05, false}, {0.05 / df, true}};
+    const Model models[] = {{TA, false, TA}, {TA / dA, true, TA * dB / dA}};
     std::vector<SlabCase> cases;
     for (const Model& m : models)
         for (int layer = 0; layer < 2; ++layer)
             for (int i = 0; i < 16; ++i) {
                 glm::vec3 j(std::fmod(0.618034 * i + 0.1, 1.0), (i + 0.5) / 16.0, ((7 * i) % 16 + 0.5) / 16.0);
-                cases.push_back({{float(Z0), float(h), float(T), float(a)},
+                cases.push_back({{float(Z0), float(dA), float(dB), float(a)},
                                  {float(b), float(R), float(m.thickness), float(layer)},
                                  {j, m.depthScaled ? 1.0f : 0.0f}});
             }
@@ -298,18 +304,21 @@ TEST_CASE_FIXTURE(GpuFixture, "second layer: vbao on a thin floating slab moves 
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> r(cases.size());
     out.download(r.data(), std::int64_t(r.size() * sizeof(float)));
-    const double thin = slabVisible(Z0, h, T, a, b, 0.05), exact = slabVisible(Z0, h, T, a, b, T);
-    CHECK(thin - exact > 0.1);  // the two answers are far apart (0.646 vs 0.494)
-    for (std::size_t mi = 0; mi < 2; ++mi)
+    const double onlyA = slabsVisible(Z0, dA, a, b, {{dA, dA + TA}});
+    CHECK(onlyA == doctest::Approx(0.494348).epsilon(1e-5));  // test_ao_bitmask.cpp's slab
+    for (std::size_t mi = 0; mi < 2; ++mi) {
+        const double both = slabsVisible(Z0, dA, a, b, {{dA, dA + TA}, {dB, dB + models[mi].TB}});
+        CHECK(onlyA - both > 0.2);  // B matters: 0.494 vs 0.250 (constant)
         for (int layer = 0; layer < 2; ++layer) {
             double mean = 0;
             for (int i = 0; i < 16; ++i) mean += r[(mi * 2 + std::size_t(layer)) * 16 + std::size_t(i)] / 16.0;
-            const double want = layer ? exact : thin;
-            MESSAGE(std::string(models[mi].depthScaled ? "depth-scaled" : "constant") << " thickness 0.05 at the slab, second layer "
+            const double want = layer ? both : onlyA;
+            MESSAGE(std::string(models[mi].depthScaled ? "depth-scaled" : "constant") << " thickness, second layer "
                     << std::string(layer ? "on" : "off") << ": vbao " << mean << ", closed form " << want);
             // 128 steps: the band edges to ~half a step (test_ao_bitmask.cpp: within 0.02).
             CHECK(std::abs(mean - want) < 0.02);
         }
+    }
 }
 
 TEST_CASE_FIXTURE(GpuFixture, "second layer: AO changes only with the layer; the frame stays finite") {
