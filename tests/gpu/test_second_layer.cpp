@@ -321,7 +321,7 @@ TEST_CASE_FIXTURE(GpuFixture, "second layer: vbao adds the hidden slab's column 
     }
 }
 
-TEST_CASE_FIXTURE(GpuFixture, "second layer: AO changes only with the layer; the frame stays finite") {
+TEST_CASE_FIXTURE(GpuFixture, "second layer: AO only darkens with the layer and the frame stays finite") {
     Scene s = loadSceneSpec("builtin:box-on-plane");
     Settings on = layerSettings(AoSettings::ThicknessMode::Depth, 0.02f);
     on.ao.radius = 1.0f;
