@@ -4,10 +4,11 @@
 # (reference=ao, 256 rays of length ao.radius per pixel, cached per view) at
 # 1080p on every named view of the atrium, the restaurant and the dragon, for
 # gtao (defaults), vbao (defaults chosen by benchmarks/ao_tune.py on the
-# training views; and at 8 samples) and rtao (1 and 2 rays half resolution, 4
-# rays full resolution; sparse, half resolution: ao.ray_rate 2 and 4 at 1 ray,
-# 4 at 2 rays): benchmarks/sweeps/ao-front.json, 8 views x 9
-# configurations = 72 runs (~2-3 s each on an H100/H200). Training views:
+# training views; also with ao.second_layer=on, whose visibility.layer2 pass
+# counts as AO chain cost) and rtao (1 ray half resolution, also without the
+# blur and sparse: ao.ray_rate 2 and 4; 4 rays full resolution):
+# benchmarks/sweeps/ao-front.json, 8 views x 8 configurations = 64 runs
+# (~2-3 s each on an H100/H200). Training views:
 # atrium court, restaurant entrance, dragon front; the other five are held
 # out ("held_out" in the sweep; report.py's train/test table).
 # Run from the repo root with BENCH, OUT and SCENES set by the caller:
@@ -26,8 +27,8 @@ for line in open(sys.argv[1]):
     r = json.loads(line)
     if "error" not in r or "passes" not in r: continue
     c = r["sweep"]["set"]
-    name = " ".join("%s=%s" % (k, c[k]) for k in ("ao", "ao.samples", "ao.rays", "ao.ray_rate", "ao.resolution") if k in c)
-    ms = sum(p["gpu_ms"]["median"] for p in r["passes"] if p["name"].startswith("ao."))
+    name = " ".join("%s=%s" % (k, c[k]) for k in ("ao", "ao.samples", "ao.rays", "ao.ray_rate", "ao.blur", "ao.resolution", "ao.second_layer") if k in c)
+    ms = sum(p["gpu_ms"]["median"] for p in r["passes"] if p["name"].startswith("ao.") or p["name"] == "visibility.layer2")
     held = bool(r["sweep"].get("held_out"))
     view = "%s/%s" % (r["sweep"].get("scene_label", "?"), r["sweep"].get("view", "?"))
     print("| %s | %s | %s | %.3f | %.4f | %+.4f | %s |" % (view, name, "yes" if held else "train", ms,

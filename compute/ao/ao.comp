@@ -4,6 +4,7 @@
 //   AO_DIRECTIONAL   0 off, 1 bent normals (seed 000 eq. 17), 2 S3HO band 0-1 SH
 //   AO_RADIUS        0 fixed, 1 dual radii, 2 dynamic (scale image from ao.radius)
 //   AO_DEPTH_LIGHT   1: point tests against the sun's shadow map (seed 003 4.1)
+//   AO_SECOND_LAYER  1: vbao columns end at the second depth layer (ao.second_layer)
 // A thin entry point: it binds the inputs, defines the scene accessors that
 // lib/ao_estimators.glsl declares (depth along a ray, the point test, the
 // sample sets) and calls the estimator; the estimators are pure functions there.
@@ -28,6 +29,9 @@
 #ifndef AO_DEPTH_LIGHT
 #define AO_DEPTH_LIGHT 0
 #endif
+#ifndef AO_SECOND_LAYER
+#define AO_SECOND_LAYER 0  // 1: vbao reads gbuffer.linearDepth2 (visibility.layer2)
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -38,6 +42,7 @@ layout(binding = RTGI_AO_ESTIMATE_TEX_NOISE) uniform sampler2DArray uNoise;
 layout(binding = RTGI_AO_TEX_RADIUS_SCALE) uniform sampler2D uRadiusScale;
 layout(binding = RTGI_AO_TEX_SHADOW_MAP) uniform sampler2D uShadowMap;
 layout(binding = RTGI_AO_ESTIMATE_TEX_ALBEDO) uniform sampler2D uAlbedo;   // full resolution (gtao multi-bounce)
+layout(binding = RTGI_AO_ESTIMATE_TEX_DEPTH2) uniform sampler2D uDepth2;  // full-resolution second layer (AO_SECOND_LAYER)
 layout(r16f, binding = RTGI_AO_IMG_AO) uniform writeonly image2D uAo;
 layout(rgba16f, binding = RTGI_AO_IMG_DIRECTIONAL) uniform writeonly image2D uDirectional;
 layout(location = RTGI_AO_LOC_VIEW_TO_SHADOW) uniform mat4 uViewToShadow;  // shadowViewProj * invView
@@ -72,6 +77,17 @@ float sceneDepthAlongRay(vec2 uv) {
 
 // ---- the scene accessors of lib/ao_estimators.glsl ----
 float aoSceneDepth(vec2 uv) { return sceneDepthAlongRay(uv); }
+// The second layer's texel under uv (full resolution: with ao.resolution=half
+// it may belong to another surface than the half-resolution sample; the
+// library then falls back to the thickness, z2 <= zS).
+float aoSceneDepth2(vec2 uv) {
+#if AO_SECOND_LAYER
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return 0.0;
+    return texelFetch(uDepth2, ivec2(uv * vec2(textureSize(uDepth2, 0))), 0).r;
+#else
+    return 0.0;
+#endif
+}
 vec3 aoKernel(int i) { return ao.kernel[i].xyz; }
 vec4 aoVoSample(int i) { return ao.voSamples[i]; }
 AoCamera aoCamera() { return AoCamera(ao.focal.xy, tanHalfFov(), aspect(), vec2(aoSize())); }
@@ -114,7 +130,8 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     return vis;
 #elif AO_VARIANT == RTGI_AO_VBAO
     // Sector jitter from the noise's third channel (unbiased quantization over frames).
-    float vis = aoVbao(cam, uv, P, n, d, R, bn.xyz, ao.counts.y, ao.counts.z, ao.bitmask.x, ao.bitmask.y != 0.0);
+    float vis = aoVbao(cam, uv, P, n, d, R, bn.xyz, ao.counts.y, ao.counts.z, ao.bitmask.x, ao.bitmask.y != 0.0,
+                      AO_SECOND_LAYER != 0);
     if (ao.flags.z != 0) vis = gtaoMultiBounce(vis, luminance(texture(uAlbedo, uv).rgb));
     return vis;
 #else

@@ -158,3 +158,20 @@ bool vbaoColumnInSphere(vec3 D, vec3 s, float tMax, float R, out vec2 t) {
     t = vec2(max(-b - q, 0.0), min(-b + q, tMax));
     return t.x < t.y;
 }
+
+// Sectors of side sgn (+1 towards the marching direction) that the column
+// behind the surface point S (linear depth zS) occludes: S pushed away from
+// the camera along its view ray to depth zS + T, clipped to the ball
+// |X - P| < R (docs/ao.md "Visibility bitmask", "Thickness").
+uint vbaoColumnMask(vec3 P, vec3 V, vec3 S, float zS, float T, float R, float sgn, float nAngle, float jitter) {
+    float lenS = length(S);
+    vec3 sHat = S / lenS, D = S - P;
+    vec2 t;
+    if (!vbaoColumnInSphere(D, sHat, T * lenS / zS, R, t)) return 0u;
+    vec3 D0 = D + t.x * sHat, D1 = D + t.y * sHat;
+    float l0 = length(D0), l1 = length(D1);
+    if (l0 < 1e-6 || l1 < 1e-6) return 0u;
+    float a = sgn * acos(clamp(dot(D0 / l0, V), -1.0, 1.0));
+    float b = sgn * acos(clamp(dot(D1 / l1, V), -1.0, 1.0));
+    return vbaoSectorMask(min(a, b), max(a, b), nAngle, jitter);
+}

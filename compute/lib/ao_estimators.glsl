@@ -14,6 +14,10 @@
 //                                             variants: 0 free .. 1 occluded
 //                                             (camera depth: aoCameraPointOcclusion;
 //                                             light depth: the shadow map)
+//   float aoSceneDepth2(vec2 uv)              vbao with a second layer: linear depth
+//                                             of the nearest surface at least the
+//                                             thickness behind the first (texel of
+//                                             uv); none: 0 or FLT_MAX
 //   vec3  aoKernel(int i)                     unit-ball offset i (RTGI_AO_MAX_KERNEL)
 //   vec4  aoVoSample(int i)                   VO pair i: xy disk position, z half-
 //                                             length, w normalized volume weight
@@ -28,6 +32,7 @@
 #include "lib/sh.glsl"
 
 float aoSceneDepth(vec2 uv);
+float aoSceneDepth2(vec2 uv);
 float aoPointOcclusion(vec3 P, vec3 S, float R);
 vec3 aoKernel(int i);
 vec4 aoVoSample(int i);
@@ -242,9 +247,10 @@ float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise
 // thickness < 0: infinite (GTAO's assumption: everything below the horizon of
 // a sample within R is occluded, up to the hemisphere's edge). noise: x slice
 // rotation, y step jitter, z sector jitter. Visibility cosine-weighted and
-// self-normalized as gtao (vis / open).
+// self-normalized as gtao (vis / open). secondLayer: with a finite thickness,
+// the second layer's surface behind each sample adds its own column.
 float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise, int slices, int steps,
-             float thickness, bool depthScaled) {
+             float thickness, bool depthScaled, bool secondLayer) {
     vec2 rUv = aoTextureRadius(R, d, cam.focal);
     vec3 V = normalize(-P);
     float vis = 0.0, open = 0.0;
@@ -263,26 +269,22 @@ float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise
                 float zS = aoSceneDepth(uvS);
                 if (isSky(zS)) continue;
                 vec3 S = aoViewPosAt(cam, uvS, zS);
-                vec3 D = S - P;
-                float a, b;
                 if (thickness < 0.0) {
+                    vec3 D = S - P;
                     float dist = length(D);
                     if (dist >= R || dist < 1e-6) continue;
-                    a = sgn * acos(clamp(dot(D / dist, V), -1.0, 1.0));
-                    b = sgn * PI;  // to the hemisphere's edge on this side
-                } else {
-                    float T = depthScaled ? thickness * zS : thickness;
-                    float lenS = length(S);
-                    vec3 sHat = S / lenS;
-                    vec2 t;
-                    if (!vbaoColumnInSphere(D, sHat, T * lenS / zS, R, t)) continue;
-                    vec3 D0 = D + t.x * sHat, D1 = D + t.y * sHat;
-                    float l0 = length(D0), l1 = length(D1);
-                    if (l0 < 1e-6 || l1 < 1e-6) continue;
-                    a = sgn * acos(clamp(dot(D0 / l0, V), -1.0, 1.0));
-                    b = sgn * acos(clamp(dot(D1 / l1, V), -1.0, 1.0));
+                    float a = sgn * acos(clamp(dot(D / dist, V), -1.0, 1.0));
+                    // to the hemisphere's edge on this side
+                    occluded |= vbaoSectorMask(min(a, sgn * PI), max(a, sgn * PI), nAngle, noise.z);
+                    continue;
                 }
-                occluded |= vbaoSectorMask(min(a, b), max(a, b), nAngle, noise.z);
+                occluded |= vbaoColumnMask(P, V, S, zS, depthScaled ? thickness * zS : thickness, R, sgn, nAngle, noise.z);
+                // The second layer: a surface the depth buffer hides, at least the
+                // thickness behind S, with a column of its own (docs/ao.md "Second depth layer").
+                float z2 = secondLayer ? aoSceneDepth2(uvS) : 0.0;
+                if (z2 > zS && z2 < 1e30)
+                    occluded |= vbaoColumnMask(P, V, S * (z2 / zS), z2, depthScaled ? thickness * z2 : thickness, R, sgn,
+                                               nAngle, noise.z);
             }
         }
         float full = vbaoArc(nAngle + HALF_PI, nAngle) - vbaoArc(nAngle - HALF_PI, nAngle);

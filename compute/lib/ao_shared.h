@@ -51,6 +51,7 @@ RTGI_STRUCT(AoParams) {
 #define RTGI_AO_TEX_RADIUS_SCALE     3  // ao/ao.comp
 #define RTGI_AO_TEX_SHADOW_MAP       4  // ao/ao.comp
 #define RTGI_AO_ESTIMATE_TEX_ALBEDO  5  // ao/ao.comp
+#define RTGI_AO_ESTIMATE_TEX_DEPTH2  6  // ao/ao.comp (gbuffer.linearDepth2, AO_SECOND_LAYER)
 #define RTGI_AO_NEARFIELD_TEX_ALBEDO 2  // ao/nearfield.comp
 #define RTGI_AO_RTAO_TEX_FULL_DEPTH  2  // ao/rtao.comp (the G-buffer's, at half resolution)
 #define RTGI_AO_RTAO_TEX_FULL_NORMAL 3  // ao/rtao.comp

@@ -93,6 +93,32 @@ void visClear(uint pixel) {
 #endif
 }
 
+// ---- second depth layer (RTGI_VISIBILITY_LAYER2; docs/ao.md "Second depth layer") ----
+// The same setup and tile kernels over the first layer's bins, keeping per
+// pixel the nearest fragment farther than the first layer's linear depth
+// plus a minimum separation (deep G-buffers, Mara et al. 2016). Only a depth
+// is kept, so one 32-bit atomicMin on the positive float bits serves every
+// driver (no id, no second phase).
+#ifdef RTGI_VISIBILITY_LAYER2
+layout(binding = RTGI_VISIBILITY_IMG_LAYER1, r32f) uniform readonly image2D visLayer1;
+layout(binding = RTGI_VISIBILITY_IMG_LAYER2, r32ui) uniform uimage2D visLayer2;
+layout(location = RTGI_VISIBILITY_LOC_LAYER2) uniform vec4 uLayer2;
+
+// View-space distance along -z of window depth zw under a perspective
+// projection P: z_ndc = -P22 + P32 / L, so L = P32 / (z_ndc + P22).
+double visLinearDepth(double zw) { return double(uLayer2.w) / (2.0LF * zw - 1.0LF + double(uLayer2.z)); }
+
+void visWriteLayer2(ivec2 pixel, double zw) {
+    float z1 = imageLoad(visLayer1, pixel).r;
+    if (!(z1 > 0.0)) return;  // sky in the first layer
+    float separation = uLayer2.y != 0.0 ? uLayer2.x * z1 : uLayer2.x;
+    float z = float(visLinearDepth(zw));
+    if (!(z > z1 + separation)) return;
+    uint bits = floatBitsToUint(z);  // positive floats order as their bits
+    if (bits < imageLoad(visLayer2, pixel).r) imageAtomicMin(visLayer2, pixel, bits);
+}
+#endif
+
 // ---- clipping ---------------------------------------------------------------------------
 // Signed distance of a clip-space vertex to plane k (>= 0 inside): the near
 // plane z >= -w as the hardware clips it, then a guard band of
@@ -255,8 +281,12 @@ void visRasterPixel(VisRasterTri t, int x, int y) {
     double zd = double(t.z.x) + b1 * double(t.z.y - t.z.x) + b2 * double(t.z.z - t.z.x);
     float z = float(zd);
     if (z < 0.0 || z > 1.0) return;  // far plane (and near after rounding), as clipping does
+#ifdef RTGI_VISIBILITY_LAYER2
+    visWriteLayer2(ivec2(x, y), zd);
+#else
     if (t.bias != 0.0) z = clamp(z + t.bias, 0.0, 1.0);
     visWrite(uint(y) * uint(uSize.x) + uint(x), z, t.id);
+#endif
 }
 
 // ---- large-triangle records (setup -> bin -> tile) ---------------------------------------

@@ -23,6 +23,9 @@
 #define RTGI_VISIBILITY_IMG_VELOCITY 5
 #define RTGI_VISIBILITY_IMG_RSM_FLUX 0
 #define RTGI_VISIBILITY_IMG_RSM_NORMAL 1
+// ---- images of the second depth layer (RTGI_VISIBILITY_LAYER2: setup.comp and tile.comp) ----
+#define RTGI_VISIBILITY_IMG_LAYER1 0      // r32f gbuffer.linearDepth (read)
+#define RTGI_VISIBILITY_IMG_LAYER2 1      // gbuffer.linearDepth2 (R32F) as r32ui: atomicMin on positive float bits
 // ---- uniform locations ------------------------------------------------------------
 #define RTGI_VISIBILITY_LOC_VIEW_PROJ 0     // mat4 (locations 0..3): world -> clip of the rasterized view
 #define RTGI_VISIBILITY_LOC_SIZE 4         // ivec2 target size in pixels
@@ -32,6 +35,7 @@
 #define RTGI_VISIBILITY_LOC_CAPACITY 8     // ivec2 (large-triangle capacity, bin-node capacity)
 #define RTGI_VISIBILITY_LOC_RSM_LIGHT 9    // visibility/rsm_resolve.comp (RTGI_RSM_LOCAL): vec4[4] GpuLight, locations 9-12
 #define RTGI_VISIBILITY_LOC_RSM_FACE 13    // visibility/rsm_resolve.comp (RTGI_RSM_LOCAL): vec2 tan(half fov), RSM side
+#define RTGI_VISIBILITY_LOC_LAYER2 14     // RTGI_VISIBILITY_LAYER2: vec4 (separation, 1 = x first-layer depth, P[2][2], P[3][2])
 #define RTGI_VISIBILITY_FLAG_DEPTH_BIAS 1  // glPolygonOffset(1.5, 2) of the shadow map
 #define RTGI_VISIBILITY_FLAG_CULL_BACK 2   // back-face culling (off for every view today: scenes may be open)
 

@@ -33,6 +33,8 @@ const std::array<ResourceDesc, R::count> kResources{{
     {"history", GL_RGBA16F, E::view, C::nonNegative, GL_LINEAR},
     {"diffuseHistory", GL_RGBA16F, E::view, C::nonNegative, GL_LINEAR},
     {"localShadowMaps", GL_DEPTH_COMPONENT32F, E::localShadow, C::none, GL_LINEAR},
+    // "No second surface" is FLT_MAX (finite: --check counts infinities).
+    {"gbuffer.linearDepth2", GL_R32F, E::view, C::nonNegative, GL_NEAREST},
 }};
 
 }  // namespace
@@ -52,7 +54,7 @@ const gl::Texture& FrameResources::operator[](Resource r) const {
                                       &g.emissive,  &g.velocity,    &shadowMap,  &direct,   &indirectDiffuse,
                                       &specular,    &ao,            &bentNormal, &s3ho,     &specularOcclusion,
                                       &brdfLut,     &hdr,           &ldr,        &history,  &diffuseHistory,
-                                      &localShadowMaps};
+                                      &localShadowMaps, &g.linearDepth2};
     resourceDesc(r);  // validates the handle
     return *t[r.index];
 }

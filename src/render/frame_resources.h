@@ -61,7 +61,8 @@ inline constexpr Resource ldr{17};              // RGBA8 tonemapped, sRGB-encode
 inline constexpr Resource history{18};          // RGBA16F previous frame's hdr
 inline constexpr Resource diffuseHistory{19};   // RGBA16F previous frame's diffuse-only radiance
 inline constexpr Resource localShadowMaps{20};  // D32F 2D array, one layer per local-light shadow face (compare mode on)
-inline constexpr int count = 21;
+inline constexpr Resource linearDepth2{21};     // R32F second depth layer (visibility.layer2, ao.second_layer); FLT_MAX = none
+inline constexpr int count = 22;
 }  // namespace R
 
 // How the renderer allocates a shared resource and how --check reads it.
@@ -76,6 +77,7 @@ const ResourceDesc& resourceDesc(Resource r);
 
 struct GBuffer {
     gl::Texture depth, linearDepth, normal, albedo, material, emissive, velocity;
+    gl::Texture linearDepth2;  // only with ao.second_layer=on on the compute raster path
 };
 
 struct FrameResources {

@@ -340,6 +340,8 @@ std::vector<SettingKey> buildKeys() {
             "constant|depth|infinite",
             s.ao.thicknessMode = parseEnum<AoSettings::ThicknessMode>("ao.thickness_mode", v, kAoThicknessMode),
             kAoThicknessMode[int(s.ao.thicknessMode)]),
+        KEY("ao.second_layer", "vbao: second depth layer (nearest surface ao.thickness behind the first) adds the hidden surface as an occluder; compute raster path only",
+            "on|off", s.ao.secondLayer = parseBool("ao.second_layer", v), onOff(s.ao.secondLayer)),
         KEY("ao.rays", "rtao: rays per AO pixel and frame", "1..4", s.ao.rays = parseInt("ao.rays", v, 1, 4),
             fmt(s.ao.rays)),
         KEY("ao.ray_rate", "rtao: one pixel in ray_rate traces per frame (2: checkerboard, 4: one per 2x2 quad, "

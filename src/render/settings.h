@@ -134,6 +134,8 @@ struct AoSettings {
     // default is the lowest worst-case RMSE on the training views (docs/ao.md "Tuning protocol").
     enum class ThicknessMode { Constant, Depth, Infinite } thicknessMode = ThicknessMode::Depth;
     float thickness = 0.08f;          // view units (constant) or a fraction of the sample's depth (depth)
+    // vbao: a second depth layer (visibility.layer2, compute raster path) adds hidden surfaces (docs/ao.md "Second depth layer").
+    bool secondLayer = false;
     int rays = 2;                     // rtao: rays per AO pixel and frame
     int rayRate = 1;                  // rtao: 1 in rayRate pixels traces per frame (1, 2, 4; docs/ao.md "Sparse rays")
     int dynamicProbe = 9;             // K of the dynamic radius probe: 4, 9, 20, 328

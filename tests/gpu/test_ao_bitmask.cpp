@@ -201,6 +201,7 @@ AoCamera camera() {
 }
 float aoPointOcclusion(vec3 P, vec3 S, float R) { return aoCameraPointOcclusion(camera(), P, S, R); }
 vec3 aoKernel(int i) { return vec3(0.0); }
+float aoSceneDepth2(vec2 uv) { return 0.0; }
 vec4 aoVoSample(int i) { return vec4(0.0); }
 
 void main() {
@@ -212,7 +213,7 @@ void main() {
     vec3 n = vec3(0.0, 0.0, 1.0);
     AoCamera cam = camera();
     int slices = int(c.params.y), steps = int(c.params.z);
-    float vb = aoVbao(cam, uv, P, n, d, c.params.x, c.noise.xyz, slices, steps, c.params.w, c.noise.w > 0.5);
+    float vb = aoVbao(cam, uv, P, n, d, c.params.x, c.noise.xyz, slices, steps, c.params.w, c.noise.w > 0.5, false);
     float gt = aoGtao(cam, uv, P, n, d, c.params.x, c.noise.xy, slices, steps);
     results[gCase] = vec4(vb, gt, 0.0, 0.0);
 }

@@ -51,6 +51,7 @@ AoCamera camera() {
 }
 float aoPointOcclusion(vec3 P, vec3 S, float R) { return aoCameraPointOcclusion(camera(), P, S, R); }
 vec3 aoKernel(int i) { return kernel[i].xyz; }
+float aoSceneDepth2(vec2 uv) { return 0.0; }
 vec4 aoVoSample(int i) { return voPairs[i]; }
 
 void main() {

@@ -225,6 +225,8 @@ public:
         if (s.ao.variant != variant_) return d.skip(std::string("ao=") + toString(s.ao.variant));
         d.read(R::linearDepth).read(R::normal).read(R::albedo);
         if (s.ao.depthSource == AoSettings::DepthSource::Light) d.read(R::shadowMap);
+        // visibility.layer2 writes it on the compute raster path only.
+        if (variant_ == Variant::Vbao && s.ao.secondLayer) d.readIfWritten(R::linearDepth2);
         declareEstimateOutputs(d, s, *chain_);
     }
     void execute(FrameContext& ctx) override {
@@ -235,6 +237,7 @@ public:
         int directional = int(s.directional);
         gl::Texture* dirTex = directionalTarget(ctx);
         bool light = s.depthSource == AoSettings::DepthSource::Light;
+        bool layer2 = variant_ == Variant::Vbao && s.secondLayer && ctx.has(R::linearDepth2);
         int radius = s.radiusMode == AoSettings::RadiusMode::Fixed ? 0
                      : s.radiusMode == AoSettings::RadiusMode::Dual ? 1
                                                                      : 2;
@@ -242,7 +245,8 @@ public:
             "ao/ao.comp", {{"AO_VARIANT", std::to_string(int(variant_))},
                            {"AO_DIRECTIONAL", std::to_string(directional)},
                            {"AO_RADIUS", std::to_string(radius)},
-                           {"AO_DEPTH_LIGHT", light ? "1" : "0"}});
+                           {"AO_DEPTH_LIGHT", light ? "1" : "0"},
+                           {"AO_SECOND_LAYER", layer2 ? "1" : "0"}});
         c.bindParams(ctx);
         const gl::Texture& noise = ensureBlueNoise(ctx.res, ctx.ledger);
         if (light) {
@@ -250,7 +254,7 @@ public:
             prog.set(RTGI_AO_LOC_VIEW_TO_SHADOW, toShadow);
             prog.set(RTGI_AO_LOC_SHADOW_TO_VIEW, glm::inverse(toShadow));
         }
-        // Producers: ao.downsample / ao.radius (image stores), gbuffer, shadow.
+        // Producers: ao.downsample / ao.radius (image stores), gbuffer, shadow, visibility.layer2 (image atomics).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
         {
             gl::ScopedBindings b;
@@ -260,6 +264,7 @@ public:
                 .texture(RTGI_AO_TEX_RADIUS_SCALE, radius == 2 ? &c.radiusScale : nullptr)
                 .texture(RTGI_AO_TEX_SHADOW_MAP, light ? &ctx.res.shadowMap : nullptr)
                 .texture(RTGI_AO_ESTIMATE_TEX_ALBEDO, ctx.res.gbuffer.albedo)
+                .texture(RTGI_AO_ESTIMATE_TEX_DEPTH2, layer2 ? &ctx.res.gbuffer.linearDepth2 : nullptr)
                 .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
             if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
             if (light) glBindSampler(RTGI_AO_TEX_SHADOW_MAP, c.rawDepth());

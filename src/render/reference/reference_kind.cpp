@@ -19,6 +19,7 @@ Settings referenceRunSettings(const Settings& run, ReferenceSettings::Kind kind)
     Settings rs = run;
     rs.reference.kind = kind;
     rs.ao.variant = AoSettings::Variant::Off;
+    rs.ao.secondLayer = false;  // vbao's input: no estimator runs here
     rs.lpv.mode = Toggle::Off;
     rs.ssr.tracer = SsrSettings::Tracer::Off;
     return rs;

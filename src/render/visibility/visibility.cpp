@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "compute/lib/visibility_shared.h"
@@ -202,6 +203,48 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
         glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
+}
+
+void rasterizeSecondLayer(gl::ProgramCache& programs, const GpuScene& scene, const glm::mat4& viewProj,
+                          const glm::mat4& proj, const VisibilityTarget& t, const gl::Texture& layer1,
+                          const gl::Texture& layer2, const SecondLayerOptions& o) {
+    // Only a depth per pixel: the 32-bit layout on every driver, one phase.
+    const gl::Defines defs{{"RTGI_VISIBILITY_LAYER2", ""}};
+    const gl::Program& setup = programs.compute("visibility/setup.comp", defs);
+    const gl::Program& tile = programs.compute("visibility/tile.comp", defs);
+    const glm::vec4 layer(o.separation, o.depthScaled ? 1.0f : 0.0f, proj[2][2], proj[3][2]);
+    bindVisibility(setup, scene, viewProj, t);
+    setup.set(RTGI_VISIBILITY_LOC_TRIANGLES, t.triangles);
+    setup.set(RTGI_VISIBILITY_LOC_FLAGS, 0);
+    setup.set(RTGI_VISIBILITY_LOC_CAPACITY, glm::ivec2(int(t.largeCapacity), int(t.nodeCapacity)));
+    setup.set(RTGI_VISIBILITY_LOC_PHASE, 1);  // as the 32-bit path's second phase: small triangles only, no appends
+    setup.set(RTGI_VISIBILITY_LOC_LAYER2, layer);
+    tile.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
+    tile.set(RTGI_VISIBILITY_LOC_FLAGS, 0);
+    tile.set(RTGI_VISIBILITY_LOC_LAYER2, layer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+    const float none = std::numeric_limits<float>::max();
+    glClearTexImage(layer2.id(), 0, GL_RED, GL_FLOAT, &none);
+    glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER1, layer1.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    // R32F and R32UI are compatible by size (GL 4.5 table 8.27): atomics on the float bits.
+    glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER2, layer2.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    // Producers: the clear above; visibility.resolve's image stores into layer1;
+    // the bins of rasterizeVisibility (storage buffers).
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP;
+    dispatchLinear(setup, setupGroups);
+    const glm::ivec2 tiles = (t.size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
+    glUseProgram(tile.id());
+    {
+        gl::Profiler::noteDispatch();
+        auto scope = gl::Profiler::dispatchScope(tile.name());
+        glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
+    }
+    glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER1, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER2, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
 }
 
 void copyVisibilityDepth(gl::ProgramCache& programs, VisibilityTarget& t, const gl::Texture& depth, int layer) {

@@ -74,6 +74,20 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
                          const glm::mat4& viewProj, glm::ivec2 size, VisibilityTarget& target,
                          const VisibilityOptions& options);
 
+// The second depth layer of the view last rasterized into `target` (docs/ao.md
+// "Second depth layer"): setup (small triangles) and tile run again over its
+// bins and write into `layer2` (R32F, cleared to FLT_MAX = none) the nearest
+// linear depth farther than `layer1` (the view's linear depth) + separation,
+// separation = x, or x * the first layer's depth when depthScaled. `proj` is
+// the view's perspective projection (window depth -> linear depth).
+struct SecondLayerOptions {
+    float separation = 0.0f;
+    bool depthScaled = false;
+};
+void rasterizeSecondLayer(gl::ProgramCache& programs, const GpuScene& scene, const glm::mat4& viewProj,
+                          const glm::mat4& proj, const VisibilityTarget& target, const gl::Texture& layer1,
+                          const gl::Texture& layer2, const SecondLayerOptions& options);
+
 // Binds the visibility buffer, scene buffers and uniforms of `target` for a
 // resolve program (viewProj = the rasterized view's).
 void bindVisibility(const gl::Program& prog, const GpuScene& scene, const glm::mat4& viewProj,

@@ -89,6 +89,40 @@ private:
     std::shared_ptr<VisibilityState> st_;
 };
 
+// visibility.layer2: the second depth layer of the camera view for vbao
+// (ao.second_layer; docs/ao.md "Second depth layer"): the raster's setup and
+// tile again over visibility.raster's bins, keeping the nearest surface at
+// least the vbao thickness behind the first layer.
+class VisibilityLayer2Pass final : public Pass {
+public:
+    explicit VisibilityLayer2Pass(std::shared_ptr<VisibilityState> st) : st_(std::move(st)) {}
+    std::string name() const override { return "visibility.layer2"; }
+    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+        if (!s.ao.secondLayer) return d.skip("ao.second_layer=off");
+        if (s.ao.variant != AoSettings::Variant::Vbao)
+            throw ConfigError(std::string("setting 'ao.second_layer': on needs ao=vbao (the only estimator that reads a "
+                                          "second depth layer), not ao=") + toString(s.ao.variant));
+        if (s.ao.thicknessMode == AoSettings::ThicknessMode::Infinite)
+            throw ConfigError("setting 'ao.second_layer': on needs ao.thickness_mode=constant or depth (the thickness is "
+                              "the layer's minimum separation), not infinite");
+        if (!computePath(s))
+            return d.skip(rasterPathReason(s) + ": the hardware path omits the second depth layer (vbao uses its "
+                          "thickness model)");
+        d.read(R::linearDepth).write(R::linearDepth2);
+    }
+    void execute(FrameContext& ctx) override {
+        const AoSettings& a = ctx.settings.ao;
+        SecondLayerOptions o;
+        o.separation = a.thickness;
+        o.depthScaled = a.thicknessMode == AoSettings::ThicknessMode::Depth;
+        rasterizeSecondLayer(ctx.programs, ctx.gpuScene, ctx.view.viewProj(), ctx.view.proj, st_->target,
+                             ctx.res.gbuffer.linearDepth, ctx.res.gbuffer.linearDepth2, o);
+    }
+
+private:
+    std::shared_ptr<VisibilityState> st_;
+};
+
 // shadow.raster: the sun's depth map (same light frustum and slope-scaled
 // bias as the hardware pass `shadow`).
 class ShadowRasterPass final : public Pass {
@@ -138,6 +172,7 @@ void appendVisibilityPasses(std::vector<std::unique_ptr<Pass>>& frame) {
     auto st = std::make_shared<VisibilityState>();
     frame.push_back(std::make_unique<VisibilityRasterPass>(st));
     frame.push_back(std::make_unique<VisibilityResolvePass>(st));
+    frame.push_back(std::make_unique<VisibilityLayer2Pass>(st));
 }
 
 std::unique_ptr<Pass> makeShadowRasterPass() { return std::make_unique<ShadowRasterPass>(); }

@@ -6,7 +6,8 @@
 #include <vector>
 
 namespace rtgi {
-// visibility.raster -> visibility.resolve (replace the hardware `gbuffer`).
+// visibility.raster -> visibility.resolve (replace the hardware `gbuffer`)
+// -> visibility.layer2 (ao.second_layer).
 void appendVisibilityPasses(std::vector<std::unique_ptr<Pass>>& frame);
 // shadow.raster (replaces the hardware `shadow`).
 std::unique_ptr<Pass> makeShadowRasterPass();
