@@ -2,6 +2,7 @@
 // "Second depth layer") against CPU double ray casts, and vbao with it on two
 // analytic floating slabs (the slab of test_ao_bitmask.cpp and one hidden
 // behind it) against the closed-form visible fraction of both.
+#include "ao_test_util.h"
 #include "gpu_fixture.h"
 
 #include "gl/program.h"
@@ -20,14 +21,9 @@ namespace {
 
 // vbao on the compute raster path with the second layer, no filters, LPV/SSR off.
 Settings layerSettings(AoSettings::ThicknessMode mode, float thickness) {
-    Settings st;
-    st.lpv.mode = Toggle::Off;
-    st.ssr.tracer = SsrSettings::Tracer::Off;
+    const AoSettings defaults;
+    Settings st = rawAoSettings(AoSettings::Variant::Vbao, defaults.samples, defaults.radius);
     st.raster.path = RasterSettings::Path::Compute;
-    st.ao.variant = AoSettings::Variant::Vbao;
-    st.ao.halfResolution = false;
-    st.ao.blur = false;
-    st.ao.temporal = false;
     st.ao.thicknessMode = mode;
     st.ao.thickness = thickness;
     st.ao.secondLayer = true;
