@@ -175,8 +175,9 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
 #ifdef RTGI_LPV_LOOKUP_GEOMETRY
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, blocked);
-    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
+    vec3 x = lpvCellCoord(wp);
+    lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, x, n, blocked);
+    lpvGeometryWeights(q, x, n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
 #elif defined(RTGI_LPV_LOOKUP_VISIBILITY)
@@ -184,8 +185,9 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     // instead of the geometry volume's blocking.
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
-    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
+    vec3 x = lpvCellCoord(wp);
+    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, x, n, blocked);
+    lpvGeometryWeights(q, x, n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
 #endif
