@@ -39,30 +39,17 @@ float lpvSegmentBlockingTwoSided(vec3 axes, vec3 q, vec3 c) {
     return l > 0.0 ? clamp(dot(axes, abs(d / l)), 0.0, 1.0) : 0.0;
 }
 
-// Whether stencil cell k of q can carry weight in lpvGeometryWeights for the surface point x
-// with normal n: in front of the surface and a trilinear weight > 0. Every other cell's weight
-// is 0 in each of its modes whatever its blocking, so the lookups below skip their fetches
-// (blocked 0) when given the surface (docs/lpv.md, "Apply cost").
-bool lpvStencilUsed(vec3 q, int k, vec3 x, vec3 n) {
-    return dot(lpvStencilCentre(q, k) - x, n) > 0.0 && lpvTrilinearWeight(q, k) > 0.0;
-}
-
-// blocked of stencil cell k around q from the geometry volume (corner lattice: texel g at cell
-// coordinate g, (X+1, Y+1, Z+1) texels, linear filtering): the blocking SH gv, or with twoSided
-// the axis blocking gvAxes, interpolated at the midpoint of q and the cell centre.
-float lpvGeometryBlockingCell(sampler3D gv, sampler3D gvAxes, bool twoSided, vec3 q, int k) {
-    vec3 c = lpvStencilCentre(q, k);
-    vec3 uvw = (0.5 * (q + c) + 0.5) * (1.0 / vec3(textureSize(gv, 0)));
-    return twoSided ? lpvSegmentBlockingTwoSided(texture(gvAxes, uvw).xyz, q, c)
-                    : lpvSegmentBlocking(texture(gv, uvw), q, c);
-}
+// blocked[k] of the 8 stencil cells around q from the geometry volume (corner lattice: texel
+// g at cell coordinate g, (X+1, Y+1, Z+1) texels, linear filtering): the blocking SH gv, or
+// with twoSided the axis blocking gvAxes, interpolated at the midpoint of q and the cell centre.
 void lpvGeometryBlocking(sampler3D gv, sampler3D gvAxes, bool twoSided, vec3 q, out float blocked[8]) {
-    for (int k = 0; k < 8; ++k) blocked[k] = lpvGeometryBlockingCell(gv, gvAxes, twoSided, q, k);
-}
-// The same for the cells lpvStencilUsed by the surface (x, n) only.
-void lpvGeometryBlocking(sampler3D gv, sampler3D gvAxes, bool twoSided, vec3 q, vec3 x, vec3 n, out float blocked[8]) {
-    for (int k = 0; k < 8; ++k)
-        blocked[k] = lpvStencilUsed(q, k, x, n) ? lpvGeometryBlockingCell(gv, gvAxes, twoSided, q, k) : 0.0;
+    vec3 scale = 1.0 / vec3(textureSize(gv, 0));
+    for (int k = 0; k < 8; ++k) {
+        vec3 c = lpvStencilCentre(q, k);
+        vec3 uvw = (0.5 * (q + c) + 0.5) * scale;
+        blocked[k] = twoSided ? lpvSegmentBlockingTwoSided(texture(gvAxes, uvw).xyz, q, c)
+                              : lpvSegmentBlocking(texture(gv, uvw), q, c);
+    }
 }
 
 // Weights of the 8 stencil cells at lookup point q for a surface point x with normal n
@@ -151,20 +138,16 @@ vec3 lpvVisibilityCoord(ivec3 c, vec3 w, ivec3 texSize) {
 #ifndef RTGI_LPV_VIS_EXPONENT
 #define RTGI_LPV_VIS_EXPONENT 1
 #endif
-float lpvVisibilityBlockingCell(sampler3D moments, vec3 q, ivec3 grid, int k) {
-    vec3 c = lpvStencilCentre(q, k);
-    vec3 d = q - c;
-    float r = length(d);
-    ivec3 cell = clamp(lpvStencilBase(q) + lpvStencilOffset(k), ivec3(0), grid - 1);
-    float p = r > 0.0 ? lpvChebyshev(texture(moments, lpvVisibilityCoord(cell, d / r, textureSize(moments, 0))).xy, r) : 1.0;
-    float v = p;
-    for (int i = 1; i < RTGI_LPV_VIS_EXPONENT; ++i) v *= p;
-    return 1.0 - v;
-}
 void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
-    for (int k = 0; k < 8; ++k) blocked[k] = lpvVisibilityBlockingCell(moments, q, grid, k);
-}
-// The same for the cells lpvStencilUsed by the surface (x, n) only.
-void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, vec3 x, vec3 n, out float blocked[8]) {
-    for (int k = 0; k < 8; ++k) blocked[k] = lpvStencilUsed(q, k, x, n) ? lpvVisibilityBlockingCell(moments, q, grid, k) : 0.0;
+    ivec3 texSize = textureSize(moments, 0);
+    for (int k = 0; k < 8; ++k) {
+        vec3 c = lpvStencilCentre(q, k);
+        vec3 d = q - c;
+        float r = length(d);
+        ivec3 cell = clamp(lpvStencilBase(q) + lpvStencilOffset(k), ivec3(0), grid - 1);
+        float p = r > 0.0 ? lpvChebyshev(texture(moments, lpvVisibilityCoord(cell, d / r, texSize)).xy, r) : 1.0;
+        float v = p;
+        for (int i = 1; i < RTGI_LPV_VIS_EXPONENT; ++i) v *= p;
+        blocked[k] = 1.0 - v;
+    }
 }

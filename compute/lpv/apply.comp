@@ -175,9 +175,8 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
 #ifdef RTGI_LPV_LOOKUP_GEOMETRY
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    vec3 x = lpvCellCoord(wp);
-    lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, x, n, blocked);
-    lpvGeometryWeights(q, x, n, blocked, l.w);
+    lpvGeometryBlocking(uGeometry, uGeometryAxes, lpv.leak.z != 0, q, blocked);
+    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
 #elif defined(RTGI_LPV_LOOKUP_VISIBILITY)
@@ -185,9 +184,8 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     // instead of the geometry volume's blocking.
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    vec3 x = lpvCellCoord(wp);
-    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, x, n, blocked);
-    lpvGeometryWeights(q, x, n, blocked, l.w);
+    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
+    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
 #endif
