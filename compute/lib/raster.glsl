@@ -290,17 +290,46 @@ void visRasterPixel(VisRasterTri t, int x, int y) {
 }
 
 // ---- large-triangle records (setup -> bin -> tile) ---------------------------------------
+// The set-up triangle itself (visSetup's result, exactly: integers and doubles stored as they
+// are), so that bin and tile read it instead of repeating the set-up (two double divisions
+// and the int64 edges) in every thread of every tile the triangle covers. 208 bytes (std430);
+// the edges' rule in the .w of A, B, C.
 struct VisTriangle {
-    vec4 w01;  // window positions of vertices 0 and 1 (unsnapped pixels)
-    vec4 w2z;  // vertex 2, window depth of vertices 0 and 1
-    vec4 zid;  // window depth of vertex 2, triangle id (bits), unused
+    i64vec4 A, B, C;  // A.x..z the edges' A, .w the rule (likewise B, C)
+    dvec4 q01;        // q0, q1
+    dvec4 q2Area;     // q2, invArea, invAreaFixed
+    vec4 zBias;       // z, bias
+    ivec4 box;
+    uvec4 id;         // .x
 };
 
-VisTriangle visPack(vec2 w0, vec2 w1, vec2 w2, vec3 z, uint id) {
-    return VisTriangle(vec4(w0, w1), vec4(w2, z.xy), vec4(z.z, uintBitsToFloat(id), 0.0, 0.0));
+VisTriangle visPack(VisRasterTri t) {
+    VisTriangle r;
+    r.A = i64vec4(t.A, t.rule.x);
+    r.B = i64vec4(t.B, t.rule.y);
+    r.C = i64vec4(t.C, t.rule.z);
+    r.q01 = dvec4(t.q0, t.q1);
+    r.q2Area = dvec4(t.q2, t.invArea, t.invAreaFixed);
+    r.zBias = vec4(t.z, t.bias);
+    r.box = t.box;
+    r.id = uvec4(t.id, 0u, 0u, 0u);
+    return r;
 }
 bool visUnpack(VisTriangle r, out VisRasterTri t) {
-    return visSetup(r.w01.xy, r.w01.zw, r.w2z.xy, vec3(r.w2z.zw, r.zid.x), floatBitsToUint(r.zid.y), t);
+    t.A = r.A.xyz;
+    t.B = r.B.xyz;
+    t.C = r.C.xyz;
+    t.rule = i64vec3(r.A.w, r.B.w, r.C.w);
+    t.q0 = r.q01.xy;
+    t.q1 = r.q01.zw;
+    t.q2 = r.q2Area.xy;
+    t.invArea = r.q2Area.z;
+    t.invAreaFixed = r.q2Area.w;
+    t.z = r.zBias.xyz;
+    t.bias = r.zBias.w;
+    t.box = r.box;
+    t.id = r.id.x;
+    return true;
 }
 
 // ---- resolve: perspective-correct barycentrics from the triangle id --------------------

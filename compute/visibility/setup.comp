@@ -30,7 +30,7 @@ void emit(vec4 c0, vec4 c1, vec4 c2, uint id, inout bool any_, inout bool small)
     if (uPhase != 0) return;
     uint slot = atomicAdd(counters.largeCount, 1u);
     if (slot >= uint(uCapacity.x)) return;  // overflow: reported by the pass after the frame
-    large[slot] = visPack(w0, w1, w2, z, id);
+    large[slot] = visPack(t);
 }
 
 void main() {

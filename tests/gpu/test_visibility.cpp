@@ -832,7 +832,7 @@ TEST_CASE_FIXTURE(GpuFixture, "visibility: many triangles render in memory bound
     CHECK_NOTHROW(t.checkOverflow("visibility.raster"));
     const std::int64_t pixels = 64 * 32, tiles = 4 * 2;
     const std::int64_t large = std::max<std::int64_t>(65536, pixels / 8);  // docs/visibility.md "Scale"
-    const std::int64_t bound = 8 * pixels + 48 * large + 8 * std::max(64 * tiles, 4 * large) + 4 * tiles + 64;
+    const std::int64_t bound = 8 * pixels + 208 * large + 8 * std::max(64 * tiles, 4 * large) + 4 * tiles + 64;
     const std::int64_t bytes = t.vis.size() + t.large.size() + t.nodes.size() + t.tileHeads.size() + t.counters.size();
     INFO("triangles " << t.triangles << ", rasterizer buffers " << bytes << " bytes, bound " << bound);
     CHECK(t.triangles == n * n * 2 * layers);

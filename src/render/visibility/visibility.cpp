@@ -19,7 +19,7 @@ static_assert(sizeof(VisCounters) == sizeof(VisibilityCounters));
 
 namespace {
 
-constexpr std::int64_t kTriangleRecordBytes = 48;  // VisTriangle (3 x 16 bytes)
+constexpr std::int64_t kTriangleRecordBytes = 208;  // VisTriangle (lib/raster.glsl: the set-up triangle, std430)
 constexpr std::int64_t kMaxBufferBytes = std::int64_t(1) << 31;  // per buffer, well under every driver's limit
 
 // glDispatchCompute with at most 65535 groups per dimension.
