@@ -33,6 +33,13 @@
 
 float aoSceneDepth(vec2 uv);
 float aoSceneDepth2(vec2 uv);
+#ifdef AO_VBAO_GATHER
+// aoVbao's gather hooks (near-field light through the bitmask): a sample at uvS (view
+// position S, depth zS) first occludes sectors of cosine-weighted measure w (0 when it
+// occludes nothing new); each slice's open measure once after its march.
+void aoVbaoGather(vec2 uvS, vec3 S, float zS, float w);
+void aoVbaoGatherOpen(float open);
+#endif
 float aoPointOcclusion(vec3 P, vec3 S, float R);
 vec3 aoKernel(int i);
 vec4 aoVoSample(int i);
@@ -269,19 +276,26 @@ float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise
                 float zS = aoSceneDepth(uvS);
                 if (isSky(zS)) continue;
                 vec3 S = aoViewPosAt(cam, uvS, zS);
+                uint m;
                 if (thickness < 0.0) {
                     vec3 D = S - P;
                     float dist = length(D);
                     if (dist >= R || dist < 1e-6) continue;
                     float a = sgn * acos(clamp(dot(D / dist, V), -1.0, 1.0));
                     // to the hemisphere's edge on this side
-                    occluded |= vbaoSectorMask(min(a, sgn * PI), max(a, sgn * PI), nAngle, noise.z);
-                    continue;
+                    m = vbaoSectorMask(min(a, sgn * PI), max(a, sgn * PI), nAngle, noise.z);
+                } else {
+                    m = vbaoColumnMask(P, V, S, zS, depthScaled ? thickness * zS : thickness, R, sgn, nAngle, noise.z);
                 }
-                occluded |= vbaoColumnMask(P, V, S, zS, depthScaled ? thickness * zS : thickness, R, sgn, nAngle, noise.z);
+#ifdef AO_VBAO_GATHER
+                // The sectors this sample occludes first see it (near-field light, docs/ao.md
+                // "Bitmask near-field light"); the hook is the including entry point's.
+                aoVbaoGather(uvS, S, zS, projLen * vbaoOccludedArc(m & ~occluded, nAngle));
+#endif
+                occluded |= m;
                 // The second layer: a surface the depth buffer hides, at least the
                 // thickness behind S, with a column of its own (docs/ao.md "Second depth layer").
-                float z2 = secondLayer ? aoSceneDepth2(uvS) : 0.0;
+                float z2 = secondLayer && thickness >= 0.0 ? aoSceneDepth2(uvS) : 0.0;
                 if (z2 > zS && z2 < 1e30)
                     occluded |= vbaoColumnMask(P, V, S * (z2 / zS), z2, depthScaled ? thickness * z2 : thickness, R, sgn,
                                                nAngle, noise.z);
@@ -290,6 +304,9 @@ float aoVbao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec3 noise
         float full = vbaoArc(nAngle + HALF_PI, nAngle) - vbaoArc(nAngle - HALF_PI, nAngle);
         vis += projLen * (full - vbaoOccludedArc(occluded, nAngle));
         open += projLen * full;
+#ifdef AO_VBAO_GATHER
+        aoVbaoGatherOpen(projLen * full);
+#endif
     }
     return open > 1e-6 ? clamp(vis / open, 0.0, 1.0) : 1.0;
 }

@@ -171,6 +171,12 @@ Estimate estimateCpu(const SceneDesc& s, glm::dvec2 uv, glm::dvec3 n, double R, 
 }
 
 const char* kSource = R"(
+// The near-field gather hooks (docs/ao.md "Bitmask near-field light"): every sender of
+// radiance 1, so the gathered (1/pi) E over the slices' open measure is the occluded fraction.
+#define AO_VBAO_GATHER 1
+float gGather, gOpen;
+void aoVbaoGather(vec2 uvS, vec3 S, float zS, float w) { gGather += w; }
+void aoVbaoGatherOpen(float open) { gOpen += open; }
 #include "lib/ao_estimators.glsl"
 layout(local_size_x = 1) in;
 // scene: x kind, y Z0, z rho | h, w H | T; extra: x a, y b; params: x R, y slices, z steps, w thickness (< 0 infinite)
@@ -213,9 +219,11 @@ void main() {
     vec3 n = vec3(0.0, 0.0, 1.0);
     AoCamera cam = camera();
     int slices = int(c.params.y), steps = int(c.params.z);
+    gGather = 0.0;
+    gOpen = 0.0;
     float vb = aoVbao(cam, uv, P, n, d, c.params.x, c.noise.xyz, slices, steps, c.params.w, c.noise.w > 0.5, false);
     float gt = aoGtao(cam, uv, P, n, d, c.params.x, c.noise.xy, slices, steps);
-    results[gCase] = vec4(vb, gt, 0.0, 0.0);
+    results[gCase] = vec4(vb, gt, gOpen > 0.0 ? gGather / gOpen : -1.0, 0.0);
 }
 )";
 
@@ -305,10 +313,14 @@ TEST_CASE("vbao GLSL (lib/ao_estimators.glsl) on analytic depth buffers equals t
     out.download(r.data(), std::int64_t(r.size() * sizeof(glm::vec4)));
     for (std::size_t ci = 0; ci < cfg.size(); ++ci) {
         const Config& c = cfg[ci];
-        double gpuB = 0, gpuG = 0, cpuB = 0, cpuG = 0, worst = 0;
+        double gpuB = 0, gpuG = 0, cpuB = 0, cpuG = 0, worst = 0, gather = 0;
         int far = 0;
         for (int i = 0; i < 16; ++i) {
             glm::vec4 v = r[ci * 16 + std::size_t(i)];
+            // Near-field gather of unit radiance: each occluded sector counted once, at its first
+            // sender (a sector counted again by a later sample would exceed 1 - visibility).
+            CHECK(std::abs(v.z - (1.0 - v.x)) < 1e-5);
+            gather += v.z / 16;
             // The CPU run with the float-rounded jitter the GPU saw.
             glm::vec4 jn = cases[ci * 16 + std::size_t(i)].noise;
             Estimate e = estimateCpu(c.scene, {0.5, 0.5}, {0, 0, 1}, c.R, glm::dvec3(jn), slices, steps, c.thickness, c.depthScaled);
@@ -324,6 +336,7 @@ TEST_CASE("vbao GLSL (lib/ao_estimators.glsl) on analytic depth buffers equals t
         CHECK(std::abs(gpuB - cpuB) < 4e-3);
         CHECK(std::abs(gpuG - cpuG) < 2e-3);
         CHECK(std::abs(gpuB - exact) < 0.02);  // 128 steps: the band edges to ~half a step (CPU at 96: 0.015)
+        CHECK(std::abs(gather - (1.0 - exact)) < 0.02);  // unit radiance: the occluded solid angle's cosine measure
         if (c.thickness < 0) CHECK(std::abs(gpuB - gpuG) < 0.01);
     }
 }

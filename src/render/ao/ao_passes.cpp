@@ -450,7 +450,10 @@ public:
         c.nearField.ensure(ctx.ledger, nearFieldTex(s).label, nearFieldTex(s).desc);
         // The frame decides: add when an earlier pass (lpv.apply) wrote the indirect term.
         bool accumulate = ctx.accumulates(R::indirectDiffuse);
-        const gl::Program& prog = ctx.programs.compute("ao/nearfield.comp");
+        // With ao=vbao the near field is gathered through its bitmask (docs/ao.md, "Bitmask near-field light").
+        gl::Defines defs;
+        if (ctx.settings.ao.variant == Variant::Vbao) defs.push_back({"RTGI_AO_NEARFIELD_BITMASK", ""});
+        const gl::Program& prog = ctx.programs.compute("ao/nearfield.comp", defs);
         c.bindParams(ctx);
         const gl::Texture& noise = ensureBlueNoise(r, ctx.ledger);
         bool history = ctx.hasPrevious(R::history);
