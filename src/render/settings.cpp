@@ -318,7 +318,7 @@ std::vector<SettingKey> buildKeys() {
         KEY("ao.directional", "directional occlusion for the LPV lookup", "off|bent-normals|s3ho",
             s.ao.directional = parseEnum<AoSettings::Directional>("ao.directional", v, kAoDirectional),
             kAoDirectional[int(s.ao.directional)]),
-        KEY("ao.nearfield", "near-field indirect light strength (0 = off)", "0..100",
+        KEY("ao.nearfield", "near-field indirect light strength (0 = off; with ao=vbao gathered through the bitmask)", "0..100",
             s.ao.nearfield = parseFloat("ao.nearfield", v, 0, 100), fmt(s.ao.nearfield)),
         KEY("ao.radius_mode", "fixed, dual radii or dynamic radius algorithm 1..6", "fixed|dual|dynamic1..dynamic6",
             s.ao.radiusMode = parseEnum<AoSettings::RadiusMode>("ao.radius_mode", v, kAoRadiusMode),
