@@ -14,11 +14,15 @@ void main() {
     uint node = tileHead[gl_WorkGroupID.y * uint(tiles.x) + gl_WorkGroupID.x];
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     bool inTarget = all(lessThan(pixel, uSize));
+    // The list is a chain of dependent loads: the next node is fetched before this one's
+    // triangle is tested, so its latency overlaps the test.
+    uvec2 nd = node != RTGI_VISIBILITY_EMPTY ? nodes[node] : uvec2(0u, RTGI_VISIBILITY_EMPTY);
     while (node != RTGI_VISIBILITY_EMPTY) {
-        uvec2 nd = nodes[node];
-        node = nd.y;
+        uvec2 current = nd;
+        node = current.y;
+        if (node != RTGI_VISIBILITY_EMPTY) nd = nodes[node];
         if (!inTarget) continue;
-        VisTriangle r = large[nd.x];
+        VisTriangle r = large[current.x];
         VisRasterTri t;
         if (!visUnpack(r, t)) continue;
         if (any(lessThan(pixel, t.box.xy)) || any(greaterThan(pixel, t.box.zw))) continue;
