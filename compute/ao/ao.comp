@@ -4,7 +4,7 @@
 //   AO_DIRECTIONAL   0 off, 1 bent normals (seed 000 eq. 17), 2 S3HO band 0-1 SH
 //   AO_RADIUS        0 fixed, 1 dual radii, 2 dynamic (scale image from ao.radius)
 //   AO_DEPTH_LIGHT   1: point tests against the sun's shadow map (seed 003 4.1)
-//   AO_SECOND_LAYER  1: vbao columns end at the second depth layer (ao.second_layer)
+//   AO_SECOND_LAYER  1: vbao adds the column of the surface in the second depth layer (ao.second_layer)
 // A thin entry point: it binds the inputs, defines the scene accessors that
 // lib/ao_estimators.glsl declares (depth along a ray, the point test, the
 // sample sets) and calls the estimator; the estimators are pure functions there.

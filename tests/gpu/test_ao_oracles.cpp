@@ -468,6 +468,43 @@ TEST_CASE("dynamic radius algorithm 6: scale 1 on a plane, the CPU rule's reduct
     CHECK(reduced > 5);  // the wall does shrink the radius near the crease
 }
 
+namespace {
+// The ao.nearfield output averaged over columns x0..x0+3 per image row, over frames 1..frames
+// (frame 0 has no history; each later frame a new noise variant), the camera still.
+std::vector<double> nearFieldRows(Renderer& r, const Camera& cam, glm::ivec2 size, int x0, int frames) {
+    std::vector<double> rows(std::size_t(size.y), 0.0);
+    View prev;
+    for (int f = 0; f <= frames; ++f) {
+        View view = makeView(cam, size, f == 0 ? nullptr : &prev, unsigned(f));
+        r.render(view);
+        prev = view;
+        if (f == 0) continue;
+        FloatImage nf = readTexture(*passOutput(r, "ao.nearfield", "ao.nearfield"));
+        for (int y = 0; y < size.y; ++y)
+            for (int x = x0; x < x0 + 4; ++x) rows[std::size_t(y)] += nf.at(x, y, 0) / (4.0 * frames);
+    }
+    return rows;
+}
+// The floor rows of the corner scene from the crease towards the camera (row, oracle averaged
+// over columns x0..x0+3); rows that are not floor in all four columns are left out.
+template <class Oracle>
+std::vector<std::pair<int, double>> floorRowOracle(const CornerGeometry& g, int x0, int h, Oracle oracleAt) {
+    std::vector<std::pair<int, double>> out;
+    for (int y = h - 1; y >= 0; --y) {
+        double ref = 0;
+        bool floorRow = true;
+        for (int x = x0; x < x0 + 4; ++x) {
+            glm::dvec3 P = g.pixelPoint(x, y);
+            glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(P, 1));
+            floorRow = floorRow && std::abs(W.y) < 1e-6 && W.x > 0.05;
+            ref += oracleAt(P) / 4;
+        }
+        if (floorRow) out.push_back({y, ref});
+    }
+    return out;
+}
+}  // namespace
+
 TEST_CASE("near-field light (seed 000 eq. 16) from an emissive wall matches its CPU expectation and falls off") {
     GpuFixture gpu;
     gl::Profiler prof(false);
@@ -483,17 +520,7 @@ TEST_CASE("near-field light (seed 000 eq. 16) from an emissive wall matches its 
     st.ao.nearfield = 3.0f;
     Renderer r(s, st, prof);
     const int x0 = 22;
-    std::vector<double> gpuRow(std::size_t(h), 0.0);
-    View prev;
-    for (int f = 0; f < 9; ++f) {  // frame 0 has no history; frames 1..8 cover the 8 noise variants
-        View view = makeView(cam, {w, h}, f == 0 ? nullptr : &prev, unsigned(f));
-        r.render(view);
-        prev = view;
-        if (f == 0) continue;
-        FloatImage nf = readTexture(*passOutput(r, "ao.nearfield", "ao.nearfield"));
-        for (int y = 0; y < h; ++y)
-            for (int x = x0; x < x0 + 4; ++x) gpuRow[std::size_t(y)] += nf.at(x, y, 0) / 32;
-    }
+    const std::vector<double> gpuRow = nearFieldRows(r, cam, {w, h}, x0, 8);  // the 8 noise variants
     // Sender radiance: the history the pass read (an input: the wall's emission
     // 2 plus its sky light), looked up at each sender's pixel.
     FloatImage hist = readTexture(r.resources().history);
@@ -530,16 +557,7 @@ TEST_CASE("near-field light (seed 000 eq. 16) from an emissive wall matches its 
     };
     int compared = 0;
     double prevRef = 1e30, prevGpu = 1e30;
-    for (int y = h - 1; y >= 0; --y) {  // from the crease towards the camera
-        double ref = 0;
-        bool floorRow = true;
-        for (int x = x0; x < x0 + 4; ++x) {
-            glm::dvec3 P = g.pixelPoint(x, y);
-            glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(P, 1));
-            floorRow = floorRow && std::abs(W.y) < 1e-6 && W.x > 0.05;
-            ref += oracleAt(P) / 4;
-        }
-        if (!floorRow) continue;
+    for (auto [y, ref] : floorRowOracle(g, x0, h, oracleAt)) {  // from the crease towards the camera
         double gv = gpuRow[std::size_t(y)];
         INFO("row " << y << ": gpu " << gv << " oracle " << ref);
         CHECK(gv >= 0.0);
@@ -577,18 +595,8 @@ TEST_CASE("bitmask near-field light (ao=vbao) from an emissive wall equals the w
     st.ao.radius = 0.5f;
     st.ao.nearfield = 1.0f;
     Renderer r(s, st, prof);
-    const int x0 = 22, frames = 16;
-    std::vector<double> gpuRow(std::size_t(h), 0.0);
-    View prev;
-    for (int f = 0; f <= frames; ++f) {  // frame 0 has no history
-        View view = makeView(cam, {w, h}, f == 0 ? nullptr : &prev, unsigned(f));
-        r.render(view);
-        prev = view;
-        if (f == 0) continue;
-        FloatImage nf = readTexture(*passOutput(r, "ao.nearfield", "ao.nearfield"));
-        for (int y = 0; y < h; ++y)
-            for (int x = x0; x < x0 + 4; ++x) gpuRow[std::size_t(y)] += nf.at(x, y, 0) / (4.0 * frames);
-    }
+    const int x0 = 22;
+    const std::vector<double> gpuRow = nearFieldRows(r, cam, {w, h}, x0, 16);
     FloatImage hist = readTexture(r.resources().history);
     const double R = 0.5, rho = 0.5;
     const glm::dvec3 n = g.floorNormal(), nw = g.wallNormal();
@@ -612,16 +620,7 @@ TEST_CASE("bitmask near-field light (ao=vbao) from an emissive wall equals the w
         return rho * acc / (m * m);  // (1/pi) E = mean of L over the cosine pdf; times rho
     };
     int compared = 0;
-    for (int y = h - 1; y >= 0; --y) {
-        double ref = 0;
-        bool floorRow = true;
-        for (int x = x0; x < x0 + 4; ++x) {
-            glm::dvec3 P = g.pixelPoint(x, y);
-            glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(P, 1));
-            floorRow = floorRow && std::abs(W.y) < 1e-6 && W.x > 0.05;
-            ref += oracleAt(P) / 4;
-        }
-        if (!floorRow) continue;
+    for (auto [y, ref] : floorRowOracle(g, x0, h, oracleAt)) {
         double gv = gpuRow[std::size_t(y)];
         INFO("row " << y << ": gpu " << gv << " oracle " << ref);
         CHECK(gv >= 0.0);

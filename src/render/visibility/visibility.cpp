@@ -127,6 +127,28 @@ VisibilityCapacity visibilityCapacity(glm::ivec2 size, std::int64_t triangles, i
     return c;
 }
 
+namespace {
+// The buffers the setup, bin and tile kernels share.
+void bindRasterBuffers(const VisibilityTarget& t) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+}
+// One setup thread per scene triangle.
+void dispatchSetup(const gl::Program& setup, const VisibilityTarget& t) {
+    dispatchLinear(setup, (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP);
+}
+// One workgroup per screen tile, timed as its own dispatch.
+void dispatchTiles(const gl::Program& tile, glm::ivec2 size) {
+    const glm::ivec2 tiles = (size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
+    glUseProgram(tile.id());
+    gl::Profiler::noteDispatch();
+    auto scope = gl::Profiler::dispatchScope(tile.name());
+    glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
+}
+}  // namespace
+
 void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const GpuScene& scene,
                          const glm::mat4& viewProj, glm::ivec2 size, VisibilityTarget& t,
                          const VisibilityOptions& o) {
@@ -175,20 +197,16 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     tile.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
     tile.set(RTGI_VISIBILITY_LOC_FLAGS, flags);
     const bool tileReadsPhase = !t.atomic64 || o.countHits;  // the 64-bit write needs no phase
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+    bindRasterBuffers(t);
     if (o.countHits) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_HITS, t.hits.id());
 
     dispatchLinear(clear, (std::max(pixels, tileCount) + 255) / 256);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP;
     const int phases = t.atomic64 ? 1 : 2;
     for (int phase = 0; phase < phases; ++phase) {
         setup.set(RTGI_VISIBILITY_LOC_PHASE, phase);
         if (tileReadsPhase) tile.set(RTGI_VISIBILITY_LOC_PHASE, phase);
-        dispatchLinear(setup, setupGroups);
+        dispatchSetup(setup, t);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         if (phase == 0) {
             glUseProgram(bin.id());
@@ -197,10 +215,7 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
             glDispatchCompute(RTGI_VISIBILITY_BIN_GROUPS, 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
-        glUseProgram(tile.id());
-        gl::Profiler::noteDispatch();
-        auto scope = gl::Profiler::dispatchScope(tile.name());
-        glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
+        dispatchTiles(tile, t.size);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
 }
@@ -222,10 +237,7 @@ void rasterizeSecondLayer(gl::ProgramCache& programs, const GpuScene& scene, con
     tile.set(RTGI_VISIBILITY_LOC_SIZE, t.size);
     tile.set(RTGI_VISIBILITY_LOC_FLAGS, 0);
     tile.set(RTGI_VISIBILITY_LOC_LAYER2, layer);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_LARGE, t.large.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+    bindRasterBuffers(t);
     const float none = std::numeric_limits<float>::max();
     glClearTexImage(layer2.id(), 0, GL_RED, GL_FLOAT, &none);
     glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER1, layer1.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
@@ -234,15 +246,8 @@ void rasterizeSecondLayer(gl::ProgramCache& programs, const GpuScene& scene, con
     // Producers: the clear above; visibility.resolve's image stores into layer1;
     // the bins of rasterizeVisibility (storage buffers).
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    const std::int64_t setupGroups = (std::int64_t(t.triangles) + RTGI_VISIBILITY_SETUP_GROUP - 1) / RTGI_VISIBILITY_SETUP_GROUP;
-    dispatchLinear(setup, setupGroups);
-    const glm::ivec2 tiles = (t.size + RTGI_VISIBILITY_TILE - 1) / RTGI_VISIBILITY_TILE;
-    glUseProgram(tile.id());
-    {
-        gl::Profiler::noteDispatch();
-        auto scope = gl::Profiler::dispatchScope(tile.name());
-        glDispatchCompute(GLuint(tiles.x), GLuint(tiles.y), 1);
-    }
+    dispatchSetup(setup, t);
+    dispatchTiles(tile, t.size);
     glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER1, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(RTGI_VISIBILITY_IMG_LAYER2, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
 }
