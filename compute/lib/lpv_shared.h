@@ -275,5 +275,9 @@ RTGI_LPV_STRUCT(LpvRsmFace) {
 #define RTGI_LPV_UPSAMPLE_TEX_LOW_INDIRECT 4  // lpv/upsample.comp (G-buffer and BRDF LUT at the apply's units)
 #define RTGI_LPV_UPSAMPLE_TEX_LOW_SPECULAR 5  // lpv/upsample.comp
 #define RTGI_LPV_UPSAMPLE_TEX_LOW_GEOMETRY 6  // lpv/upsample.comp
+// lpv.sky_bounce (docs/lpv.md, "Sky bounce"): lpv/inject.comp with RTGI_LPV_INJECT_SKY reads the G-buffer at
+// RTGI_LPV_TEX_LINEAR_DEPTH .. _MATERIAL and the cascade's sky visibility and moments here.
+#define RTGI_LPV_TEX_INJECT_SKY            4
+#define RTGI_LPV_TEX_INJECT_MOMENTS        5
 
 #endif

@@ -10,13 +10,33 @@
 // the RSMs are layers of 2D arrays of one side, workgroup z injects face entry
 // uFirstFace + z of the LpvRsmFace list (its layer and the inverse of the view it was drawn
 // with); the volume's placement comes from the uniform block as for the sun's RSM.
+// RTGI_LPV_INJECT_SKY (lpv.sky_bounce; docs/lpv.md, "Sky bounce"): instead of an RSM, the
+// G-buffer at lpv.geometry_stride as surfels lit by the sky: each adds (rho E_sky A / pi)
+// cosLobe(n) with E_sky = pi * sky * f, f the cosine-weighted sky visibility of the cells in
+// front of it (the sky term's, lpv/apply.comp), read with the apply's side test and, with
+// RTGI_LPV_LOOKUP_VISIBILITY, the cells' visibility moments.
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
 
 layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;
 
-#ifdef RTGI_LPV_INJECT_FACES
+#ifdef RTGI_LPV_INJECT_SKY
+#include "lpv/gbuffer_surfel.glsl"
+#include "lib/lpv_lookup.glsl"
+#include "lib/brdf.glsl"
+layout(binding = RTGI_LPV_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+layout(binding = RTGI_LPV_TEX_VIEW_NORMAL) uniform sampler2D uViewNormal;
+layout(binding = RTGI_LPV_TEX_ALBEDO) uniform sampler2D uAlbedo;
+layout(binding = RTGI_LPV_TEX_MATERIAL) uniform sampler2D uMaterial;
+layout(binding = RTGI_LPV_TEX_INJECT_SKY) uniform sampler3D uSkyVisibility;  // band-1 SH per cell
+#ifdef RTGI_LPV_LOOKUP_VISIBILITY
+layout(binding = RTGI_LPV_TEX_INJECT_MOMENTS) uniform sampler3D uVisibility;
+#endif
+#ifndef RTGI_LPV_GV_STRIDE
+#define RTGI_LPV_GV_STRIDE 2
+#endif
+#elif defined(RTGI_LPV_INJECT_FACES)
 layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2DArray uFlux;
 layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2DArray uNormal;
 layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2DArray uDepth;
@@ -70,9 +90,68 @@ void lpvGlobalAdd(uint key, int channel, float value) {
 #endif
 #include "lpv/lpv_reduce.glsl"
 
+#ifdef RTGI_LPV_INJECT_SKY
+// The cosine-weighted sky visibility f in [0, 1] of the cells in front of the surface point x
+// (normal n), read at q = x + n s / 2 as lpv/apply.comp reads it for the receiver.
+float lpvSkyVisibleAt(vec3 x, vec3 n) {
+    vec3 q = lpvCellCoord(x + 0.5 * lpvCellSize() * n);
+    float blocked[8];
+#ifdef RTGI_LPV_LOOKUP_VISIBILITY
+    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
+#else
+    for (int k = 0; k < 8; ++k) blocked[k] = 0.0;
+#endif
+    float w[8];
+    lpvGeometryWeights(q, lpvCellCoord(x), n, blocked, w);
+    ivec3 base = lpvStencilBase(q), top = lpv.grid.xyz - 1;
+    vec4 p = vec4(0.0);
+    for (int k = 0; k < 8; ++k)
+        if (w[k] > 0.0) p += w[k] * texelFetch(uSkyVisibility, clamp(base + lpvStencilOffset(k), ivec3(0), top), 0);
+    return clamp(shCosineIntegral(p, n) * INV_PI, 0.0, 1.0);
+}
+#endif
+
+// Adds flux Phi (rgb) leaving the surface point p with normal n as (Phi / pi) cosLobe(n) to the
+// cell in front of it; false when that cell is outside the volume.
+bool lpvInjectSurfel(vec3 p, vec3 n, vec3 flux) {
+    ivec3 c;
+    if (!lpvInjectionCell(p, n, c)) return false;
+#ifdef RTGI_LPV_SH2
+    mat3 lobe = shCosineLobe9(n) * INV_PI;
+    float v[27];
+    for (int k = 0; k < 9; ++k) {
+        float l = lobe[k / 3][k % 3];
+        v[k] = flux.r * l;
+        v[9 + k] = flux.g * l;
+        v[18 + k] = flux.b * l;
+    }
+#else
+    vec4 lobe = shCosineLobe(n) * INV_PI;
+    float v[12];
+    for (int k = 0; k < 4; ++k) {
+        v[k] = flux.r * lobe[k];
+        v[4 + k] = flux.g * lobe[k];
+        v[8 + k] = flux.b * lobe[k];
+    }
+#endif
+    lpvReduceAdd(lpvKeyOfCell(c, lpv.grid.xyz), v);
+    return true;
+}
+
 void main() {
     lpvReduceBegin();
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+#ifdef RTGI_LPV_INJECT_SKY
+    ivec2 full = t * RTGI_LPV_GV_STRIDE;
+    vec3 wp, n;
+    float area;
+    if (lpvGBufferSurfel(uLinearDepth, uViewNormal, full, RTGI_LPV_GV_STRIDE, lpv.rsm.w, wp, n, area)) {
+        vec3 rho = diffuseAlbedo(texelFetch(uAlbedo, full, 0).rgb, texelFetch(uMaterial, full, 0).g);
+        // Phi = rho A E_sky = rho A pi sky f (cells outside this cascade: the coarser one holds them).
+        vec3 flux = rho * area * PI * frame.sky.rgb * lpvSkyVisibleAt(wp, n);
+        if (any(greaterThan(flux, vec3(0.0)))) lpvInjectSurfel(wp, n, flux);
+    }
+#else
 #ifdef RTGI_LPV_INJECT_FACES
     LpvRsmFace face = faces[uFirstFace + int(gl_WorkGroupID.z)];
     const int side = textureSize(uFlux, 0).x;
@@ -88,31 +167,10 @@ void main() {
     vec4 nrm = all(lessThan(t, ivec2(side))) ? texelFetch(uNormal, tex, 0) : vec4(0.0);
     if (nrm.w != 0.0) {  // a surface in this texel
         vec3 n = normalize(nrm.xyz);
-        ivec3 c;
-        if (lpvInjectionCell(LPV_RSM_POSITION(texelFetch(uDepth, tex, 0).r), n, c)) {
-            vec3 flux = texelFetch(uFlux, tex, 0).rgb;
-#ifdef RTGI_LPV_SH2
-            mat3 lobe = shCosineLobe9(n) * INV_PI;
-            float v[27];
-            for (int k = 0; k < 9; ++k) {
-                float l = lobe[k / 3][k % 3];
-                v[k] = flux.r * l;
-                v[9 + k] = flux.g * l;
-                v[18 + k] = flux.b * l;
-            }
-#else
-            vec4 lobe = shCosineLobe(n) * INV_PI;
-            float v[12];
-            for (int k = 0; k < 4; ++k) {
-                v[k] = flux.r * lobe[k];
-                v[4 + k] = flux.g * lobe[k];
-                v[8 + k] = flux.b * lobe[k];
-            }
-#endif
-            lpvReduceAdd(lpvKeyOfCell(c, lpv.grid.xyz), v);
-        } else {
+        if (!lpvInjectSurfel(LPV_RSM_POSITION(texelFetch(uDepth, tex, 0).r), n, texelFetch(uFlux, tex, 0).rgb)) {
             if (lpv.cascade.z != 0) atomicAdd(droppedTexels[statsSlot], 1u);  // the coarsest cascade counts (finer ones hold less by design)
         }
     }
+#endif
     lpvReduceEnd();
 }

@@ -11,7 +11,7 @@
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
-#include "lib/depth.glsl"
+#include "lpv/gbuffer_surfel.glsl"
 #include "lib/brdf.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_REDUCE, local_size_y = RTGI_LPV_LOCAL_REDUCE) in;
@@ -61,20 +61,11 @@ void blocker() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
 #ifdef RTGI_LPV_GV_GBUFFER
     ivec2 full = t * kStride;
-    if (any(greaterThanEqual(full, frameSize()))) return;
-    float d = texelFetch(uLinearDepth, full, 0).r;
-    if (isSky(d)) return;
-    vec2 uv = (vec2(full) + 0.5) / vec2(frameSize());
-    vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
-    vec3 vn = texelFetch(uViewNormal, full, 0).xyz;
-    if (!(dot(vn, vn) > 0.0)) return;
-    vn = normalize(vn);
-    // World area of the kStride^2 pixels this sample stands for, on the surface.
-    float pixel = 2.0 * d * frame.projParams.z / float(frameSize().y);
-    float cosView = max(dot(vn, normalize(-vp)), lpv.rsm.w);
-    float area = float(kStride * kStride) * pixel * pixel / cosView;
+    vec3 wp, n;
+    float area;
+    if (!lpvGBufferSurfel(uLinearDepth, uViewNormal, full, kStride, lpv.rsm.w, wp, n, area)) return;
     vec3 albedo = diffuseAlbedo(texelFetch(uAlbedo, full, 0).rgb, texelFetch(uMaterial, full, 0).g);
-    addBlocker(viewToWorldPoint(vp), viewToWorldDir(vn), area, albedo);
+    addBlocker(wp, n, area, albedo);
 #else
     if (any(greaterThanEqual(t, ivec2(lpv.grid.w)))) return;
     vec4 nrm = texelFetch(uNormal, t, 0);

@@ -255,6 +255,10 @@ std::vector<SettingKey> buildKeys() {
             "(also times the cosine-weighted fraction of rays from the lookup's cells that leave the scene; "
             "docs/lpv.md, \"Sky visibility\")", "ambient|visibility",
             s.lpv.sky = parseEnum<LpvSettings::Sky>("lpv.sky", v, kLpvSky), kLpvSky[int(s.lpv.sky)]),
+        KEY("lpv.sky_bounce", "with lpv.sky=visibility (compute path): inject the sky light reflected by the G-buffer's "
+            "surfaces (every lpv.geometry_stride-th pixel) into the volume, as the RSM injects the sun's "
+            "(docs/lpv.md, \"Sky bounce\")", "on|off",
+            s.lpv.skyBounce = parseBool("lpv.sky_bounce", v), onOff(s.lpv.skyBounce)),
         KEY("lpv.visibility_exponent", "lpv.lookup=visibility: power of each cell's Chebyshev visibility bound before "
             "the weights are renormalized (1 = the bound itself, 3 = DDGI's sharpening; docs/lpv.md, \"Leaks, third pass\")",
             "1..8", s.lpv.visibilityExponent = parseInt("lpv.visibility_exponent", v, 1, 8), fmt(s.lpv.visibilityExponent)),

@@ -97,6 +97,9 @@ struct LpvSettings {
     enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
     // Compose's sky term: uniform ambient times AO, or also times the cells' ray-traced sky visibility.
     enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
+    // With lpv.sky=visibility (compute path): the sky light reflected by the surfaces the camera sees is
+    // injected into the volume like an RSM's (docs/lpv.md, "Sky bounce").
+    bool skyBounce = false;
     // lpv.lookup=visibility: each cell's Chebyshev bound is raised to this power (DDGI uses 3; docs/lpv.md).
     int visibilityExponent = 1;
     // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").

@@ -1,7 +1,6 @@
 // lpv.geometry_stride (docs/lpv.md, "Geometry injection stride"): the blocking potential injected
 // from the G-buffer with every fourth pixel in x and y (each sample's surfel 16 pixels) against
-// every second one (4 pixels, the default), on a plane seen head-on, both against the CPU double
-// sum of the pixels' surfel areas.
+// every second one (4 pixels), on a plane seen head-on, both against its analytic visible area.
 #include "gpu_fixture.h"
 
 #include "render/lpv/lpv_math.h"
@@ -65,17 +64,16 @@ TEST_CASE("LPV geometry injection stride 4 equals stride 2 on a head-on plane wi
         return a;
     };
     const std::vector<double> a2 = inject(2), a4 = inject(4);
-    // CPU double: each pixel's surfel area p^2 / max(cos, 1/4) (p = 2 d tan(fov/2) / H, cos between
-    // the normal +z and the direction to the camera), summed; its total is the oracle of both strides
-    // (the strides sample this smooth field on 2x2 and 4x4 blocks).
+    // Oracle: the visible part of the wall, (2 d tan(fov/2))^2 * aspect (a plane facing the camera at
+    // linear depth d; docs/lpv.md, "Sky bounce": a pixel covers p^2 cos(theta) / cos(V) of a surface, and
+    // for a head-on plane cos(V) = cos(theta)); the strides sample this smooth field on 2x2 and 4x4 blocks.
     const double d = 3.0, t = std::tan(double(cam.fovY) / 2.0), p = 2.0 * d * t / size.y, aspect = double(size.x) / size.y;
-    double total = 0.0, cosMin = 1.0;
+    const double total = (2.0 * d * t) * (2.0 * d * t) * aspect;
+    double cosMin = 1.0;
     for (int y = 0; y < size.y; ++y)
         for (int x = 0; x < size.x; ++x) {
             double nx = ((x + 0.5) / size.x * 2.0 - 1.0) * t * aspect, ny = ((y + 0.5) / size.y * 2.0 - 1.0) * t;
-            double c = 1.0 / std::sqrt(1.0 + nx * nx + ny * ny);
-            cosMin = std::min(cosMin, c);
-            total += p * p / std::max(c, 0.25);
+            cosMin = std::min(cosMin, 1.0 / std::sqrt(1.0 + nx * nx + ny * ny));
         }
     double sum2 = 0.0, sum4 = 0.0, l1 = 0.0;
     for (std::size_t i = 0; i < a2.size(); ++i) {
@@ -83,7 +81,7 @@ TEST_CASE("LPV geometry injection stride 4 equals stride 2 on a head-on plane wi
         sum4 += a4[i];
         l1 += std::abs(a4[i] - a2[i]);
     }
-    // Totals: a Riemann sum of 1/cos on blocks of s x s pixels; 1/cos changes by < 1 % per 4 pixels here.
+    // Totals: every pixel's footprint is p^2 exactly here, so both strides sum to the visible area.
     MESSAGE("surfel area: CPU " << total << ", stride 2 " << sum2 << ", stride 4 " << sum4 << ", L1 over corners "
                                 << l1);
     CHECK(sum2 == doctest::Approx(total).epsilon(0.01));

@@ -1,4 +1,4 @@
-// The LPV passes (seed 000 sections 3, 5.2; SPEC 3): lpv.rsm -> lpv.inject
+// The LPV passes (seed 000 sections 3, 5.2; SPEC 3): lpv.rsm -> lpv.visibility -> lpv.inject
 // -> lpv.pack -> lpv.inject_geometry -> lpv.propagate -> lpv.temporal ->
 // lpv.apply. They share one LpvState (volumes, uniform block, RSM); the
 // kernels live in lpv_volumes.cpp, the pure math in lpv_math.cpp.
@@ -112,6 +112,21 @@ bool momentsNeeded(const Settings& s) { return s.lpv.lookup == LpvSettings::Look
 bool facesNeeded(const Settings& s) {
     return s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
            geometryNeeded(s);
+}
+
+// lpv.sky_bounce: the G-buffer's sky-lit surfels injected into the volume (compute path, with the
+// cells' sky visibility, into a propagated volume; docs/lpv.md, "Sky bounce").
+bool skyBounceNeeded(const Settings& s) {
+    return s.lpv.skyBounce && s.lpv.sky == LpvSettings::Sky::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
+           s.lpv.source == LpvSettings::Source::Propagated;
+}
+
+// Every cascade's light volumes at its placement's grid (lpv.visibility, the first pass to use a
+// cascade's grid, and lpv.inject; idempotent).
+void ensureLightVolumes(LpvState& st, FrameContext& ctx) {
+    const LpvSettings& ls = ctx.settings.lpv;
+    const GLenum format = ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F;
+    for (LpvCascade& c : st.cascades) c.volumes.ensureLight(ctx.ledger, c.placement.grid, format, ls.shOrder);
 }
 
 // Cascades in use: the raster baseline is the seed's single volume.
@@ -416,8 +431,7 @@ public:
         st.facesInjected = st.facesFromCache = st.cacheRebuilds = 0;
         // Every RSM of the frame (the sun's and each local-light face) adds
         // into the same accumulation of every cascade.
-        const GLenum format = ls.format == LpvSettings::Format::Rgba32f ? GL_RGBA32F : GL_RGBA16F;
-        for (LpvCascade& c : st.cascades) c.volumes.ensureLight(ctx.ledger, c.placement.grid, format, ls.shOrder);
+        ensureLightVolumes(st, ctx);
         if (ls.path == LpvSettings::Path::Raster) {
             injectRasterFrame(ctx);
         } else {
@@ -440,6 +454,7 @@ public:
     // Compute path: the fp32 accumulation (lpv.pack converts it); raster path: step[0] and accum.
     void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
         const LpvState* st = st_.get();
+        if (skyBounceNeeded(s)) d.read(R::linearDepth).read(R::normal).read(R::albedo).read(R::material);
         cacheFor_ = cacheUsed(s, resolveLocalLights(scene, s).faces);
         if (cacheFor_)
             outputCascadesRgb(d, st, s.lpv, "lpv.inject_cache", [](const LpvCascade& c) -> const lpv::Rgb* {
@@ -607,6 +622,11 @@ private:
                                           GL_UNSIGNED_INT, &zero);
             }
             if (st.sunRsm) lpv::injectCompute(ctx.programs, c.ubo, st.rsm, ls.rsm, c.volumes, st.stats);
+            if (skyBounceNeeded(ctx.settings)) {
+                const GBuffer& g = ctx.res.gbuffer;
+                lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size, ls.geometryStride};
+                lpv::injectSky(ctx.programs, c.ubo, gb, c.volumes, momentsNeeded(ctx.settings), ls.visibilityExponent);
+            }
             for (const Batch& b : dynamic) {
                 lpv::injectFaces(ctx.programs, c.ubo, st.localArrays[std::size_t(b.array)], st.faceList, b.first,
                                  b.count, lpv::injectTarget(c.volumes), ls.shOrder, st.stats, 0);
@@ -887,6 +907,7 @@ public:
         const bool moments = momentsNeeded(ctx.settings);
         const bool sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility;
         const bool faces = facesNeeded(ctx.settings);
+        ensureLightVolumes(st, ctx);
         for (LpvCascade& c : st.cascades) {
             const glm::vec4 placed = c.uniforms.origin;
             bool fresh = moments && c.volumes.ensureVisibility(ctx.ledger);
@@ -985,6 +1006,7 @@ public:
             in.visibility =
                 ctx.settings.lpv.lookup == LpvSettings::Lookup::Visibility ? &c.volumes.visibility : nullptr;
             in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;
+            in.skySelf = skyBounceNeeded(ctx.settings) && ctx.settings.lpv.selfCorrection;
             in.visibilityExponent = ctx.settings.lpv.visibilityExponent;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
@@ -1011,10 +1033,10 @@ private:
 void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
     auto st = std::make_shared<LpvState>();
     f.push_back(std::make_unique<RsmPass>(st));        // reflective shadow map fitted to the volume
-    f.push_back(std::make_unique<InjectPass>(st));     // RSM texels -> SH (fp32 atomics | raster points)
+    f.push_back(std::make_unique<VisibilityPass>(st)); // per-cell distance moments and sky visibility (BVH rays)
+    f.push_back(std::make_unique<InjectPass>(st));     // RSM texels (and sky-lit G-buffer surfels) -> SH
     f.push_back(std::make_unique<PackPass>(st));       // fp32 -> lpv.format (compute path)
     f.push_back(std::make_unique<GeometryPass>(st));   // blocking potential (occlusion, bounce)
-    f.push_back(std::make_unique<VisibilityPass>(st)); // per-cell distance moments and sky visibility (BVH rays)
     f.push_back(std::make_unique<PropagatePass>(st));  // iterations, fused accumulation
     f.push_back(std::make_unique<TemporalPass>(st));   // blend with the re-indexed previous volume
     f.push_back(std::make_unique<ApplyPass>(st));      // indirect diffuse + specular radiance
@@ -1031,13 +1053,17 @@ void validateLpvSettings(const Scene&, const Settings& s) {
 Need lpvFamily(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return Need::no("lpv=off");
     if (!lpvActive(scene, s))
-        return Need::no("the scene has no light: no sun, and no point, spot or emissive-region light (no RSM, no LPV)");
+        return Need::no("the scene has no light: no sun, no point, spot or emissive-region light and no sky with "
+                        "lpv.sky_bounce (no RSM, no LPV)");
     return Need::yes();
 }
 
 bool lpvActive(const Scene& scene, const Settings& s) {
     if (s.lpv.mode == Toggle::Off) return false;
-    return resolveSun(scene, s).has_value() || hasLocalLights(scene, s);
+    if (resolveSun(scene, s).has_value() || hasLocalLights(scene, s)) return true;
+    // The sky alone, reflected into the volume (lpv.sky_bounce), is light to propagate too.
+    const glm::vec3 sky = resolveSky(scene, s);
+    return skyBounceNeeded(s) && std::max({sky.x, sky.y, sky.z}) > 0.0f;
 }
 
 bool lpvSpecularActive(const Scene& scene, const Settings& s) {

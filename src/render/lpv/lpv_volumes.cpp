@@ -324,6 +324,36 @@ void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm&
     gl::dispatch(prog, rsmSize, rsmSize);
 }
 
+void injectSky(gl::ProgramCache& programs, const gl::Buffer& ubo, const GBufferView& gb, Volumes& v, bool moments,
+               int visibilityExponent) {
+    gl::Defines d{{"RTGI_LPV_INJECT_SKY", ""}};
+    if (v.shOrder == 2) d.push_back({"RTGI_LPV_SH2", ""});
+    if (gb.stride != 2) d.push_back({"RTGI_LPV_GV_STRIDE", std::to_string(gb.stride)});
+    if (moments) {
+        d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
+        d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(visibilityExponent)});
+    }
+    const gl::Program& prog = programs.compute("lpv/inject.comp", d);
+    bindUbo(ubo);
+    // Producers: gbuffer (framebuffer writes or the compute resolve), lpv.visibility (image
+    // stores), the zeroing of the accumulation by the previous lpv.pack (image stores).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    gl::ScopedBindings b;
+    b.texture(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth)
+        .texture(RTGI_LPV_TEX_VIEW_NORMAL, gb.normal)
+        .texture(RTGI_LPV_TEX_ALBEDO, gb.albedo)
+        .texture(RTGI_LPV_TEX_MATERIAL, gb.material)
+        .texture(RTGI_LPV_TEX_INJECT_SKY, &v.sky);
+    if (moments) b.texture(RTGI_LPV_TEX_INJECT_MOMENTS, &v.visibility);
+    const InjectTarget t = injectTarget(v);
+    bindRgbImages(*t.rgb, RTGI_LPV_INJECT_IMG_INJECT_R, GL_READ_WRITE, GL_R32F);
+    if (t.hi) {
+        bindRgbImages(*t.hi, RTGI_LPV_INJECT_IMG_INJECT_HI_R, GL_READ_WRITE, GL_R32F);
+        glBindImageTexture(RTGI_LPV_INJECT_IMG_INJECT_LAST, t.last->id(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32F);
+    }
+    gl::dispatch(prog, (gb.size.x + gb.stride - 1) / gb.stride, (gb.size.y + gb.stride - 1) / gb.stride);
+}
+
 void injectFaces(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsmArray, const gl::Buffer& faces,
                  int first, int count, const InjectTarget& target, int shOrder, const gl::Buffer& stats,
                  int statsSlot) {
@@ -803,6 +833,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (!in.geometry && in.visibility) d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
+    if (in.sky && in.skySelf) d.push_back({"RTGI_LPV_SKY_SELF", ""});
     if (in.lowGeometry) d.push_back({"RTGI_LPV_APPLY_HALF", ""});
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
     bindUbo(ubo);

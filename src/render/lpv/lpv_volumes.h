@@ -169,6 +169,11 @@ struct GBufferView {
     glm::ivec2 size{0};
     int stride = 2;  // lpv.geometry_stride: pixel stride in x and y (2 or 4), each sample stands for stride^2 pixels
 };
+// lpv.sky_bounce (docs/lpv.md, "Sky bounce"): the G-buffer surfels (every gb.stride-th pixel) lit by
+// the sky add (rho pi sky f A / pi) cosLobe(n) into v.inject, f read from v.sky (and, when
+// `moments`, weighted by v.visibility's moments with `visibilityExponent`, as lpv.apply does).
+void injectSky(gl::ProgramCache& programs, const gl::Buffer& ubo, const GBufferView& gb, Volumes& v,
+               bool moments, int visibilityExponent);
 void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
                     const GBufferView& gbuffer, Volumes& v);
 // Iterations 1..n; returns the index of step[] holding the last iteration.
@@ -249,6 +254,9 @@ struct ApplyInputs {
     const gl::Texture* visibility = nullptr;  // set: lpv.lookup=visibility with this cascade's moments
     int visibilityExponent = 3;               // lpv.visibility_exponent
     const gl::Texture* sky = nullptr;         // set: lpv.sky=visibility with this cascade's sky visibility
+    // With `sky`: the volume holds the sky bounce (lpv.sky_bounce), whose self-illumination of the
+    // receiver (kappa rho pi sky f) is subtracted with the sun's (lpv.self_correction).
+    bool skySelf = false;
     bool damping = false;                     // lpv.damping
     gl::Texture* indirect = nullptr;          // RGBA16F outputs
     gl::Texture* specular = nullptr;
