@@ -73,69 +73,30 @@ vec3 lpvPlaneExitanceAt(vec3 x, vec3 plane, vec3 n, float cosl) {
     if (abs(dot(q - plane, n)) > 0.25 * lpvCellSize()) return vec3(0.0);
     return texelFetch(uRsmFlux, t, 0).rgb * cosl / lpv.rsm.x;
 }
-#endif
 
-#ifdef RTGI_LPV_SKY_SELF
-// The sky bounce's version (docs/lpv.md, "Sky bounce"): the diffuse albedo of the plane through
-// `plane` (normal n) at its point x from the G-buffer, where the surface the camera sees at x lies
-// in that plane (within a quarter cell); 0 off-screen or on another surface (the sky bounce injects
-// only what the camera sees). Times pi sky f it is the plane's sky exitance (f: the receiver's).
-vec3 lpvSkyPlaneAlbedoAt(vec3 x, vec3 plane, vec3 n) {
-    vec4 c = frame.viewProj * vec4(x, 1.0);
-    if (!(c.w > 0.0)) return vec3(0.0);
-    vec2 ndc = c.xy / c.w;
-    if (any(greaterThan(abs(ndc), vec2(1.0)))) return vec3(0.0);
-    ivec2 t = clamp(ivec2((ndc * 0.5 + 0.5) * vec2(frameSize())), ivec2(0), frameSize() - 1);
-    float d = texelFetch(uLinearDepth, t, 0).r;
-    if (isSky(d)) return vec3(0.0);
-    vec2 uv = (vec2(t) + 0.5) / vec2(frameSize());
-    vec3 q = viewToWorldPoint(viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w));
-    if (abs(dot(q - plane, n)) > 0.25 * lpvCellSize()) return vec3(0.0);
-    return diffuseAlbedo(texelFetch(uAlbedo, t, 0).rgb, texelFetch(uMaterial, t, 0).g);
-}
-#endif
-
-#if defined(RTGI_LPV_SELF) || defined(RTGI_LPV_SKY_SELF)
-// One tap of the plane's exitance at x: the sun's from the RSM (sky = false; cosl the receiver's
-// cosine to the sun), or the sky bounce's albedo from the G-buffer (sky = true).
-vec3 lpvPlaneTap(bool sky, vec3 x, vec3 plane, vec3 n, float cosl) {
-#ifdef RTGI_LPV_SKY_SELF
-    if (sky) return lpvSkyPlaneAlbedoAt(x, plane, n);
-#endif
-#ifdef RTGI_LPV_SELF
-    if (!sky) return lpvPlaneExitanceAt(x, plane, n, cosl);
-#endif
-    return vec3(0.0);
-}
-
-// The plane's exitance (sun) or albedo (sky) weighted by the scheme's lateral self-illumination
-// kernel: ring weights (cells 0..4 away) of the 3D double model of a point on a plane, 8 steps,
-// flow, energy conserving (docs/lpv.md): 93 % of the self-light comes from within 4 cells, the own
-// cell's is negative. A uniform plane gives its value back (weights sum to 1).
-vec3 lpvRingWeighted(bool sky, vec3 wp, vec3 n, float cosl) {
+// The plane's exitance weighted by the scheme's lateral self-illumination kernel: ring
+// weights (cells 0..4 away) of the 3D double model of a point on a plane, 8 steps, flow,
+// energy conserving (docs/lpv.md): 93 % of the self-light comes from within 4 cells, the
+// own cell's is negative. A uniformly lit plane gives its exitance back (weights sum to 1).
+vec3 lpvOwnExitance(vec3 wp, vec3 n) {
+    vec3 l = frame.sunDirection.xyz;  // towards the sun
+    float cosl = dot(n, l);
+    if (cosl <= 0.0) return vec3(0.0);
     const float ring[5] = float[5](-0.179, 0.406, 0.326, 0.213, 0.234);
     vec3 t1 = normalize(abs(n.y) < 0.9 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
     vec3 t2 = cross(n, t1);
-    vec3 m = ring[0] * lpvPlaneTap(sky, wp, wp, n, cosl);
+    vec3 m = ring[0] * lpvPlaneExitanceAt(wp, wp, n, cosl);
     for (int r = 1; r <= 4; ++r) {
         float a = (r & 1) != 0 ? 0.0 : 0.7853982;  // alternate rings turned by 45 degrees
         vec3 ringSum = vec3(0.0);
         for (int k = 0; k < 4; ++k) {
             float phi = a + float(k) * 1.5707963;
             vec3 x = wp + float(r) * lpvCellSize() * (cos(phi) * t1 + sin(phi) * t2);
-            ringSum += lpvPlaneTap(sky, x, wp, n, cosl);
+            ringSum += lpvPlaneExitanceAt(x, wp, n, cosl);
         }
         m += ring[r] * 0.25 * ringSum;
     }
     return max(m, vec3(0.0));
-}
-#endif
-
-#ifdef RTGI_LPV_SELF
-// The sunlit plane's exitance, ring-weighted.
-vec3 lpvOwnExitance(vec3 wp, vec3 n) {
-    float cosl = dot(n, frame.sunDirection.xyz);  // towards the sun
-    return cosl > 0.0 ? lpvRingWeighted(false, wp, n, cosl) : vec3(0.0);
 }
 #endif
 
@@ -443,12 +404,12 @@ void main() {
             if (kappa != 0.0) eSelf = kappa * lpvOwnExitance(wp, n);
 #endif
 #ifdef RTGI_LPV_SKY_SELF
-            // The sky bounce's own exitance M = rho pi sky f (docs/lpv.md, "Sky bounce"): the plane's
-            // albedo ring-weighted from the G-buffer, the receiver's f for the whole kernel (smooth).
+            // The sky bounce's own exitance M = rho pi sky f (docs/lpv.md, "Sky bounce"): the receiver's
+            // own (sky light varies slowly along a plane; ring taps like the sun's cost ~1 ms at 1080p).
             if (kappa != 0.0) {
                 float f = skyWeight != 0.0 ? skyVisible
                                            : clamp(shCosineIntegral(lpvFetch(uSky, lk), n) * INV_PI, 0.0, 1.0);
-                if (f > 0.0) eSelf += kappa * PI * f * frame.sky.rgb * lpvRingWeighted(true, wp, n, 1.0);
+                eSelf += kappa * PI * f * frame.sky.rgb * diffuseAlbedo(albedo, rm.y);
             }
 #endif
 #ifdef RTGI_LPV_CASCADED

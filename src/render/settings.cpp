@@ -248,7 +248,8 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.blocking", "geometry volume blocking: oriented (surfaces facing the light, KD10 band-1 SH) or two-sided "
             "(the area projected across the flow, either side; docs/lpv.md, \"Leaks\") or visibility (oriented, times the "
             "open fraction of the slab between the two cells' centres, ray-traced per cell and axis; the stopped flux is "
-            "reflected into the source cell with lpv.reflect=source; docs/lpv.md, \"Leaks, third pass\")", "oriented|two-sided|visibility",
+            "reflected into the source cell with lpv.reflect=source; docs/lpv.md, \"Leaks, third pass\"; compute path: "
+            "the raster baseline blocks as oriented)", "oriented|two-sided|visibility",
             s.lpv.blocking = parseEnum<LpvSettings::Blocking>("lpv.blocking", v, kLpvBlocking),
             kLpvBlocking[int(s.lpv.blocking)]),
         KEY("lpv.sky", "the sky term inside the volume: ambient (sky radiance times AO everywhere) or visibility "

@@ -62,7 +62,9 @@ struct PostSettings {
 struct LpvSettings {
     Toggle mode = Toggle::Auto;          // auto: on when the scene has a sun
     enum class Path { Compute, Raster } path = Path::Compute;
-    glm::ivec3 grid{24};                 // per cascade (defaults measured in docs/lpv.md, "Cascades")
+    // Per cascade; 16 since the fifth leak pass (docs/lpv.md, "Fifth pass": chosen with the face openness
+    // on the GI suite's minimum gain; the cascades' table of docs/lpv.md measured 24 with the older blocking).
+    glm::ivec3 grid{16};
     float cell = 0.0f;                   // 0 = fit the grid to the scene bounds (auto, docs/lpv.md)
     // Camera-following volumes snap their origin to whole cells (seed 000 3.7); off: the origin follows the
     // camera continuously, so light shifts within the cells as the camera moves (docs/lpv.md, "Snapping").
@@ -91,17 +93,17 @@ struct LpvSettings {
     bool damping = false;                // KD10 derivative damping of the lookup (darkens cornell's far half: docs/lpv.md)
     enum class InjectSide { Offset, Front } injectSide = InjectSide::Front;
     bool firstStepBlocked = true;        // geometry occlusion also in the first propagation step
-    // visibility: oriented times the traced face openness (docs/lpv.md, "Leaks, third pass": passes the
-    // closed room, but darkens the restaurant entrance on llvmpipe, so not the default yet).
-    enum class Blocking { Oriented, TwoSided, Visibility } blocking = Blocking::Oriented;
+    // visibility: oriented times the traced face openness (docs/lpv.md, "Leaks, third pass"); the default since
+    // the fifth pass with lpv.grid=16 (the raster baseline keeps the oriented blocking).
+    enum class Blocking { Oriented, TwoSided, Visibility } blocking = Blocking::Visibility;
     enum class Reflect { Destination, Source } reflect = Reflect::Source;  // where lpv.bounce puts the reflection
     // Compose's sky term: uniform ambient times AO, or also times the cells' ray-traced sky visibility.
     enum class Sky { Ambient, Visibility } sky = Sky::Visibility;
     // With lpv.sky=visibility (compute path): the sky light reflected by the surfaces the camera sees is
     // injected into the volume like an RSM's (docs/lpv.md, "Sky bounce").
     bool skyBounce = false;
-    // lpv.lookup=visibility: each cell's Chebyshev bound is raised to this power (DDGI uses 3; docs/lpv.md).
-    int visibilityExponent = 1;
+    // lpv.lookup=visibility: each cell's Chebyshev bound is raised to this power (DDGI's 3; docs/lpv.md).
+    int visibilityExponent = 3;
     // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
     bool halfApply = false;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.

@@ -1,9 +1,8 @@
 // lpv.geometry_stride (docs/lpv.md, "Geometry injection stride"): the blocking potential injected
 // from the G-buffer with every fourth pixel in x and y (each sample's surfel 16 pixels) against
 // every second one (4 pixels), on a plane seen head-on, both against its analytic visible area.
-#include "gpu_fixture.h"
+#include "lpv_test_util.h"
 
-#include "render/lpv/lpv_math.h"
 #include "render/lpv/lpv_volumes.h"
 
 #include <cmath>
@@ -14,20 +13,8 @@ using namespace rtgi::test;
 TEST_CASE("LPV geometry injection stride 4 equals stride 2 on a head-on plane within the documented bound") {
     GpuFixture gpu;
     // A wall at z = 0 facing +z (albedo 0.5) filling the view from (0, 1, 3): linear depth 3 everywhere.
-    Scene scene;
-    scene.name = "test:wall";
-    Material m;
-    m.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
-    m.roughness = 1.0f;
-    scene.materials.push_back(m);
-    addQuad(scene, {-8, -7, 0}, {8, -7, 0}, {8, 9, 0}, {-8, 9, 0}, 0);
-    Camera cam;
-    cam.position = {0, 1, 3};
-    cam.target = {0, 1, 0};
-    cam.fovY = glm::radians(60.0f);
-    cam.near = 0.1f;
-    cam.far = 50.0f;
-    scene.cameras.push_back(cam);
+    Scene scene = headOnWallScene(0.5f);
+    const Camera cam = scene.cameras[0];
     const glm::ivec2 size(192, 128);  // multiples of 4: both strides cover the image exactly
     gl::Profiler prof(false);
     Settings s = smallLpvSettings();
@@ -36,30 +23,26 @@ TEST_CASE("LPV geometry injection stride 4 equals stride 2 on a head-on plane wi
     FrameResources& res = r->resources();
     // A 6 x 4 x 2 grid of unit cells whose corner lattice holds the visible part of the wall (x in
     // +-2.6, y in 1 +- 1.73; corners take [-3.5, 3.5] x [-1.5, 3.5]), the wall on the corner plane z = 1.
-    lpv::Placement pl;
-    pl.grid = {6, 4, 2};
-    pl.cell = 1.0f;
-    pl.origin = {-3.0f, -1.0f, -1.0f};
-    lpv::UniformInputs in;
-    in.placement = pl;
-    gpu::LpvUniforms u = lpv::makeUniforms(s.lpv, in);
+    const glm::ivec3 grid(6, 4, 2);
+    const double cell = 1.0;
+    gpu::LpvUniforms u = placedUniforms(s.lpv, grid, float(cell), {-3.0f, -1.0f, -1.0f});
     gl::MemoryLedger ledger;
     gl::ProgramCache programs;
     gl::Buffer ubo(ledger, "t.lpv.uniforms", sizeof(u), &u);
     lpv::Rsm noRsm;
     auto inject = [&](int stride) {
         lpv::Volumes v;
-        v.ensureLight(ledger, pl.grid, GL_RGBA32F);
+        v.ensureLight(ledger, grid, GL_RGBA32F);
         v.ensureGeometry(ledger, false);
         lpv::GBufferView g{&res.gbuffer.linearDepth, &res.gbuffer.normal, &res.gbuffer.albedo, &res.gbuffer.material,
                            size, stride};
         lpv::injectGeometry(programs, ubo, noRsm, 0, g, v);
         glMemoryBarrier(GL_ALL_BARRIER_BITS);
-        glm::ivec3 d = pl.grid + 1;
+        glm::ivec3 d = grid + 1;
         std::vector<glm::vec4> px(std::size_t(d.x * d.y * d.z));
         glGetTextureImage(v.geometry.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(px.size() * sizeof(glm::vec4)), px.data());
         std::vector<double> a;  // Y00 of the blocking SH / (c0 / s^2): the surfel area at each corner
-        const double c0 = std::sqrt(M_PI) / 2.0, s2 = double(pl.cell) * pl.cell;
+        const double c0 = std::sqrt(M_PI) / 2.0, s2 = cell * cell;
         for (auto& p : px) a.push_back(double(p.x) * s2 / c0);
         return a;
     };
@@ -89,7 +72,7 @@ TEST_CASE("LPV geometry injection stride 4 equals stride 2 on a head-on plane wi
     // Per corner: a sample's whole block goes to the corner of its first pixel, so area within s - 1
     // pixels of a corner-cell border (lines at half-cell offsets, L_total long in the view) can move
     // to the neighbour: sum |a4 - a2| <= (3 + 1) p L_total / cos_min + |sum4 - sum2|.
-    const double wv = 2.0 * d * t * aspect, hv = 2.0 * d * t, cell = pl.cell;
+    const double wv = 2.0 * d * t * aspect, hv = 2.0 * d * t;
     const double lTotal = (std::floor(wv / cell) + 1.0) * hv + (std::floor(hv / cell) + 1.0) * wv;
     const double bound = 4.0 * p * lTotal / cosMin + std::abs(sum4 - sum2);
     MESSAGE("L1 bound " << bound << " (" << bound / total << " of the total)");

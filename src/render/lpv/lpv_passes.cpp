@@ -1045,9 +1045,6 @@ void appendLpvPasses(std::vector<std::unique_ptr<Pass>>& f) {
 void validateLpvSettings(const Scene&, const Settings& s) {
     if (s.lpv.shOrder == 2 && s.lpv.path == LpvSettings::Path::Raster)
         throw ConfigError("lpv.sh_order=2 needs lpv.path=compute: the raster baseline is the seed's band-1 method");
-    if (s.lpv.blocking == LpvSettings::Blocking::Visibility && s.lpv.path == LpvSettings::Path::Raster)
-        throw ConfigError("lpv.blocking=visibility needs lpv.path=compute: the raster baseline propagates with the "
-                          "geometry volume's blocking only");
 }
 
 Need lpvFamily(const Scene& scene, const Settings& s) {
