@@ -216,6 +216,9 @@ std::vector<SettingKey> buildKeys() {
             "on|off", s.lpv.snap = parseBool("lpv.snap", v), onOff(s.lpv.snap)),
         KEY("lpv.iterations", "propagation iterations", "1..64",
             s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),
+        KEY("lpv.coarse_iterations", "propagation iterations of the coarsest of several cascades (0: lpv.iterations; "
+            "docs/lpv.md, \"Coarse iterations\")", "0..64",
+            s.lpv.coarseIterations = parseInt("lpv.coarse_iterations", v, 0, 64), fmt(s.lpv.coarseIterations)),
         KEY("lpv.rsm", "reflective shadow map side", "16..4096", s.lpv.rsm = parseInt("lpv.rsm", v, 16, 4096),
             fmt(s.lpv.rsm)),
         KEY("lpv.format", "propagation volume format", "rgba16f|rgba32f",

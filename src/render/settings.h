@@ -70,6 +70,9 @@ struct LpvSettings {
     // camera continuously, so light shifts within the cells as the camera moves (docs/lpv.md, "Snapping").
     bool snap = true;
     int iterations = 8;
+    // Steps of the coarsest of several cascades (0: lpv.iterations); its near part stays lpv.iterations'
+    // (the finer cascade's reach; docs/lpv.md, "Coarse iterations").
+    int coarseIterations = 0;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
     bool occlusion = true;

@@ -560,12 +560,15 @@ TEST_CASE("LPV cascades: a cascade's near part is its steps weighted by the path
     GpuFixture gpu;
     std::mt19937 rng(23);
     // 2 cascades of 4^3 and 3 cascades of 3x5x7: every cascade i > 0 runs the same steps as a single
-    // volume (tested above) and keeps near = sum_k w_k step_k, w_k = lpv::cascadeNearWeight.
+    // volume (tested above) and keeps near = sum_k w_k step_k, w_k = lpv::cascadeNearWeight. The last
+    // case is a coarsest cascade with lpv.coarse_iterations = 12 beside lpv.iterations = 8: 12 steps,
+    // the near weights of 8 (docs/lpv.md, "Coarse iterations").
     struct Case {
         glm::ivec3 grid;
-        int cascades, iterations;
+        int cascades, iterations, nearIterations = 0;
     };
-    for (const Case& k : {Case{{4, 4, 4}, 2, 8}, Case{{3, 5, 7}, 3, 5}, Case{{3, 5, 7}, 3, 2}}) {
+    for (const Case& k : {Case{{4, 4, 4}, 2, 8}, Case{{3, 5, 7}, 3, 5}, Case{{3, 5, 7}, 3, 2}, Case{{4, 4, 4}, 2, 12, 8}}) {
+        const int nearIt = k.nearIterations > 0 ? k.nearIterations : k.iterations;
         for (int i = 1; i < k.cascades; ++i) {
             INFO("grid " << k.grid.x << "x" << k.grid.y << "x" << k.grid.z << ", cascade " << i << ", "
                          << k.iterations << " iterations");
@@ -577,16 +580,16 @@ TEST_CASE("LPV cascades: a cascade's near part is its steps weighted by the path
             CpuGeometry geo = randomGeometry(k.grid, rng, 0.6), geoIn;
             setup(g, light, &geo, input, &geoIn);
             g.v.ensureNear(g.ledger);
-            lpv::propagateCompute(g.programs, g.ubo, g.v, k.iterations, true);
+            lpv::propagateCompute(g.programs, g.ubo, g.v, k.iterations, true, false, lpv::kMaxFuse, k.nearIterations);
             CpuVolume cur = input, near(k.grid), total = input;
             auto add = [](CpuVolume& dst, const CpuVolume& src, double w) {
                 for (int c = 0; c < 3; ++c)
                     for (std::size_t j = 0; j < dst.c[c].size(); ++j) dst.c[c][j] += w * src.c[c][j];
             };
-            add(near, cur, lpv::cascadeNearWeight(0, k.iterations));
+            add(near, cur, lpv::cascadeNearWeight(0, nearIt));
             for (int it = 1; it <= k.iterations; ++it) {
                 cur = cpuPropagate(cur, &geoIn, it, o);
-                add(near, cur, lpv::cascadeNearWeight(it, k.iterations));
+                add(near, cur, lpv::cascadeNearWeight(it, nearIt));
                 add(total, cur, 1.0);
             }
             CHECK(relL2(readRgb(g.v.near), near) <= 1e-4);

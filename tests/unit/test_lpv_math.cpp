@@ -371,3 +371,22 @@ TEST_CASE("LPV SH band 2: self-irradiance of a lit plane before any step is -1/1
     CHECK(lpv::planeSelfIrradiance(0, true, true, 1).x == doctest::Approx(-1.0 / 12.0).epsilon(1e-12));
     CHECK(lpv::planeSelfIrradiance(0, true, true, 2).x == doctest::Approx(-1.0 / 192.0).epsilon(1e-12));
 }
+
+TEST_CASE("LPV coarse iterations: the coarsest cascade's steps, its self-irradiance with the finer reach's near weights") {
+    LpvSettings s;
+    s.iterations = 8;
+    CHECK(lpv::cascadeSteps(s, 1, 2) == 8);  // unset: every cascade runs lpv.iterations
+    s.coarseIterations = 12;
+    CHECK(lpv::cascadeSteps(s, 0, 2) == 8);
+    CHECK(lpv::cascadeSteps(s, 1, 2) == 12);
+    CHECK(lpv::cascadeSteps(s, 1, 3) == 8);
+    CHECK(lpv::cascadeSteps(s, 0, 1) == 8);  // one volume is no coarsest of several
+    // The near weights of 8 iterations vanish from step 5 on, so the near sum over 12 steps equals the
+    // one over 8 (the first steps are the same whatever follows), and the total is the 12 steps'.
+    for (bool flow : {false, true}) {
+        const glm::dvec2 coarse = lpv::planeSelfIrradiance(12, flow, true, 1, 8);
+        CHECK(coarse.x == doctest::Approx(lpv::planeSelfIrradiance(12, flow, true, 1).x).epsilon(1e-12));
+        CHECK(coarse.y == doctest::Approx(lpv::planeSelfIrradiance(8, flow, true, 1).y).epsilon(1e-12));
+        CHECK(coarse.y != doctest::Approx(lpv::planeSelfIrradiance(12, flow, true, 1).y).epsilon(1e-6));
+    }
+}

@@ -155,7 +155,12 @@ double conservingScale(const Sh9& I) {
     return q > 0.0 ? std::max(I[0], 0.0) / RTGI_SH_Y00 / q : 0.0;
 }
 
-glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int order) {
+int cascadeSteps(const LpvSettings& s, int cascade, int count) {
+    return count > 1 && cascade == count - 1 && s.coarseIterations > 0 ? s.coarseIterations : s.iterations;
+}
+
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int order, int nearIterations) {
+    if (nearIterations <= 0) nearIterations = iterations;
     // Layer j holds the cells j + 1/2 cells above the plane (the injection offset puts
     // the plane's light into layer 0); the plane is uniform, so the 4 lateral neighbours
     // of a cell hold what the cell holds. Unit cells, M = 1: layer 0 starts at (1/pi) cosLobe(up).
@@ -166,7 +171,7 @@ glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int o
     for (double& v : cur[0]) v /= kPi;
     const Sh9 down = shTruncate(shCosineLobe9(-up), order);
     auto receive = [&](const Sh9& i) { return shDot9(i, down); };  // <mirror(I), cosLobe(n)>
-    double total = receive(cur[0]) * 1.0, near = receive(cur[0]) * cascadeNearWeight(0, iterations);
+    double total = receive(cur[0]) * 1.0, near = receive(cur[0]) * cascadeNearWeight(0, nearIterations);
     for (int k = 1; k <= iterations; ++k) {
         std::vector<Sh9> next(cur.size(), Sh9{});
         for (int j = 0; j < layers; ++j)
@@ -179,7 +184,7 @@ glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int o
             }
         cur = std::move(next);
         total += receive(cur[0]);
-        near += receive(cur[0]) * cascadeNearWeight(k, iterations);
+        near += receive(cur[0]) * cascadeNearWeight(k, nearIterations);
     }
     return {total, near};
 }
@@ -211,8 +216,9 @@ gpu::LpvUniforms makeUniforms(const LpvSettings& s, const UniformInputs& in) {
     u.temporal = glm::vec4(s.temporal, 0, 0, 0);
     int count = in.cascades.empty() ? 1 : int(in.cascades.size());
     u.cascade = glm::ivec4(in.cascade, count, in.cascade == count - 1, s.reemit == LpvSettings::Reemit::Flow);
-    glm::dvec2 self = s.selfCorrection ? planeSelfIrradiance(s.iterations, s.reemit == LpvSettings::Reemit::Flow,
-                                                             s.energyConserving, s.shOrder)
+    glm::dvec2 self = s.selfCorrection ? planeSelfIrradiance(cascadeSteps(s, in.cascade, count),
+                                                             s.reemit == LpvSettings::Reemit::Flow, s.energyConserving,
+                                                             s.shOrder, s.iterations)
                                        : glm::dvec2(0.0);
     u.cascadeParams = glm::vec4(kCascadeBlendCells, float(self.x), float(self.y), s.selfCorrection ? 1.0f : 0.0f);
     u.leak = glm::ivec4(s.injectSide == LpvSettings::InjectSide::Front, s.firstStepBlocked,

@@ -67,7 +67,11 @@ double cascadeNearWeight(int step, int iterations);
 // in double, laterally uniform; nothing below the plane). The truth is 0.
 // .x: all steps; .y: the steps weighted by cascadeNearWeight.
 // `order`: SH bands used by the scheme (lpv.sh_order, 1 or 2).
-glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int order = 1);
+// `nearIterations` (0: iterations) sets the near weights (a coarsest cascade with its own step count).
+glm::dvec2 planeSelfIrradiance(int iterations, bool flow, bool conserving, int order = 1, int nearIterations = 0);
+// Propagation steps of cascade `cascade` of `count`: lpv.coarse_iterations for the coarsest of several
+// (when set), lpv.iterations otherwise.
+int cascadeSteps(const LpvSettings& s, int cascade, int count);
 
 // SH of bands 0-2 in double (lpv.sh_order=2, docs/lpv.md "Second-order SH"): the 9
 // coefficients in the order and with the signs of compute/lib/sh_shared.h; an SH of

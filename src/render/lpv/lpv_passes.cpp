@@ -722,7 +722,9 @@ public:
     }
     // lpv.propagate_cascades=joint and a configuration it covers (docs/lpv.md, "Joint cascade propagation").
     static bool joint(const Settings& s) {
+        // Joint propagation steps every cascade alike: not with lpv.coarse_iterations.
         return s.lpv.jointCascades && s.lpv.path == LpvSettings::Path::Compute &&
+               (s.lpv.coarseIterations == 0 || s.lpv.coarseIterations == s.lpv.iterations) &&
                lpv::jointPropagationApplies(cascadeCount(s.lpv), s.lpv.shOrder, s.lpv.fuse, facesNeeded(s));
     }
     void execute(FrameContext& ctx) override {
@@ -759,8 +761,9 @@ public:
             } else {
                 // Cascades i > 0 also keep their near part (docs/lpv.md, "Cascades").
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
-                compute.emplace_back(i, lpv::ComputePropagation(ctx.programs, c.ubo, c.volumes, ls.iterations, i > 0,
-                                                                facesNeeded(ctx.settings), ls.fuse));
+                const int steps = lpv::cascadeSteps(ls, int(i), int(st.cascades.size()));
+                compute.emplace_back(i, lpv::ComputePropagation(ctx.programs, c.ubo, c.volumes, steps, i > 0,
+                                                                facesNeeded(ctx.settings), ls.fuse, ls.iterations));
             }
         }
         for (bool more = !compute.empty(); more;) {

@@ -549,13 +549,14 @@ void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
 }  // namespace
 
 ComputePropagation::ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v,
-                                       int iterations, bool near, bool visibility, int fuse)
+                                       int iterations, bool near, bool visibility, int fuse, int nearIterations)
     : programs_(programs), ubo_(ubo), v_(v), iterations_(iterations), near_(near), visibility_(visibility),
       sh2_(v.shOrder == 2), defines_(formatDefines(v.format, v.shOrder)) {
     if (visibility) defines_.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
     // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
-    while (nearK_ + 1 <= iterations && cascadeNearWeight(nearK_ + 1, iterations) >= 1.0) ++nearK_;
-    nearF_ = nearK_ + 1 <= iterations ? float(cascadeNearWeight(nearK_ + 1, iterations)) : 0.0f;
+    const int n = nearIterations > 0 ? nearIterations : iterations;
+    while (nearK_ + 1 <= iterations && cascadeNearWeight(nearK_ + 1, n) >= 1.0) ++nearK_;
+    nearF_ = nearK_ + 1 <= iterations ? float(cascadeNearWeight(nearK_ + 1, n)) : 0.0f;
     // Fused: band 1 only, and not with the traced face openness (its reflected flux was
     // written against the unfused step and is not covered by the fused-equals-unfused test).
     maxFuse_ = sh2_ || visibility ? 1 : std::clamp(fuse, 1, kMaxFuse);
@@ -648,8 +649,8 @@ void ComputePropagation::step(bool leadingBarrier) {
 }
 
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
-                     bool visibility, int fuse) {
-    ComputePropagation p(programs, ubo, v, iterations, near, visibility, fuse);
+                     bool visibility, int fuse, int nearIterations) {
+    ComputePropagation p(programs, ubo, v, iterations, near, visibility, fuse, nearIterations);
     while (!p.done()) p.step();
     return p.last();
 }

@@ -186,15 +186,17 @@ inline constexpr int kMaxFuse = 2;
 // `fuse` > 1 (lpv.fuse, band 1 only): up to that many iterations per dispatch (lpv/propagate_fused.comp,
 // the same steps; docs/lpv.md, "Fused propagation"), split where the near part is taken.
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
-                     bool near = false, bool visibility = false, int fuse = kMaxFuse);
+                     bool near = false, bool visibility = false, int fuse = kMaxFuse, int nearIterations = 0);
 // propagateCompute one dispatch (chunk of iterations) at a time, so the caller can interleave the
 // cascades: step(leadingBarrier = false) issues no barrier before its dispatch, which lets it run
 // beside another cascade's step issued just before it (independent volumes); the barrier of the
 // first step of the next round covers both (docs/lpv.md, "Interleaved cascades").
 class ComputePropagation {
 public:
+    // `nearIterations` (0: iterations): the step count whose near weights make the near part (the finer
+    // cascade's reach when the coarsest runs lpv.coarse_iterations).
     ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
-                       bool visibility, int fuse);
+                       bool visibility, int fuse, int nearIterations = 0);
     bool done() const { return k_ > iterations_; }
     void step(bool leadingBarrier = true);
     int last() const { return src_; }  // the last written step's index
