@@ -516,6 +516,7 @@ void Builder::readItem(const Json& item, const std::string& where, const glm::ma
         allowKeys(item, where, {kind, "material"});
     const Json& p = item.at(kind);
     std::string at = where + "." + kind;
+    bool ground = false;  // a "plane" marked "ground" (below)
 
     if (kind == "repeat") {
         allowKeys(p, at, {"count", "offset"});
@@ -563,7 +564,12 @@ void Builder::readItem(const Json& item, const std::string& where, const glm::ma
         mesh = makeBox(0.5f * (hi - lo));
         local = translate(0.5f * (lo + hi)) * rotateY(number(p, at, "rotationY", 0.0));
     } else if (kind == "quad" || kind == "plane") {
-        allowKeys(p, at, {"center", "size", "normal", "rotationY"});
+        allowKeys(p, at, {"center", "size", "normal", "rotationY", "ground"});
+        // "ground": true marks a plane that stands in for an unbounded floor (Scene::groundVertices).
+        if (p.contains("ground")) {
+            if (!p.at("ground").is_boolean()) fail(at, "'ground' must be true or false");
+            ground = p.at("ground").get<bool>();
+        }
         auto s = numbers(p, at, "size", 2, 2);
         if (!(s[0] > 0.0 && s[1] > 0.0)) fail(at, "'size' must be positive");
         glm::vec3 n = p.contains("normal") ? direction(p, at, "normal") : glm::vec3(0, 1, 0);
@@ -596,7 +602,9 @@ void Builder::readItem(const Json& item, const std::string& where, const glm::ma
         mesh = makeArch(r, w, top, float(positive(p, at, "depth")), integer(p, at, "segments", 24, 2, 4096));
         local = translate(vec3(p, at, "center")) * rotateY(number(p, at, "rotationY", 0.0));
     }
+    const auto first = std::uint32_t(scene_.vertices.size());
     emit(mesh, xf * local, material, where);
+    if (ground) scene_.groundVertices.push_back({first, std::uint32_t(scene_.vertices.size())});
 }
 
 Scene Builder::build(const std::string& text) {

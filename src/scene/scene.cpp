@@ -12,6 +12,24 @@ Aabb Scene::bounds() const {
     return b;
 }
 
+Aabb Scene::focusBounds() const {
+    if (groundVertices.empty()) return bounds();
+    std::vector<char> ground(vertices.size(), 0);
+    for (auto [first, end] : groundVertices)
+        for (std::uint32_t i = first; i < end && i < vertices.size(); ++i) ground[i] = 1;
+    Aabb rest;
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+        if (!ground[i]) rest.grow(vertices[i].position);
+    const Aabb all = bounds();
+    if (rest.empty()) return all;
+    const glm::vec3 e = rest.extent();
+    const float margin = std::max({e.x, e.y, e.z});
+    Aabb b;
+    b.lo = glm::max(rest.lo - glm::vec3(margin), all.lo);
+    b.hi = glm::min(rest.hi + glm::vec3(margin), all.hi);
+    return b;
+}
+
 const Light* Scene::sun() const {
     for (auto& l : lights)
         if (l.type == LightType::Directional) return &l;
@@ -26,6 +44,7 @@ float Scene::minRoughness() const {
 
 void Scene::merge(const Scene& o) {
     auto vOff = std::uint32_t(vertices.size());
+    for (auto [first, end] : o.groundVertices) groundVertices.push_back({first + vOff, end + vOff});
     auto iOff = std::uint32_t(indices.size());
     int mOff = int(materials.size());
     int tOff = int(images.size());

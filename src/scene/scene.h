@@ -118,7 +118,16 @@ struct Scene {
     // rest vertices moved by the motion's matrix (a later motion wins).
     std::vector<RigidMotion> motions;
 
+    // Vertex ranges [first, end) of planes marked "ground" (docs/scenes.md): finite stand-ins for an
+    // unbounded floor, which focusBounds() leaves out.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> groundVertices;
+
     Aabb bounds() const;
+    // The region a finite volume should hold (the LPV's auto-fit, docs/lpv.md "Auto-fit"): without ground
+    // planes, bounds(); with them, the bounds of the other geometry grown by its largest extent on every
+    // side and clipped to bounds() (the ground within one model size of the model); bounds() when the
+    // scene is nothing but ground.
+    Aabb focusBounds() const;
     std::size_t triangleCount() const { return indices.size() / 3; }
     const Light* sun() const;  // first directional light, or nullptr
     // Roughness of the glossiest material (1 when there are none).

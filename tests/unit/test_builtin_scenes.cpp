@@ -476,3 +476,37 @@ TEST_CASE("automatic far plane: a moved framed camera still sees the farthest co
     st.camera.farPlane = 3.0f;
     CHECK(resolveCamera(s, st).far == 3.0f);
 }
+
+TEST_CASE("ground planes: builtin:plane's quad is ground; focusBounds holds the model and one model size of ground") {
+    Scene floor = loadSceneSpec("builtin:plane");
+    REQUIRE(floor.groundVertices.size() == 1);
+    // Nothing but ground: the whole plane.
+    CHECK(floor.focusBounds().lo.x == doctest::Approx(floor.bounds().lo.x));
+    CHECK(floor.focusBounds().hi.z == doctest::Approx(floor.bounds().hi.z));
+    // A 1 x 2 x 0.5 box standing on it at x in [3, 4]: grown by its largest extent (2) on every side,
+    // clipped to the scene (y from the floor at 0 to the box top 2 + 2, clipped to 2).
+    Scene model = buildSceneFromJson(oneMaterial(R"([{"material": "m", "box": {"min": [3, 0, -0.25], "max": [4, 2, 0.25]}}])"),
+                                     "box");
+    const std::size_t before = floor.vertices.size();
+    floor.merge(model);
+    REQUIRE(floor.groundVertices.size() == 1);
+    CHECK(floor.groundVertices[0].second <= before);  // the ground's range kept its place
+    const Aabb f = floor.focusBounds();
+    CHECK(f.lo.x == doctest::Approx(1.0));
+    CHECK(f.hi.x == doctest::Approx(6.0));
+    CHECK(f.lo.y == doctest::Approx(0.0));
+    CHECK(f.hi.y == doctest::Approx(2.0));
+    CHECK(f.lo.z == doctest::Approx(-2.25));
+    CHECK(f.hi.z == doctest::Approx(2.25));
+    // Merged the other way round the ground's range moves with the offset.
+    Scene boxFirst = model;
+    boxFirst.merge(loadSceneSpec("builtin:plane"));
+    REQUIRE(boxFirst.groundVertices.size() == 1);
+    CHECK(boxFirst.groundVertices[0].first == std::uint32_t(model.vertices.size()));
+    CHECK(boxFirst.focusBounds().lo.x == doctest::Approx(1.0));
+    // 'ground' is a boolean, on planes and quads only.
+    CHECK(contains(errorOf([] { buildSceneFromJson(oneMaterial(R"([{"material": "m", "plane": {"center": [0, 0, 0], "size": [1, 1], "ground": 1}}])"), "bad"); }),
+                   "'ground' must be true or false"));
+    CHECK(contains(errorOf([] { buildSceneFromJson(oneMaterial(R"([{"material": "m", "box": {"min": [0, 0, 0], "max": [1, 1, 1], "ground": true}}])"), "bad"); }),
+                   "ground"));
+}

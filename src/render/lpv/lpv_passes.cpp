@@ -203,7 +203,7 @@ public:
         const LpvSettings& ls = ctx.settings.lpv;
         const int count = cascadeCount(ls);
         std::vector<lpv::Placement> placements =
-            lpv::placeCascades(ls, count, ctx.scene.bounds(), ctx.view.position, ctx.view.forward());
+            lpv::placeCascades(ls, count, ctx.scene.focusBounds(), ctx.view.position, ctx.view.forward());
         st.cascades.resize(std::size_t(count));
         auto sun = resolveSun(ctx.scene, ctx.settings);
         st.sunRsm = sun.has_value();

@@ -79,7 +79,7 @@ void faceVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bv
 
 void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near) {
     bvh_.ensure(ctx, "lpv.probe.bvh");
-    const ProbeParams p = probeParams(ctx.settings, ctx.scene.bounds());
+    const ProbeParams p = probeParams(ctx.settings, ctx.scene.focusBounds());
     // Lambert only, as the matching-bounce reference (reference.specular=off).
     gl::Defines defines = formatDefines(v.format, v.shOrder);
     defines.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});
