@@ -4,6 +4,7 @@
 #include "render/reference/reference_cache.h"
 #include "render/reference/reference_kind.h"
 #include "render/reference/reference_passes.h"
+#include "render/lpv/lpv_passes.h"
 
 namespace rtgi::view {
 
@@ -28,6 +29,7 @@ void LiveReference::update(Renderer& run, const View& view, double metricsEvery)
         runKey_ = runKey;
         imageKey_ = std::to_string(int(kind)) + referenceCacheKey(run.scene(), rs, referenceConstants(rs, run.scene().bounds()), View{});
     }
+    view_ = view;
     const std::string k = imageKey_;
     if (!ref_ || k != settingsKey_) {
         if (!profiler_) profiler_ = std::make_unique<gl::Profiler>(false);
@@ -94,6 +96,38 @@ void LiveReference::measure(Renderer& run) {
     errors_.heatMax = errorQuantile(test, mean, channels, 0.99);
     errors_.compared = kind_ == K::Ao ? "ao" : kind_ == K::Indirect ? "indirect" : "full";
     errors_.valid = true;
+    // Gains (issue 22): each technique switched off, the same view, the same reference and pixels.
+    errors_.gains.clear();
+    if (kind_ == K::Ao) return;
+    std::vector<std::pair<std::string, Settings>> off;
+    if (lpvActive(run.scene(), run.settings())) {
+        Settings w = run.settings();
+        w.lpv.mode = Toggle::Off;
+        off.emplace_back("lpv", w);
+    }
+    if (run.settings().ao.nearfield > 0 && run.settings().ao.variant != AoSettings::Variant::Off) {
+        Settings w = run.settings();
+        w.ao.nearfield = 0.0f;
+        off.emplace_back("nearfield", w);
+    }
+    without_.resize(off.size());
+    withoutKeys_.resize(off.size());
+    for (std::size_t i = 0; i < off.size(); ++i) {
+        auto& [name, renderer] = without_[i];
+        const std::string k = key(off[i].second);
+        if (!renderer || name != off[i].first) renderer = std::make_unique<Renderer>(run.scene(), off[i].second, *profiler_);
+        else if (k != withoutKeys_[i]) renderer->configure(off[i].second);
+        name = off[i].first;
+        withoutKeys_[i] = k;
+        renderer->render(view_);
+        const gl::Texture& t = comparedTexture(kind_, renderer->resources());
+        if (!t) continue;
+        const FloatImage w = readTexture(t);
+        if (w.width != mean.width || w.height != mean.height) continue;
+        const RmseUncertainty o = rmseUncertainty(w, mean, se, channels, mask);
+        const double gain = o.rmseDebiased > 0.0 ? 1.0 - errors_.uncertainty.rmseDebiased / o.rmseDebiased : 0.0;
+        errors_.gains.push_back({name, gain, o.rmseDebiased});
+    }
 }
 
 }  // namespace rtgi::view

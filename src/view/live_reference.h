@@ -13,6 +13,8 @@
 #include <chrono>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace rtgi::view {
 
@@ -24,6 +26,14 @@ struct LiveErrors {
     double heatMax = 0;        // 99th percentile of |Δ luminance| (the heat map's scale, as rtgi-bench's)
     int samples = 0, targetSamples = 0;
     std::string compared;      // "ao", "indirect", "full"
+    // Issue 22: does the GI help? The same view rendered without the technique ("lpv": lpv=off,
+    // "nearfield": ao.nearfield=0) against the same reference; gain = 1 - RMSE / RMSE without, on the
+    // debiased RMSEs (as rtgi-bench's error.gain). Not for AO references.
+    struct Gain {
+        std::string technique;
+        double gain = 0.0, rmseWithout = 0.0;
+    };
+    std::vector<Gain> gains;
 };
 
 class LiveReference {
@@ -55,6 +65,10 @@ private:
     int perFrame_;
     std::unique_ptr<gl::Profiler> profiler_;
     std::unique_ptr<Renderer> ref_;
+    View view_;  // the technique's last view (the frames rendered without it use it)
+    // The renderers without a technique (gains), keyed by technique, and their settings' keys.
+    std::vector<std::pair<std::string, std::unique_ptr<Renderer>>> without_;
+    std::vector<std::string> withoutKeys_;
     std::string settingsKey_, runKey_, imageKey_;
     ReferenceSettings::Kind kind_ = ReferenceSettings::Kind::Off;
     LiveErrors errors_;

@@ -208,6 +208,11 @@ bool Ui::build(Settings& settings, const Settings& defaults, ViewState& state, c
                             u.low, u.high);
                 if (e.referenceNoise > 0.5 * e.metrics.rmse)
                     ImGui::TextWrapped("the reference's noise is still comparable to the error: let it converge");
+                for (const LiveErrors::Gain& g : e.gains) {
+                    ImGui::Text("%s gain %+.3f (RMSE without it %.4g)", g.technique.c_str(), g.gain, g.rmseWithout);
+                    if (g.gain < 0.0)
+                        ImGui::TextWrapped("the %s makes this view worse than switching it off", g.technique.c_str());
+                }
             }
         }
     }
