@@ -71,8 +71,9 @@ struct LpvSettings {
     bool snap = true;
     int iterations = 8;
     // Steps of the coarsest of several cascades (0: lpv.iterations); its near part stays lpv.iterations'
-    // (the finer cascade's reach; docs/lpv.md, "Coarse iterations").
-    int coarseIterations = 0;
+    // (the finer cascade's reach). 16: the coarse cascade crosses the fitted scene (14 usable cells at 16^3),
+    // chosen on the GI suite's minimum gain (docs/lpv.md, "Coarse iterations").
+    int coarseIterations = 16;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
     bool occlusion = true;

@@ -157,6 +157,7 @@ inline Settings smallLpvSettings() {
     // sharpened lookup have tests of their own (test_lpv_leaks.cpp).
     s.lpv.blocking = LpvSettings::Blocking::Oriented;
     s.lpv.visibilityExponent = 1;
+    s.lpv.coarseIterations = 0;  // every cascade runs lpv.iterations (the oracles' scheme)
     s.light.shadowSize = 256;
     return s;
 }

@@ -375,6 +375,8 @@ TEST_CASE("LPV SH band 2: self-irradiance of a lit plane before any step is -1/1
 TEST_CASE("LPV coarse iterations: the coarsest cascade's steps, its self-irradiance with the finer reach's near weights") {
     LpvSettings s;
     s.iterations = 8;
+    CHECK(lpv::cascadeSteps(s, 1, 2) == 16);  // the default
+    s.coarseIterations = 0;
     CHECK(lpv::cascadeSteps(s, 1, 2) == 8);  // unset: every cascade runs lpv.iterations
     s.coarseIterations = 12;
     CHECK(lpv::cascadeSteps(s, 0, 2) == 8);
