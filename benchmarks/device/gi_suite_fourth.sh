@@ -14,12 +14,14 @@ set -euo pipefail
 NAME=${NAME:-gi}
 REFCACHE=${REFCACHE:-$OUT/refcache}
 mkdir -p "$OUT/$NAME" "$REFCACHE"
-python3 - "$OUT/$NAME/sweep.json" "$REFCACHE" "${CASES:-}" "${TIME_BUDGET:-40}" <<'PY'
+python3 - "$OUT/$NAME/sweep.json" "$REFCACHE" "${CASES:-}" "${TIME_BUDGET:-40}" "${RESOLUTIONS:-}" <<'PY'
 import json, sys
 s = json.load(open("benchmarks/sweeps/gi-suite.json"))
 s["name"] = "gi-fourth"
 s["base"]["reference.cache"] = sys.argv[2]
 s["base"]["reference.time_budget"] = float(sys.argv[4])
+if sys.argv[5]:
+    s["resolutions"] = json.loads(sys.argv[5])
 s["axes"] = [json.loads(sys.argv[3]) if sys.argv[3] else [
     {},
     {"lpv.apply_resolution": "half"},

@@ -50,7 +50,8 @@
 // Workgroup sizes (read back after linking; listed here so C++ and GLSL agree on tiling).
 #define RTGI_LPV_LOCAL_2D 8
 #define RTGI_LPV_LOCAL_3D 4
-#define RTGI_LPV_LOCAL_REDUCE 16  // 2D tiles of the injection passes (shared-memory pre-reduction)
+#define RTGI_LPV_LOCAL_REDUCE 16
+#define RTGI_LPV_FACE_CELLS 32  // cells per workgroup of the per-face propagation kernel (x 6 faces x 3 colours)  // 2D tiles of the injection passes (shared-memory pre-reduction)
 
 #ifdef RTGI_GLSL
 #define RTGI_LPV_STRUCT(name) struct name

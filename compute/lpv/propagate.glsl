@@ -137,66 +137,93 @@ void lpvFetchSource(ivec3 p, sampler3D srcR, sampler3D srcG, sampler3D srcB, out
 #endif
 }
 
-// Iteration `iteration` (1-based) for destination cell c; src is volume k-1.
-// Occlusion (and the bounce, which needs the blocked part) from iteration 2
-// on (seed 3.5.1): the first step would let geometry occlude its own light.
-LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler3D srcB, sampler3D gv,
-                 sampler3D gvAlbedo, sampler3D gvAxes) {
-    LpvRgb o = LpvRgb(LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
-    ivec3 dims = lpv.grid.xyz;
+// Whether iteration `iteration` (1-based) meets the geometry: occlusion (and the bounce, which
+// needs the blocked part) from iteration 2 on (seed 3.5.1), since the first step would let geometry
+// occlude its own light; lpv.first_step=blocked (docs/lpv.md, "Leaks"): the first step is occluded
+// too (the injected lobe of a surface points away from it, so the surface's own blocker only meets
+// the flux crossing it from behind: the leak).
+bool lpvGeometryActive(int iteration) {
+    return (iteration >= 2 || lpv.leak.y != 0) && (lpv.flags.x != 0 || lpv.flags.y != 0);
+}
+
+// What the geometry does at the face between destination c and its neighbour c + LPV_AXES[a]:
+// the transmitted fraction of the flow into c, the albedo reflecting it back towards the
+// neighbour (lpv.reflect=destination) and the albedo reflecting c's own flux back into c
+// (lpv.reflect=source). Colourless but for the albedos.
+struct LpvFaceTerms {
+    float transmit;
+    vec3 reflected, reflectedOwn;
+};
+
+LpvFaceTerms lpvFaceTerms(ivec3 c, int a, bool geometry, sampler3D gv, sampler3D gvAlbedo, sampler3D gvAxes) {
+    LpvFaceTerms f = LpvFaceTerms(1.0, vec3(0.0), vec3(0.0));
+    if (!geometry) return f;
+    vec3 d = -vec3(LPV_AXES[a]);  // flow from the neighbour into c
     // lpv.reflect=source (docs/lpv.md, "Leaks"): the bounce of c's own flux off the blocker at
     // each of its faces returns into c, the side the light came from (not into the cell
     // behind the blocker, which for a thin wall is the other room).
     bool reflectToSource = lpv.leak.w != 0;
+    vec3 albedo, axes;
+    // The blocking potential stays band 1 for either order (docs/lpv.md).
+    vec4 B = lpvFaceBlocking(gv, gvAlbedo, gvAxes, c, LPV_AXES[a], albedo, axes);
+    // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)); lpv.blocking=two-sided
+    // (docs/lpv.md, "Leaks"): the area projected on the face, whichever side faces the light.
+    float blocked = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, -d), 0.0, 1.0);
+    f.transmit = 1.0 - blocked;
+    float open = 1.0;
+#ifdef RTGI_LPV_PROPAGATE_VISIBILITY
+    // What the surfaces between the two centres stop does not pass (reflected below).
+    open = lpvFaceOpen(c, LPV_AXES[a]);
+    f.transmit *= open;
+#endif
+    if (lpv.flags.y != 0 && !reflectToSource) f.reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
+    if (lpv.flags.y != 0 && reflectToSource) {
+        // c's own flux towards n (flow -d) meets the blocker of the same face from c's side;
+        // what the open fraction stops on top is reflected too (1 without visibility).
+        float blockedOut = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, d), 0.0, 1.0);
+        f.reflectedOwn = (1.0 - (1.0 - blockedOut) * open) * albedo;
+    }
+    return f;
+}
+
+// c's own intensity of one colour as the reflection into the source sends it (energy conserving:
+// scaled like every source).
+LpvSh lpvOwnSource(LpvSh own) {
+    return lpv.leak.w != 0 && lpv.flags.z != 0 ? own * lpvConservingScale(own) : own;
+}
+
+// What one colour (index ch) of neighbour intensity I adds to destination c through the face with
+// terms f (flow direction d into c); own: c's intensity of that colour as lpvOwnSource gives it.
+LpvSh lpvFaceColour(LpvSh I, LpvSh own, vec3 d, LpvFaceTerms f, int ch) {
+    LpvSh acc = LpvSh(0.0);
+    float scale = lpv.flags.z != 0 ? lpvConservingScale(I) : 1.0;
+    float total = lpvPropagateFaces(I * scale, d, f.transmit, acc);
+    // The reflected part leaves the blocking surface back towards the source.
+    acc += (f.reflected[ch] * total * INV_PI) * lpvLobe(-d);
+    if (f.reflectedOwn[ch] > 0.0) acc += (f.reflectedOwn[ch] * lpvFacesFlux(own, -d) * INV_PI) * lpvLobe(d);
+    return acc;
+}
+
+// Iteration `iteration` (1-based) for destination cell c; src is volume k-1. The per-face kernel
+// (lpv/propagate_faces.comp) computes the same lpvFaceColour terms, one invocation each.
+LpvRgb lpvGather(ivec3 c, int iteration, sampler3D srcR, sampler3D srcG, sampler3D srcB, sampler3D gv,
+                 sampler3D gvAlbedo, sampler3D gvAxes) {
+    LpvRgb o = LpvRgb(LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
+    ivec3 dims = lpv.grid.xyz;
     LpvSh own[3];
     lpvFetchSource(c, srcR, srcG, srcB, own);
-    if (reflectToSource && lpv.flags.z != 0)
-        for (int ch = 0; ch < 3; ++ch) own[ch] *= lpvConservingScale(own[ch]);
-    // lpv.first_step=blocked (docs/lpv.md, "Leaks"): the first step is occluded too; the
-    // injected lobe of a surface points away from it (its back face gets no flux), so the
-    // surface's own blocker only meets the flux crossing it from behind: the leak.
-    bool geometry = (iteration >= 2 || lpv.leak.y != 0) && (lpv.flags.x != 0 || lpv.flags.y != 0);
+    for (int ch = 0; ch < 3; ++ch) own[ch] = lpvOwnSource(own[ch]);
+    bool geometry = lpvGeometryActive(iteration);
     for (int a = 0; a < 6; ++a) {
         ivec3 n = c + LPV_AXES[a];
         if (!lpvInside(n, dims)) continue;
-        vec3 d = -vec3(LPV_AXES[a]);  // flow from the neighbour into c
         LpvSh I[3];
         lpvFetchSource(n, srcR, srcG, srcB, I);
-        float transmit = 1.0;
-        vec3 reflected = vec3(0.0), reflectedOwn = vec3(0.0);
-        if (geometry) {
-            vec3 albedo, axes;
-            // The blocking potential stays band 1 for either order (docs/lpv.md).
-            vec4 B = lpvFaceBlocking(gv, gvAlbedo, gvAxes, c, LPV_AXES[a], albedo, axes);
-            // Surfaces facing the incoming light block it (SPEC 3.5: 1 - B(-d)); lpv.blocking=two-sided
-            // (docs/lpv.md, "Leaks"): the area projected on the face, whichever side faces the light.
-            float blocked = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, -d), 0.0, 1.0);
-            transmit = 1.0 - blocked;
-            float open = 1.0;
-#ifdef RTGI_LPV_PROPAGATE_VISIBILITY
-            // What the surfaces between the two centres stop does not pass (reflected below).
-            open = lpvFaceOpen(c, LPV_AXES[a]);
-            transmit *= open;
-#endif
-            if (lpv.flags.y != 0 && !reflectToSource) reflected = blocked * albedo;  // seed 3.5.2: B(-w) reflects, weighted by albedo
-            if (lpv.flags.y != 0 && reflectToSource) {
-                // c's own flux towards n (flow -d) meets the blocker of the same face from c's side;
-                // what the open fraction stops on top is reflected too (1 without visibility).
-                float blockedOut = clamp(lpv.leak.z != 0 ? dot(axes, abs(d)) : shEvaluate(B, d), 0.0, 1.0);
-                reflectedOwn = (1.0 - (1.0 - blockedOut) * open) * albedo;
-            }
-        }
-        LpvSh acc[3] = LpvSh[3](LpvSh(0.0), LpvSh(0.0), LpvSh(0.0));
-        for (int ch = 0; ch < 3; ++ch) {
-            float scale = lpv.flags.z != 0 ? lpvConservingScale(I[ch]) : 1.0;
-            float total = lpvPropagateFaces(I[ch] * scale, d, transmit, acc[ch]);
-            // The reflected part leaves the blocking surface back towards the source.
-            acc[ch] += (reflected[ch] * total * INV_PI) * lpvLobe(-d);
-            if (reflectedOwn[ch] > 0.0) acc[ch] += (reflectedOwn[ch] * lpvFacesFlux(own[ch], -d) * INV_PI) * lpvLobe(d);
-        }
-        o.r += acc[0];
-        o.g += acc[1];
-        o.b += acc[2];
+        LpvFaceTerms f = lpvFaceTerms(c, a, geometry, gv, gvAlbedo, gvAxes);
+        vec3 d = -vec3(LPV_AXES[a]);
+        o.r += lpvFaceColour(I[0], own[0], d, f, 0);
+        o.g += lpvFaceColour(I[1], own[1], d, f, 1);
+        o.b += lpvFaceColour(I[2], own[2], d, f, 2);
     }
     return o;
 }

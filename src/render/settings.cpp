@@ -128,6 +128,7 @@ const char* const kReference[] = {"off", "ao", "indirect", "full"};
 const char* const kCaustics[] = {"on", "off", "regularized"};
 const char* const kResolution[] = {"full", "half"};
 const char* const kJointSeparate[] = {"joint", "separate"};
+const char* const kFaceCell[] = {"face", "cell"};
 
 template <class T>
 std::optional<float> optFloat(const std::string& key, const std::string& v, double lo, double hi) {
@@ -291,6 +292,11 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.fuse", "propagation iterations per dispatch (compute path, band 1; a tile plus halo in shared memory, "
             "docs/lpv.md, \"Fused propagation\")", "1..2",
             s.lpv.fuse = parseInt("lpv.fuse", v, 1, 2), fmt(s.lpv.fuse)),
+        KEY("lpv.propagate_kernel", "invocations of an unfused band-1 propagation step: one per cell, neighbour face and "
+            "colour (face: 18 per cell, summed in shared memory) or one per cell (cell; docs/lpv.md, \"Per-face "
+            "propagation kernel\")", "face|cell",
+            s.lpv.faceKernel = parseEnum<int>("lpv.propagate_kernel", v, kFaceCell) == 0,
+            s.lpv.faceKernel ? "face" : "cell"),
         KEY("lpv.inject_cache", "keep the local lights' injected light per cascade and re-use it while the lights, their "
             "RSM faces, the geometry and the cascade stay (compute path; docs/lights.md, \"Injection cache\"); off: every "
             "face injected every frame", "on|off",

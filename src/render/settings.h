@@ -112,6 +112,9 @@ struct LpvSettings {
     bool halfApply = false;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
     int fuse = 1;
+    // lpv.propagate_kernel=face: one invocation per cell, neighbour face and colour (docs/lpv.md,
+    // "Per-face propagation kernel"); off (cell): one per cell. Unfused band-1 steps of one cascade.
+    bool faceKernel = true;
     // Local lights' injection kept per cascade while nothing it depends on changed (docs/lights.md, "Injection cache").
     bool injectCache = true;
     bool jointCascades = false;  // lpv.propagate_cascades=joint: the cascades of an iteration in one dispatch (2.2x slower on an H100)

@@ -497,9 +497,12 @@ TEST_CASE("LPV face openness (lpv.blocking=visibility): the open fraction passes
     o.occlusion = true;
     o.bounce = true;
     o.flow = true;
+    // Both step kernels: the per-cell one and lpv.propagate_kernel=face (the default).
+    for (bool faceKernel : {false, true})
     for (int tau8 : {0, 102, 255}) {  // RGBA8: 0, 0.4, 1 exactly
         const double tau = tau8 / 255.0;
         CAPTURE(tau);
+        CAPTURE(faceKernel);
         GpuLpv g(grid, GL_RGBA32F, o);
         g.settings.firstStepBlocked = true;
         g.settings.reflect = LpvSettings::Reflect::Source;
@@ -520,7 +523,7 @@ TEST_CASE("LPV face openness (lpv.blocking=visibility): the open fraction passes
         g.v.ensureFaces(g.ledger);
         const std::uint8_t open[8] = {std::uint8_t(tau8), 0, 0, 0, 0, 0, 0, 0};
         glTextureSubImage3D(g.v.faces.id(), 0, 0, 0, 0, 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, open);
-        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, 1, false, true);
+        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, 1, false, true, 1, 0, faceKernel);
         glMemoryBarrier(GL_ALL_BARRIER_BITS);
         CpuVolume got = readRgb(g.v.step[std::size_t(last)]);
         // The unblocked step in double (no blocking potential: transmission 1, nothing reflected).
@@ -1253,6 +1256,81 @@ TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration"
                                       near ? readRgb(g.v.near) : CpuVolume(grid)};
                     };
                     Result a = run(1), b = run(2);
+                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
+                        double peak = 0.0, diff = 0.0;
+                        for (int c = 0; c < 3; ++c)
+                            for (std::size_t i = 0; i < x.c[c].size(); ++i)
+                                for (int k = 0; k < 4; ++k) {
+                                    peak = std::max(peak, std::abs(y.c[c][i][k]));
+                                    diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
+                                }
+                        CHECK(peak > 0.0);
+                        if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
+                        else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
+                    };
+                    compare(b.last, a.last);
+                    compare(b.accum, a.accum);
+                    if (near) compare(b.near, a.near);
+                }
+}
+
+TEST_CASE("LPV per-face propagation kernel (lpv.propagate_kernel=face) equals the per-cell kernel") {
+    // docs/lpv.md, "Per-face propagation kernel": lpvGather's per-face, per-colour terms computed by 18
+    // invocations per cell and summed in the per-cell kernel's order, so fp32 results agree to float
+    // tolerance (1e-6 of the largest coefficient: the shaders may contract multiply-adds differently)
+    // and rgba16f to one half-precision ulp per stored step (n 2^-10 relative L2, as the fused test).
+    // Grids that are not multiples of the 32-cell workgroups, 1 to 8 iterations, a cascade's near
+    // part, plain / occlusion + bounce with flow and energy conservation / the issue-22 defaults
+    // (first step blocked, bounce back into the source) / those with random traced face openness.
+    GpuFixture gpu;
+    std::mt19937 rng(17);
+    std::uniform_int_distribution<int> open8(0, 255);
+    const glm::ivec3 grids[] = {{3, 5, 7}, {9, 6, 5}};
+    for (GLenum format : {GL_RGBA32F, GL_RGBA16F})
+        for (glm::ivec3 grid : grids)
+            for (int iterations : {1, 3, 8})
+                for (int mode = 0; mode < 4; ++mode) {
+                    if (format == GL_RGBA16F && mode != 3) continue;  // llvmpipe time
+                    CpuOptions o;
+                    o.occlusion = o.bounce = mode >= 1;
+                    o.flow = mode >= 1;
+                    o.conserving = mode >= 1;
+                    const bool near = iterations >= 3, visibility = mode == 3;
+                    INFO("grid " << grid.x << "x" << grid.y << "x" << grid.z << ", " << iterations << " iterations, mode "
+                                 << mode << ", fp" << (format == GL_RGBA32F ? 32 : 16));
+                    CpuVolume light = randomLight(grid, rng), input;
+                    CpuGeometry geo = randomGeometry(grid, rng, 0.6), geoIn;
+                    std::vector<std::uint8_t> open(std::size_t(4 * grid.x * grid.y * grid.z));
+                    for (auto& b : open) b = std::uint8_t(open8(rng));
+                    struct Result {
+                        CpuVolume last, accum, near;
+                    };
+                    auto run = [&](bool faceKernel) {
+                        GpuLpv g(grid, format, o);
+                        if (mode >= 2) {
+                            g.settings.firstStepBlocked = true;
+                            g.settings.reflect = LpvSettings::Reflect::Source;
+                            if (visibility) g.settings.blocking = LpvSettings::Blocking::Visibility;
+                            lpv::UniformInputs in;
+                            in.placement.grid = grid;
+                            in.placement.cell = 1.0f;
+                            in.rsmViewProj = glm::mat4(1.0f);
+                            g.upload(in);
+                        }
+                        setup(g, light, &geo, input, &geoIn);
+                        if (near) g.v.ensureNear(g.ledger);
+                        if (visibility) {
+                            g.v.ensureFaces(g.ledger);
+                            glTextureSubImage3D(g.v.faces.id(), 0, 0, 0, 0, grid.x, grid.y, grid.z, GL_RGBA,
+                                                GL_UNSIGNED_BYTE, open.data());
+                        }
+                        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, iterations, near, visibility, 1, 0,
+                                                         faceKernel);
+                        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+                        return Result{readRgb(g.v.step[std::size_t(last)]), readRgb(g.v.accum),
+                                      near ? readRgb(g.v.near) : CpuVolume(grid)};
+                    };
+                    Result a = run(false), b = run(true);
                     auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
                         double peak = 0.0, diff = 0.0;
                         for (int c = 0; c < 3; ++c)

@@ -72,6 +72,10 @@ struct LpvState {
     lpv::Rsm rsm;  // the sun's (orthographic, fitted to the coarsest cascade), when there is a sun
     gl::FramebufferHandle rsmFbo;
     bool sunRsm = false;
+    // Scene::focusBounds() walks every vertex: kept while the geometry stays (GpuScene::geometryVersion).
+    Aabb focus;
+    std::uint64_t focusGeometry = ~std::uint64_t(0);
+    const Scene* focusScene = nullptr;
     // Local-light RSM faces, allocated when the first is drawn: face f is layer f % kRsmArrayLayers
     // of localArrays[f / kRsmArrayLayers] (lpv::rsmArrayDescs), local[f] its state.
     std::vector<lpv::Rsm> localArrays;
@@ -202,8 +206,13 @@ public:
         st.ledger = &ctx.ledger;
         const LpvSettings& ls = ctx.settings.lpv;
         const int count = cascadeCount(ls);
+        if (st.focusScene != &ctx.scene || st.focusGeometry != ctx.gpuScene.geometryVersion()) {
+            st.focus = ctx.scene.focusBounds();
+            st.focusScene = &ctx.scene;
+            st.focusGeometry = ctx.gpuScene.geometryVersion();
+        }
         std::vector<lpv::Placement> placements =
-            lpv::placeCascades(ls, count, ctx.scene.focusBounds(), ctx.view.position, ctx.view.forward());
+            lpv::placeCascades(ls, count, st.focus, ctx.view.position, ctx.view.forward());
         st.cascades.resize(std::size_t(count));
         auto sun = resolveSun(ctx.scene, ctx.settings);
         st.sunRsm = sun.has_value();
@@ -763,7 +772,8 @@ public:
                 if (i > 0) c.volumes.ensureNear(ctx.ledger);
                 const int steps = lpv::cascadeSteps(ls, int(i), int(st.cascades.size()));
                 compute.emplace_back(i, lpv::ComputePropagation(ctx.programs, c.ubo, c.volumes, steps, i > 0,
-                                                                facesNeeded(ctx.settings), ls.fuse, ls.iterations));
+                                                                facesNeeded(ctx.settings), ls.fuse, ls.iterations,
+                                                                ls.faceKernel));
             }
         }
         for (bool more = !compute.empty(); more;) {

@@ -549,9 +549,10 @@ void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
 }  // namespace
 
 ComputePropagation::ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v,
-                                       int iterations, bool near, bool visibility, int fuse, int nearIterations)
+                                       int iterations, bool near, bool visibility, int fuse, int nearIterations,
+                                       bool faceKernel)
     : programs_(programs), ubo_(ubo), v_(v), iterations_(iterations), near_(near), visibility_(visibility),
-      sh2_(v.shOrder == 2), defines_(formatDefines(v.format, v.shOrder)) {
+      sh2_(v.shOrder == 2), faceKernel_(faceKernel && v.shOrder == 1), defines_(formatDefines(v.format, v.shOrder)) {
     if (visibility) defines_.push_back({"RTGI_LPV_PROPAGATE_VISIBILITY", ""});
     // Near part = accum_K + f (accum_{K+1} - accum_K): K the last step of weight 1, f the next one's.
     const int n = nearIterations > 0 ? nearIterations : iterations;
@@ -628,6 +629,10 @@ void ComputePropagation::step(bool leadingBarrier) {
         fused.set(RTGI_LPV_LOC_ITERATION, k);
         fused.set(RTGI_LPV_LOC_FUSED_COUNT, count);
         gl::dispatch(fused, v.grid.x, v.grid.y, v.grid.z);
+    } else if (faceKernel_) {
+        const gl::Program& prog = programs_.compute("lpv/propagate_faces.comp", defines_);
+        prog.set(RTGI_LPV_LOC_ITERATION, k);
+        gl::dispatch(prog, v.grid.x * v.grid.y * v.grid.z, 6, 3);
     } else {
         const gl::Program& prog = programs_.compute("lpv/propagate.comp", defines_);
         prog.set(RTGI_LPV_LOC_ITERATION, k);
@@ -649,8 +654,8 @@ void ComputePropagation::step(bool leadingBarrier) {
 }
 
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
-                     bool visibility, int fuse, int nearIterations) {
-    ComputePropagation p(programs, ubo, v, iterations, near, visibility, fuse, nearIterations);
+                     bool visibility, int fuse, int nearIterations, bool faceKernel) {
+    ComputePropagation p(programs, ubo, v, iterations, near, visibility, fuse, nearIterations, faceKernel);
     while (!p.done()) p.step();
     return p.last();
 }

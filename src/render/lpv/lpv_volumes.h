@@ -185,8 +185,11 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
 inline constexpr int kMaxFuse = 2;
 // `fuse` > 1 (lpv.fuse, band 1 only): up to that many iterations per dispatch (lpv/propagate_fused.comp,
 // the same steps; docs/lpv.md, "Fused propagation"), split where the near part is taken.
+// `faceKernel` (lpv.propagate_kernel=face): the unfused band-1 steps run lpv/propagate_faces.comp, one
+// invocation per cell, neighbour face and colour (the same arithmetic; docs/lpv.md, "Per-face propagation kernel").
 int propagateCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations,
-                     bool near = false, bool visibility = false, int fuse = kMaxFuse, int nearIterations = 0);
+                     bool near = false, bool visibility = false, int fuse = kMaxFuse, int nearIterations = 0,
+                     bool faceKernel = false);
 // propagateCompute one dispatch (chunk of iterations) at a time, so the caller can interleave the
 // cascades: step(leadingBarrier = false) issues no barrier before its dispatch, which lets it run
 // beside another cascade's step issued just before it (independent volumes); the barrier of the
@@ -196,7 +199,7 @@ public:
     // `nearIterations` (0: iterations): the step count whose near weights make the near part (the finer
     // cascade's reach when the coarsest runs lpv.coarse_iterations).
     ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v, int iterations, bool near,
-                       bool visibility, int fuse, int nearIterations = 0);
+                       bool visibility, int fuse, int nearIterations = 0, bool faceKernel = false);
     bool done() const { return k_ > iterations_; }
     void step(bool leadingBarrier = true);
     int last() const { return src_; }  // the last written step's index
@@ -207,7 +210,7 @@ private:
     const gl::Buffer& ubo_;
     Volumes& v_;
     int iterations_;
-    bool near_, visibility_, sh2_;
+    bool near_, visibility_, sh2_, faceKernel_;
     gl::Defines defines_;
     int nearK_ = 0;
     float nearF_ = 0.0f;
