@@ -17,6 +17,9 @@
 // ao.downsample); the outputs are half-resolution and hold the albedo-free terms (irradiance / pi,
 // specular radiance), its depth and view normal go to uLowGeometry; lpv/upsample.comp brings
 // them to full resolution and multiplies by the full-resolution albedo and BRDF.
+// Specular in a dispatch of its own (RTGI_LPV_APPLY_SPECULAR_ONLY, docs/lpv.md "Apply cost"): the
+// same shader without the diffuse lookups, after the diffuse dispatch (compiled without
+// RTGI_LPV_SPECULAR); each is lighter than the two in one (measured on the H200).
 // lpv.sh_order=2 (RTGI_LPV_SH2): the volumes hold bands 0-2 (mat3, lib/sh.glsl);
 // the irradiance uses the band-2 clamped cosine (A_2 = pi / 4), the specular
 // lookup evaluates bands 0-2 (docs/lpv.md, "Second-order SH").
@@ -298,14 +301,17 @@ void main() {
     if (any(greaterThanEqual(o, outSize))) return;
 #ifdef RTGI_LPV_APPLY_HALF
     // The nearest non-sky pixel of the 2x2 block, its depth moved along its tangent plane to
-    // this texel's centre (ao.downsample's reconstruction, lib/ao.glsl).
+    // this texel's centre (ao.downsample's reconstruction, lib/ao.glsl). Nearer means nearer by
+    // more than 1e-3 of the depth: near-equal depths (a wall facing the camera, a crease) keep the
+    // first pixel in block order instead of flipping with the rounding of positions (the choice
+    // decides the normal the half texel shades with; the scale-invariance test caught the flip).
     ivec2 full = frameSize();
     float d = 0.0;
     ivec2 p = min(2 * o, full - 1);
     for (int i = 0; i < 4; ++i) {
         ivec2 q = min(2 * o + ivec2(i & 1, i >> 1), full - 1);
         float dq = texelFetch(uLinearDepth, q, 0).r;
-        if (!isSky(dq) && (isSky(d) || dq < d)) d = dq, p = q;
+        if (!isSky(dq) && (isSky(d) || dq < d * (1.0 - 1e-3))) d = dq, p = q;
     }
     vec2 uv = (vec2(o) + 0.5) / vec2(outSize);
     vec3 lowNormal = texelFetch(uViewNormal, p, 0).xyz;
@@ -313,10 +319,12 @@ void main() {
         vec3 Q = viewPositionFromDepth((vec2(p) + 0.5) / vec2(full), d, frame.projParams.z, frame.projParams.w);
         d = aoPlaneDepthAlongRay(Q, aoSafeNormal(lowNormal, Q), uv, frame.projParams.z, frame.projParams.w, d);
     }
+#if !defined(RTGI_LPV_APPLY_SPECULAR_ONLY)
 #ifdef RTGI_LPV_CASCADED
     if (uLast != 0)
 #endif
         imageStore(uLowGeometry, o, vec4(d, lowNormal));
+#endif
 #else
     ivec2 p = o;
     vec2 uv = (vec2(p) + 0.5) / vec2(outSize);
@@ -340,6 +348,7 @@ void main() {
         if (dot(bent, bent) > 0.0) lookupN = normalize(viewToWorldDir(bent));
 #endif
         LpvSh r, g, b;
+#ifndef RTGI_LPV_APPLY_SPECULAR_ONLY
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
         vec3 lookupAt = wp + 0.5 * lpvCellSize() * n;
         // This cascade's weights (u_i, U_i) at the lookup point, once for the light, the sky
@@ -431,6 +440,7 @@ void main() {
         skyAlpha = skySum + 1.0 - cw.y;
         diffuse = lpvDiffuseFactor(albedo, rm.y) * max(irradiance, vec3(0.0));
 #endif
+#endif  // !RTGI_LPV_APPLY_SPECULAR_ONLY
 #ifdef RTGI_LPV_SPECULAR
         vec3 v = normalize(frame.cameraPos.xyz - wp);
         vec3 R = reflect(-v, n);
@@ -473,7 +483,9 @@ void main() {
     alpha = skyWeight > 0.0 ? skyVisible : 1.0;
 #endif
 #endif
+#ifndef RTGI_LPV_APPLY_SPECULAR_ONLY
     imageStore(uIndirect, o, vec4(diffuse * lpv.rsm.z, alpha));
+#endif
 #ifdef RTGI_LPV_SPECULAR
     imageStore(uSpecular, o, vec4(specular, 1.0));
 #endif

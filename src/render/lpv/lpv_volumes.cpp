@@ -825,8 +825,6 @@ void temporalBlendNear(gl::ProgramCache& programs, const gl::Buffer& ubo, Volume
 
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in) {
     gl::Defines d;
-    if (in.specular) d.push_back({"RTGI_LPV_SPECULAR", ""});
-    if (in.specular && in.brdfLut) d.push_back({"RTGI_LPV_BRDF_LUT", ""});
     const gl::Texture* directional = in.s3ho ? in.s3ho : in.bentNormal;
     if (in.s3ho) d.push_back({"RTGI_LPV_S3HO", ""});
     else if (in.bentNormal) d.push_back({"RTGI_LPV_BENT_NORMAL", ""});
@@ -841,7 +839,17 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     if (in.sky && in.skySelf) d.push_back({"RTGI_LPV_SKY_SELF", ""});
     if (in.lowGeometry) d.push_back({"RTGI_LPV_APPLY_HALF", ""});
+    // The specular in a dispatch of its own after the diffuse one (docs/lpv.md, "Apply cost"): the same
+    // shader, each variant lighter than both in one. The two write different images.
     const gl::Program& prog = programs.compute("lpv/apply.comp", d);
+    const gl::Program* specularProg = nullptr;
+    if (in.specular) {
+        gl::Defines ds = d;
+        ds.push_back({"RTGI_LPV_SPECULAR", ""});
+        ds.push_back({"RTGI_LPV_APPLY_SPECULAR_ONLY", ""});
+        if (in.brdfLut) ds.push_back({"RTGI_LPV_BRDF_LUT", ""});
+        specularProg = &programs.compute("lpv/apply.comp", ds);
+    }
     bindUbo(ubo);
     // Producers: lpv.propagate / lpv.temporal (image stores or blended draws), gbuffer, ao.*, brdf_lut.
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
@@ -884,9 +892,11 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         b.image(RTGI_LPV_IMG_APPLY_SUM_E, *in.sumE, GL_READ_WRITE, GL_RGBA32F)
             .image(RTGI_LPV_IMG_APPLY_SUM_S, *in.sumS, GL_READ_WRITE, GL_RGBA32F);
         prog.set(RTGI_LPV_LOC_APPLY_LAST, in.cascade == in.cascades - 1 ? 1 : 0);
+        if (specularProg) specularProg->set(RTGI_LPV_LOC_APPLY_LAST, in.cascade == in.cascades - 1 ? 1 : 0);
     }
     const glm::ivec2 size = in.lowGeometry ? applyHalfSize(g.size) : g.size;
     gl::dispatch(prog, size.x, size.y);
+    if (specularProg) gl::dispatch(*specularProg, size.x, size.y);
 }
 
 void applyUpsample(gl::ProgramCache& programs, const gl::Buffer& ubo, const UpsampleInputs& in) {
