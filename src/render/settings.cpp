@@ -301,6 +301,10 @@ std::vector<SettingKey> buildKeys() {
             "RSM faces, the geometry and the cascade stay (compute path; docs/lights.md, \"Injection cache\"); off: every "
             "face injected every frame", "on|off",
             s.lpv.injectCache = parseBool("lpv.inject_cache", v), onOff(s.lpv.injectCache)),
+        KEY("lpv.sun_cache", "keep the sun's RSM and its packed injection while the sun, the geometry and the cascades "
+            "stay and nothing else injects (compute path, band 1; docs/lpv.md, \"Sun injection cache\"); off: drawn "
+            "and injected every frame", "on|off",
+            s.lpv.sunCache = parseBool("lpv.sun_cache", v), onOff(s.lpv.sunCache)),
         KEY("lpv.propagate_cascades", "cascades of one propagation iteration in one dispatch (joint: a stacked volume, "
             "compute path, band 1, lpv.fuse=1) or one dispatch per cascade (docs/lpv.md, \"Joint cascade propagation\")",
             "joint|separate",

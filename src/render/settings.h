@@ -117,6 +117,9 @@ struct LpvSettings {
     bool faceKernel = true;
     // Local lights' injection kept per cascade while nothing it depends on changed (docs/lights.md, "Injection cache").
     bool injectCache = true;
+    // lpv.sun_cache: the sun's RSM and its packed injection kept while the sun, the geometry and the
+    // cascades stay and nothing else injects (docs/lpv.md, "Sun injection cache").
+    bool sunCache = true;
     bool jointCascades = false;  // lpv.propagate_cascades=joint: the cascades of an iteration in one dispatch (2.2x slower on an H100)
     int geometryStride = 4;     // lpv.geometry_stride: G-buffer pixel stride (x and y) of the geometry injection
 };

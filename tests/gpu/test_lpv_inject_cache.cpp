@@ -74,7 +74,7 @@ std::int64_t ledgerBytes(Renderer& r, const std::string& prefix) {
     return b;
 }
 
-// Two renderers, the cache on and off, fed the same scene states and cameras.
+// Two renderers, the cache on and off (or the settings given), fed the same scene states and cameras.
 struct Pair {
     gl::Profiler p0{false}, p1{false};
     Renderer cached, plain;
@@ -82,8 +82,8 @@ struct Pair {
     View prev;
     unsigned frame = 0;
     FloatImage last;  // the cached renderer's previous indirect image
-    explicit Pair(const Scene& s)
-        : cached(s, cacheSettings(true), p0), plain(s, cacheSettings(false), p1), cam(resolveCamera(s, cacheSettings(true))) {}
+    explicit Pair(const Scene& s, const Settings& on = cacheSettings(true), const Settings& off = cacheSettings(false))
+        : cached(s, on, p0), plain(s, off, p1), cam(resolveCamera(s, on)) {}
     void update(const Scene& state) {
         cached.updateScene(state);
         plain.updateScene(state);
@@ -219,4 +219,66 @@ TEST_CASE_FIXTURE(GpuFixture, "LPV injection cache: no cache volume without loca
     CHECK(ledgerBytes(every, "lpv.inject_cache") == 0);
     CHECK(stat(every, "lpv.inject", "local_faces_injected") == 18.0 * 2.0);  // every face, every frame
     CHECK(ledgerBytes(every, "lpv.rsm.local") > 0);
+}
+
+// lpv.sun_cache (docs/lpv.md, "Sun injection cache"): with the sun the only injection, its RSM and packed
+// volume are kept while the sun, the geometry and the cascades stay; every change the frame depends on
+// redraws them, and every frame equals the frame of a renderer that draws and injects every frame.
+TEST_CASE_FIXTURE(GpuFixture, "LPV sun injection cache: kept while static, redrawn after each change, equal to the uncached frame") {
+    Scene scene = floorScene(4.0f, glm::vec3(0.7f), true, glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f)), 2.0f);
+    addQuad(scene, {-0.4f, 0.6f, 0.4f}, {0.4f, 0.6f, 0.4f}, {0.4f, 0.6f, -0.4f}, {-0.4f, 0.6f, -0.4f}, 0);
+    addQuad(scene, {-0.4f, 0, 0.4f}, {0.4f, 0, 0.4f}, {0.4f, 0.6f, 0.4f}, {-0.4f, 0.6f, 0.4f}, 0);
+    scene.cameras[0].position = {0.0f, 2.0f, 3.5f};
+    scene.cameras[0].target = {0.0f, 0.3f, 0.0f};
+    Settings on = cacheSettings(true), off = cacheSettings(true);
+    applyAssignment(off, "lpv.sun_cache=off");
+    Pair p(scene, on, off);
+    auto kept = [&](Renderer& r) { return stat(r, "lpv.pack", "sun_cached"); };
+    FloatImage img = p.render();
+    CHECK(kept(p.cached) == 0.0);  // frame 0 draws and injects, and keeps the packed volume
+    p.render();
+    CHECK(kept(p.cached) == 1.0);
+    img = p.render();
+    CHECK(kept(p.cached) == 1.0);
+    CHECK(kept(p.plain) == 0.0);
+    CHECK(stat(p.cached, "lpv.rsm", "rsms") == 1.0);
+    CHECK(stat(p.cached, "lpv.inject", "dropped_texels") == stat(p.plain, "lpv.inject", "dropped_texels"));
+    CHECK(ledgerBytes(p.cached, "lpv.sun_cache") > 0);
+    CHECK(ledgerBytes(p.plain, "lpv.sun_cache") == 0);
+
+    auto changed = [](const FloatImage& before, const FloatImage& after) { return relDiff(after, before) > 1e-2; };
+    auto again = [&](const FloatImage& before) {
+        FloatImage now = p.render();  // Pair::render: equal to the uncached frame
+        CHECK(changed(before, now));
+        CHECK(kept(p.cached) == 0.0);
+        p.render();
+        CHECK(kept(p.cached) == 1.0);
+    };
+    SUBCASE("moving the sun") {
+        Scene s = scene;
+        s.lights[0].direction = -glm::normalize(glm::vec3(-0.5f, 1.0f, 0.2f));
+        p.update(s);
+        again(img);
+    }
+    SUBCASE("changing the sun's intensity") {
+        Scene s = scene;
+        s.lights[0].intensity *= 3.0f;
+        p.update(s);
+        again(img);
+    }
+    SUBCASE("moving geometry (the geometry version)") {
+        Scene s = scene;
+        for (std::size_t i = 4; i < s.vertices.size(); ++i) s.vertices[i].position += glm::vec3(0.6f, 0.3f, 0.0f);  // the box
+        p.update(s);
+        REQUIRE(p.cached.lastSceneUpdate().geometry);
+        again(img);
+    }
+    SUBCASE("moving a cascade (the camera-following finer cascade)") {
+        p.cam.position.x += 1.5f;
+        p.cam.target.x += 1.5f;
+        FloatImage now = p.render();
+        CHECK(kept(p.cached) == 0.0);
+        p.render();
+        CHECK(kept(p.cached) == 1.0);
+    }
 }

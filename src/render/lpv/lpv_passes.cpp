@@ -72,6 +72,18 @@ struct LpvState {
     lpv::Rsm rsm;  // the sun's (orthographic, fitted to the coarsest cascade), when there is a sun
     gl::FramebufferHandle rsmFbo;
     bool sunRsm = false;
+    // lpv.sun_cache (docs/lpv.md, "Sun injection cache"): what the sun's RSM and packed injection were made
+    // from (SunCacheKey), whether `sunPacked` (per cascade) holds them, and whether this frame reuses them.
+    struct SunCacheKey {
+        glm::mat4 viewProj{0.0f};
+        glm::vec3 irradiance{0.0f};
+        std::uint64_t geometry = 0;
+        int rsm = 0;
+        std::vector<std::uint8_t> uniforms;  // every cascade's uniform block (placement, grid, injection switches)
+        bool operator==(const SunCacheKey&) const = default;
+    } sunKey;
+    bool sunKeyValid = false, sunCached = false, sunCacheable = false;
+    std::vector<lpv::Rgb> sunPacked;
     // Scene::focusBounds() walks every vertex: kept while the geometry stays (GpuScene::geometryVersion).
     Aabb focus;
     std::uint64_t focusGeometry = ~std::uint64_t(0);
@@ -123,6 +135,12 @@ bool facesNeeded(const Settings& s) {
 bool skyBounceNeeded(const Settings& s) {
     return s.lpv.skyBounce && s.lpv.sky == LpvSettings::Sky::Visibility && s.lpv.path == LpvSettings::Path::Compute &&
            s.lpv.source == LpvSettings::Source::Propagated;
+}
+
+// lpv.sun_cache applies to the frame (compute path, band 1, no sky bounce; whether the sun is its only
+// injection is decided per frame by lpv.rsm).
+bool sunCacheUsed(const Settings& s) {
+    return s.lpv.sunCache && s.lpv.path == LpvSettings::Path::Compute && s.lpv.shOrder == 1 && !skyBounceNeeded(s);
 }
 
 // Every cascade's light volumes at its placement's grid (lpv.visibility, the first pass to use a
@@ -241,8 +259,32 @@ public:
         }
 
         int n = ls.rsm;
-        if (st.sunRsm) ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
-        if (st.sunRsm && useComputeRasterLightViews(ctx.settings)) {
+        const bool rsmNew = st.sunRsm && ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
+        // lpv.sun_cache: the sun is the frame's only injection (no local-light face drawn or injected, no sky
+        // bounce); reused when everything the RSM and the packed volume depend on is as when they were made.
+        st.sunCacheable = sunCacheUsed(ctx.settings) && st.sunRsm && ctx.res.localRsmViews.empty() &&
+                          ctx.res.localRsmInject.empty();
+        LpvState::SunCacheKey key;
+        if (st.sunCacheable) {
+            key.viewProj = rsmViewProj_;
+            key.irradiance = sun->irradiance;
+            key.geometry = ctx.gpuScene.geometryVersion();
+            key.rsm = n;
+            for (const LpvCascade& c : st.cascades) {
+                gpu::LpvUniforms u = c.uniforms;
+                u.temporalShift = glm::ivec4(0);  // the history's re-indexing: the injection does not read it
+                const auto* b = reinterpret_cast<const std::uint8_t*>(&u);
+                key.uniforms.insert(key.uniforms.end(), b, b + sizeof(u));
+            }
+        }
+        st.sunCached = st.sunCacheable && !rsmNew && st.sunKeyValid && key == st.sunKey;
+        if (!st.sunCached) {
+            st.sunKeyValid = false;  // valid again once lpv.pack has kept this frame's volume
+            st.sunKey = key;
+        }
+        if (st.sunCached) {
+            // The RSM holds this frame's sun view already.
+        } else if (st.sunRsm && useComputeRasterLightViews(ctx.settings)) {
             glBindBufferBase(GL_UNIFORM_BUFFER, RTGI_UBO_LPV, st.first().ubo.id());
             rsmCompute(ctx, rsmViewProj_, n, st.rsm, -1, nullptr, 0.0f);
         } else if (st.sunRsm) {
@@ -388,13 +430,14 @@ private:
         copyVisibilityDepth(ctx.programs, t, rsm.depth, layer);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
-    static void ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
+    // Returns true when a target was (re)allocated.
+    static bool ensureTargets(FrameContext& ctx, lpv::Rsm& rsm, gl::FramebufferHandle& fbo, const std::string& label,
                               int n) {
         const lpv::RsmDescs d = lpv::rsmDescs(n);
         bool changed = rsm.flux.ensure(ctx.ledger, label + ".flux", d.flux);
         changed |= rsm.normal.ensure(ctx.ledger, label + ".normal", d.normal);
         changed |= rsm.depth.ensure(ctx.ledger, label + ".depth", d.depth);
-        if (!changed && fbo) return;
+        if (!changed && fbo) return changed;
         GLuint f = 0;
         glCreateFramebuffers(1, &f);
         fbo = gl::FramebufferHandle(f);
@@ -406,6 +449,7 @@ private:
         glNamedFramebufferDrawBuffers(f, 2, bufs);
         if (glCheckNamedFramebufferStatus(f, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw std::runtime_error("lpv.rsm: framebuffer incomplete");
+        return true;
     }
     float maxFlux() const {
         if (!st_->rsm.flux) return 0.0f;
@@ -443,6 +487,9 @@ public:
         ensureLightVolumes(st, ctx);
         if (ls.path == LpvSettings::Path::Raster) {
             injectRasterFrame(ctx);
+        } else if (st.sunCached) {
+            // lpv.sun_cache: lpv.pack restores the kept volume; the accumulation stays zero, the dropped-texel
+            // counter keeps the count of the injection it holds.
         } else {
             const std::uint32_t zero = 0;  // this frame's counter; [1] belongs to the injection cache
             glClearNamedBufferSubData(st.stats.id(), GL_R32UI, 0, sizeof(zero), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
@@ -657,9 +704,31 @@ public:
         outputCascadesRgb(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
         outputCascadesHi(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.stepHi[0]; });
     }
-    void execute(FrameContext& ctx) override {
-        for (LpvCascade& c : st_->cascades) lpv::packLight(ctx.programs, c.ubo, c.volumes);
+    std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
+        return sunCacheUsed(s) ? perCascade(s, lpv::sunCacheTextures(volumeGrid(s), volumeFormat(s)))
+                               : std::vector<gl::NamedTextureDesc>{};
     }
+    void execute(FrameContext& ctx) override {
+        LpvState& st = *st_;
+        if (!st.sunCacheable) st.sunPacked.clear();
+        st.sunPacked.resize(st.sunCacheable ? st.cascades.size() : 0);
+        for (std::size_t k = 0; k < st.cascades.size(); ++k) {
+            LpvCascade& c = st.cascades[k];
+            if (st.sunCached) {
+                // Producer: nothing this frame; the kept copy was made by an earlier frame's copy.
+                lpv::copyRgbVolume(st.sunPacked[k], c.volumes.step[0], c.placement.grid);
+                continue;
+            }
+            lpv::packLight(ctx.programs, c.ubo, c.volumes);
+            if (!st.sunCacheable) continue;
+            lpv::ensureSunCache(ctx.ledger, st.sunPacked[k], c.placement.grid, c.volumes.format);
+            // Producer: lpv.pack's image stores into step 0.
+            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            lpv::copyRgbVolume(c.volumes.step[0], st.sunPacked[k], c.placement.grid);
+        }
+        if (st.sunCacheable) st.sunKeyValid = true;
+    }
+    std::vector<std::pair<std::string, double>> stats() override { return {{"sun_cached", st_->sunCached ? 1.0 : 0.0}}; }
 };
 
 // lpv.inject_geometry: blocking potential from the RSM and the G-buffer.

@@ -269,6 +269,21 @@ std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 g, GLenum format, i
     return t;
 }
 
+std::vector<gl::NamedTextureDesc> sunCacheTextures(glm::ivec3 g, GLenum format) {
+    std::vector<gl::NamedTextureDesc> t;
+    addRgb(t, "lpv.sun_cache", volumeDesc(g, format));
+    return t;
+}
+
+bool ensureSunCache(gl::MemoryLedger& ledger, Rgb& cache, glm::ivec3 g, GLenum format) {
+    return ensureRgb(ledger, cache, "lpv.sun_cache", volumeDesc(g, format), false);
+}
+
+void copyRgbVolume(const Rgb& from, Rgb& to, glm::ivec3 g) {
+    for (std::size_t c = 0; c < 3; ++c)
+        glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, g.x, g.y, g.z);
+}
+
 void Volumes::ensureRasterTargets() {
     if (!emptyVao) {
         GLuint vao = 0;

@@ -64,6 +64,12 @@ gl::NamedTextureDesc visibilityTexture(glm::ivec3 grid);
 gl::NamedTextureDesc skyTexture(glm::ivec3 grid);
 gl::NamedTextureDesc faceTexture(glm::ivec3 grid);  // lpv.blocking=visibility: face openness, RGBA8
 std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 grid, GLenum format, int shOrder, bool near);
+// lpv.sun_cache (band 1, compute path; docs/lpv.md "Sun injection cache"): the packed injected volume (step 0)
+// of a frame whose only light source is the sun, kept while nothing it depends on changes.
+std::vector<gl::NamedTextureDesc> sunCacheTextures(glm::ivec3 grid, GLenum format);
+bool ensureSunCache(gl::MemoryLedger& ledger, std::array<gl::Texture, 3>& cache, glm::ivec3 grid, GLenum format);
+// Copies the r, g, b volumes `from` into `to` (grid g).
+void copyRgbVolume(const std::array<gl::Texture, 3>& from, std::array<gl::Texture, 3>& to, glm::ivec3 g);
 
 struct Volumes {
     glm::ivec3 grid{0};
