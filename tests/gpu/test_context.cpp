@@ -100,6 +100,7 @@ TEST_CASE("profiler: every pass is timed once per measured frame, in frame order
     Scene s = floorScene(5, glm::vec3(0.5f), true);
     Settings st;
     st.light.shadowCache = false;  // a reused shadow map is timed but draws nothing
+    st.lpv.sunCache = false;       // so is a kept sun RSM and its injection (docs/lpv.md, "Sun injection cache")
     auto r = renderFrames(s, st, {32, 24}, prof, 3);
     prof.reset();
     prof.setMeasuring(true);

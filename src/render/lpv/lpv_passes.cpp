@@ -83,6 +83,7 @@ struct LpvState {
         bool operator==(const SunCacheKey&) const = default;
     } sunKey;
     bool sunKeyValid = false, sunCached = false, sunCacheable = false;
+    bool sunCacheDeclared = false;  // lpv.pack's declare: the scene's sun can be its only injection (no local lights)
     std::vector<lpv::Rgb> sunPacked;
     // Scene::focusBounds() walks every vertex: kept while the geometry stays (GpuScene::geometryVersion).
     Aabb focus;
@@ -262,7 +263,7 @@ public:
         const bool rsmNew = st.sunRsm && ensureTargets(ctx, st.rsm, st.rsmFbo, "lpv.rsm", n);
         // lpv.sun_cache: the sun is the frame's only injection (no local-light face drawn or injected, no sky
         // bounce); reused when everything the RSM and the packed volume depend on is as when they were made.
-        st.sunCacheable = sunCacheUsed(ctx.settings) && st.sunRsm && ctx.res.localRsmViews.empty() &&
+        st.sunCacheable = st.sunCacheDeclared && st.sunRsm && ctx.res.localRsmViews.empty() &&
                           ctx.res.localRsmInject.empty();
         LpvState::SunCacheKey key;
         if (st.sunCacheable) {
@@ -697,16 +698,20 @@ class PackPass final : public LpvPass {
 public:
     using LpvPass::LpvPass;
     std::string name() const override { return "lpv.pack"; }
-    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
+    void declare(PassDecl& d, const Scene& scene, const Settings& s) const override {
+        st_->sunCacheDeclared = false;
         if (s.lpv.path == LpvSettings::Path::Raster)
             return d.skip("lpv.path=raster injects straight into the propagation format");
+        st_->sunCacheDeclared =
+            sunCacheUsed(s) && resolveSun(scene, s).has_value() && resolveLocalLights(scene, s).faces == 0;
         // pack writes step 0 only; accum is first written by lpv.propagate.
         outputCascadesRgb(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.step[0]; });
         outputCascadesHi(d, st_.get(), s.lpv, "lpv.step0", [](const LpvCascade& c) { return &c.volumes.stepHi[0]; });
     }
+    // The kept sun volumes, when the scene's sun can be the only injection (declare decides: no local lights).
     std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2) const override {
-        return sunCacheUsed(s) ? perCascade(s, lpv::sunCacheTextures(volumeGrid(s), volumeFormat(s)))
-                               : std::vector<gl::NamedTextureDesc>{};
+        return st_->sunCacheDeclared ? perCascade(s, lpv::sunCacheTextures(volumeGrid(s), volumeFormat(s)))
+                            : std::vector<gl::NamedTextureDesc>{};
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
@@ -715,16 +720,17 @@ public:
         for (std::size_t k = 0; k < st.cascades.size(); ++k) {
             LpvCascade& c = st.cascades[k];
             if (st.sunCached) {
-                // Producer: nothing this frame; the kept copy was made by an earlier frame's copy.
-                lpv::copyRgbVolume(st.sunPacked[k], c.volumes.step[0], c.placement.grid);
+                // Producer: an earlier frame's copy (image stores; barriers since).
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+                lpv::copyRgbVolume(ctx.programs, st.sunPacked[k], c.volumes.step[0], c.placement.grid, c.volumes.format);
                 continue;
             }
             lpv::packLight(ctx.programs, c.ubo, c.volumes);
             if (!st.sunCacheable) continue;
             lpv::ensureSunCache(ctx.ledger, st.sunPacked[k], c.placement.grid, c.volumes.format);
-            // Producer: lpv.pack's image stores into step 0.
-            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            lpv::copyRgbVolume(c.volumes.step[0], st.sunPacked[k], c.placement.grid);
+            // Producer: lpv.pack's image stores into step 0, read as a texture here.
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+            lpv::copyRgbVolume(ctx.programs, c.volumes.step[0], st.sunPacked[k], c.placement.grid, c.volumes.format);
         }
         if (st.sunCacheable) st.sunKeyValid = true;
     }

@@ -279,9 +279,11 @@ bool ensureSunCache(gl::MemoryLedger& ledger, Rgb& cache, glm::ivec3 g, GLenum f
     return ensureRgb(ledger, cache, "lpv.sun_cache", volumeDesc(g, format), false);
 }
 
-void copyRgbVolume(const Rgb& from, Rgb& to, glm::ivec3 g) {
-    for (std::size_t c = 0; c < 3; ++c)
-        glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, g.x, g.y, g.z);
+void copyRgbVolume(gl::ProgramCache& programs, const Rgb& from, Rgb& to, glm::ivec3 g, GLenum format) {
+    const gl::Program& prog = programs.compute("lpv/copy.comp", formatDefines(format));
+    bindRgbTextures(from, RTGI_LPV_TEX_SRC_R);
+    bindRgbImages(to, RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, format);
+    gl::dispatch(prog, g.x, g.y, g.z);
 }
 
 void Volumes::ensureRasterTargets() {
