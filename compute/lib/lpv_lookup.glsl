@@ -15,6 +15,17 @@
 ivec3 lpvStencilBase(vec3 q) { return ivec3(floor(q - 0.5)); }
 ivec3 lpvStencilOffset(int k) { return ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1); }
 vec3 lpvStencilCentre(vec3 q, int k) { return vec3(lpvStencilBase(q) + lpvStencilOffset(k)) + 0.5; }
+
+// The weighted sum of volume t over the 8 stencil cells from `base` (weights w, cells clamped to the
+// border cells [0, grid - 1] as the sampler's CLAMP_TO_EDGE does; cells of weight 0 are not fetched).
+// lpv/apply.comp's weighted lookups and the sky bounce's injection (lpv/inject.comp) read with it.
+vec4 lpvStencilFetch(sampler3D t, ivec3 base, float w[8], ivec3 grid) {
+    vec4 sum = vec4(0.0);
+    ivec3 top = grid - 1;
+    for (int k = 0; k < 8; ++k)
+        if (w[k] > 0.0) sum += w[k] * texelFetch(t, clamp(base + lpvStencilOffset(k), ivec3(0), top), 0);
+    return sum;
+}
 float lpvTrilinearWeight(vec3 q, int k) {
     vec3 f = (q - 0.5) - floor(q - 0.5);
     vec3 w = mix(1.0 - f, f, vec3(lpvStencilOffset(k)));

@@ -197,11 +197,7 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
 
 vec4 lpvFetch(sampler3D t, LpvLookup l) {
     if (!l.weighted) return texture(t, l.uvw);
-    vec4 sum = vec4(0.0);
-    ivec3 top = lpv.grid.xyz - 1;  // clamp to the border cells, as the sampler's CLAMP_TO_EDGE does
-    for (int k = 0; k < 8; ++k)
-        if (l.w[k] > 0.0) sum += l.w[k] * texelFetch(t, clamp(l.base + lpvStencilOffset(k), ivec3(0), top), 0);
-    return sum;
+    return lpvStencilFetch(t, l.base, l.w, lpv.grid.xyz);
 }
 
 // lpvFetch of the r, g, b volumes of one lookup in one pass over the stencil: each cell's weight

@@ -103,10 +103,7 @@ float lpvSkyVisibleAt(vec3 x, vec3 n) {
 #endif
     float w[8];
     lpvGeometryWeights(q, lpvCellCoord(x), n, blocked, w);
-    ivec3 base = lpvStencilBase(q), top = lpv.grid.xyz - 1;
-    vec4 p = vec4(0.0);
-    for (int k = 0; k < 8; ++k)
-        if (w[k] > 0.0) p += w[k] * texelFetch(uSkyVisibility, clamp(base + lpvStencilOffset(k), ivec3(0), top), 0);
+    vec4 p = lpvStencilFetch(uSkyVisibility, lpvStencilBase(q), w, lpv.grid.xyz);
     return clamp(shCosineIntegral(p, n) * INV_PI, 0.0, 1.0);
 }
 #endif

@@ -583,6 +583,10 @@ Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignment
         }
     }
     for (auto& [k, v] : explicitAssignments) applySetting(s, k, v);
+    // The raster baseline has no traced face openness: it blocks as oriented, and the settings it reports
+    // (results.json's config) say so.
+    if (s.lpv.path == LpvSettings::Path::Raster && s.lpv.blocking == LpvSettings::Blocking::Visibility)
+        s.lpv.blocking = LpvSettings::Blocking::Oriented;
     return s;
 }
 

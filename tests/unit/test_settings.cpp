@@ -105,6 +105,11 @@ TEST_CASE("scene-suggested settings: applied first, explicit assignments win, ba
     Settings t = effectiveSettings(scene, {{"lpv.grid", "32"}}, "builtin:test");
     CHECK(t.lpv.grid == glm::ivec3(32));
     CHECK(t.post.exposure == doctest::Approx(2.5));
+    // The raster baseline blocks as oriented whatever lpv.blocking=visibility says, and reports that.
+    CHECK(effectiveSettings({}, {}, "builtin:test").lpv.blocking == LpvSettings::Blocking::Visibility);
+    CHECK(effectiveSettings({}, {{"lpv.path", "raster"}}, "builtin:test").lpv.blocking == LpvSettings::Blocking::Oriented);
+    CHECK(effectiveSettings({}, {{"lpv.path", "raster"}, {"lpv.blocking", "two-sided"}}, "builtin:test").lpv.blocking ==
+          LpvSettings::Blocking::TwoSided);
     CHECK_THROWS_WITH_AS(effectiveSettings({{"lpv.gird", "4"}}, {}, "builtin:test"),
                          doctest::Contains("builtin:test: suggested settings"), ConfigError);
     Assignments flat = flattenJsonConfig(R"({"ao": {"samples": 8}, "lpv": "on"})", "x.json");
