@@ -671,14 +671,19 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size, bool lpv = true) {
         auto dbg = b->debugImages(*rp);
         for (std::size_t k = 0; k < dbg.size(); ++k) {
             FloatImage r = readTexture(*dbg[k].tex);
-            // Relative (flux per texel is small), floored at 1e-6 of the image's peak.
+            // Relative (flux per texel is small), floored at 1e-6 of the image's peak. Normals are unit
+            // vectors interpolated by two rasterizers' barycentrics (fp32: ~1e-6 apart, more on a curved
+            // mesh's smooth normals); a component near 0 has no relative precision, so their floor is
+            // 2e-5 (0.001 degrees). Found when builtin:sphere-on-plane's RSM became fitted to the sphere
+            // (its ground plane marked, session 8): 59 of 4096 normal texels were off by more than 1e-6.
             float peak = 0;
             for (float v : rsmA[k].data) peak = std::max(peak, std::abs(v));
+            const bool normals = dbg[k].name.find("normal") != std::string::npos;
+            const float floor = normals ? 2e-5f : 1e-6f * peak;
             std::size_t diff = 0;
             for (std::size_t i = 0; i < r.data.size(); i += 4)
                 for (std::size_t c = 0; c < 4; ++c)
-                    if (std::abs(r.data[i + c] - rsmA[k].data[i + c]) >
-                        1e-3f * std::abs(rsmA[k].data[i + c]) + 1e-6f * peak) {
+                    if (std::abs(r.data[i + c] - rsmA[k].data[i + c]) > 1e-3f * std::abs(rsmA[k].data[i + c]) + floor) {
                         ++diff;
                         break;
                     }
