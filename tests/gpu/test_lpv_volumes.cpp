@@ -1207,6 +1207,23 @@ TEST_CASE("LPV temporal: a static volume converges to the unblended one; a whole
     }
 }
 
+// Two propagation paths that compute the same steps (fused, per-face, joint against one dispatch per
+// iteration and cell): fp32 within 1e-6 of the largest coefficient (the shaders may contract
+// multiply-adds differently); rgba16f one half-precision ulp per stored step, n 2^-10 relative L2 for n
+// iterations (llvmpipe truncates image stores, packHalf2x16 rounds to nearest).
+static void checkSameSteps(const CpuVolume& x, const CpuVolume& y, GLenum format, int iterations) {
+    double peak = 0.0, diff = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (std::size_t i = 0; i < x.c[c].size(); ++i)
+            for (int k = 0; k < 4; ++k) {
+                peak = std::max(peak, std::abs(y.c[c][i][k]));
+                diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
+            }
+    CHECK(peak > 0.0);
+    if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
+    else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
+}
+
 TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration") {
     // docs/lpv.md, "Fused propagation": the same lpvGather on the same sources, from shared memory,
     // so fp32 results agree to float tolerance (1e-6 of the volume's largest coefficient: the two
@@ -1256,18 +1273,7 @@ TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration"
                                       near ? readRgb(g.v.near) : CpuVolume(grid)};
                     };
                     Result a = run(1), b = run(2);
-                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
-                        double peak = 0.0, diff = 0.0;
-                        for (int c = 0; c < 3; ++c)
-                            for (std::size_t i = 0; i < x.c[c].size(); ++i)
-                                for (int k = 0; k < 4; ++k) {
-                                    peak = std::max(peak, std::abs(y.c[c][i][k]));
-                                    diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
-                                }
-                        CHECK(peak > 0.0);
-                        if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
-                        else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
-                    };
+                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) { checkSameSteps(x, y, format, iterations); };
                     compare(b.last, a.last);
                     compare(b.accum, a.accum);
                     if (near) compare(b.near, a.near);
@@ -1331,18 +1337,7 @@ TEST_CASE("LPV per-face propagation kernel (lpv.propagate_kernel=face) equals th
                                       near ? readRgb(g.v.near) : CpuVolume(grid)};
                     };
                     Result a = run(false), b = run(true);
-                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
-                        double peak = 0.0, diff = 0.0;
-                        for (int c = 0; c < 3; ++c)
-                            for (std::size_t i = 0; i < x.c[c].size(); ++i)
-                                for (int k = 0; k < 4; ++k) {
-                                    peak = std::max(peak, std::abs(y.c[c][i][k]));
-                                    diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
-                                }
-                        CHECK(peak > 0.0);
-                        if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
-                        else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
-                    };
+                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) { checkSameSteps(x, y, format, iterations); };
                     compare(b.last, a.last);
                     compare(b.accum, a.accum);
                     if (near) compare(b.near, a.near);
@@ -1402,18 +1397,7 @@ TEST_CASE("LPV joint cascade propagation (lpv.propagate_cascades=joint) equals o
                                                               {&joint[0]->v, &joint[1]->v}, {false, true}, stack, iterations);
                     glMemoryBarrier(GL_ALL_BARRIER_BITS);
                     CHECK(lastJoint == lastSeparate);
-                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) {
-                        double peak = 0.0, diff = 0.0;
-                        for (int c = 0; c < 3; ++c)
-                            for (std::size_t i = 0; i < x.c[c].size(); ++i)
-                                for (int k = 0; k < 4; ++k) {
-                                    peak = std::max(peak, std::abs(y.c[c][i][k]));
-                                    diff = std::max(diff, std::abs(x.c[c][i][k] - y.c[c][i][k]));
-                                }
-                        CHECK(peak > 0.0);
-                        if (format == GL_RGBA32F) CHECK(diff <= 1e-6 * peak);
-                        else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
-                    };
+                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) { checkSameSteps(x, y, format, iterations); };
                     for (int i = 0; i < 2; ++i) {
                         INFO("cascade " << i);
                         compare(readRgb(joint[i]->v.accum), readRgb(separate[i]->v.accum));
