@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -1224,79 +1225,23 @@ static void checkSameSteps(const CpuVolume& x, const CpuVolume& y, GLenum format
     else CHECK(relL2(x, y) <= iterations * std::ldexp(1.0, -10));
 }
 
-TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration") {
-    // docs/lpv.md, "Fused propagation": the same lpvGather on the same sources, from shared memory,
-    // so fp32 results agree to float tolerance (1e-6 of the volume's largest coefficient: the two
-    // shaders may contract multiply-adds differently); rgba16f stores may round differently in the
-    // last bit (llvmpipe truncates image stores, the fused path rounds its shared-memory steps to
-    // nearest): each stored step may differ by one half-precision ulp (2^-10 relative), carried on
-    // by the later steps, so n iterations are held to n 2^-10 relative L2 (measured 2.2e-3 at 8). Grids with partial tiles and a tile interior, odd and even
-    // iteration counts (chunks of 2 and 1), the near part of a cascade (split where it is taken),
-    // plain / occlusion + bounce, face / flow, the issue-22 defaults (first step blocked, bounce
-    // back into the source).
-    GpuFixture gpu;
-    std::mt19937 rng(11);
-    const glm::ivec3 grids[] = {{3, 5, 7}, {9, 6, 5}};
-    for (GLenum format : {GL_RGBA32F, GL_RGBA16F})
-        for (glm::ivec3 grid : grids)
-            for (int iterations : {2, 3, 5, 8})
-                for (int mode = 0; mode < 3; ++mode) {
-                    if (format == GL_RGBA16F && mode != 2) continue;  // llvmpipe time
-                    CpuOptions o;
-                    o.occlusion = o.bounce = mode >= 1;
-                    o.flow = mode >= 1;
-                    o.conserving = mode >= 1;
-                    const bool near = iterations >= 3;
-                    INFO("grid " << grid.x << "x" << grid.y << "x" << grid.z << ", " << iterations << " iterations, mode "
-                                 << mode << ", fp" << (format == GL_RGBA32F ? 32 : 16));
-                    CpuVolume light = randomLight(grid, rng), input;
-                    CpuGeometry geo = randomGeometry(grid, rng, 0.6), geoIn;
-                    struct Result {
-                        CpuVolume last, accum, near;
-                    };
-                    auto run = [&](int fuse) {
-                        GpuLpv g(grid, format, o);
-                        if (mode == 2) {
-                            g.settings.firstStepBlocked = true;
-                            g.settings.reflect = LpvSettings::Reflect::Source;
-                            lpv::UniformInputs in;
-                            in.placement.grid = grid;
-                            in.placement.cell = 1.0f;
-                            in.rsmViewProj = glm::mat4(1.0f);
-                            g.upload(in);
-                        }
-                        setup(g, light, &geo, input, &geoIn);
-                        if (near) g.v.ensureNear(g.ledger);
-                        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, iterations, near, false, fuse);
-                        glMemoryBarrier(GL_ALL_BARRIER_BITS);
-                        return Result{readRgb(g.v.step[std::size_t(last)]), readRgb(g.v.accum),
-                                      near ? readRgb(g.v.near) : CpuVolume(grid)};
-                    };
-                    Result a = run(1), b = run(2);
-                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) { checkSameSteps(x, y, format, iterations); };
-                    compare(b.last, a.last);
-                    compare(b.accum, a.accum);
-                    if (near) compare(b.near, a.near);
-                }
-}
-
-TEST_CASE("LPV per-face propagation kernel (lpv.propagate_kernel=face) equals the per-cell kernel") {
-    // docs/lpv.md, "Per-face propagation kernel": lpvGather's per-face, per-colour terms computed by 18
-    // invocations per cell and summed in the per-cell kernel's order, so fp32 results agree to float
-    // tolerance (1e-6 of the largest coefficient: the shaders may contract multiply-adds differently)
-    // and rgba16f to one half-precision ulp per stored step (n 2^-10 relative L2, as the fused test).
-    // Grids that are not multiples of the 32-cell workgroups, 1 to 8 iterations, a cascade's near
-    // part, plain / occlusion + bounce with flow and energy conservation / the issue-22 defaults
-    // (first step blocked, bounce back into the source) / those with random traced face openness.
-    GpuFixture gpu;
-    std::mt19937 rng(17);
+// Runs one dispatch per iteration and cell (the per-cell kernel) and `variant` (which propagates g.v for n
+// iterations, the near part when asked, blocking by g.v.faces when visibility is set, and returns the last
+// step's index) on the same random volumes, and checks that they compute the same steps (checkSameSteps):
+// grids of 3x5x7 and 9x6x5 cells (partial tiles and workgroups), the given iteration counts (with 3 or more,
+// a cascade's near part), and modes: 0 plain, 1 occlusion + bounce with flow and energy conservation, 2 the
+// issue-22 defaults (first step blocked, bounce back into the source), 3 those with random traced face
+// openness (lpv.blocking=visibility). rgba16f only in the last mode (llvmpipe time).
+static void checkAgainstPerCellKernel(unsigned seed, std::initializer_list<int> iterationCounts, int modes,
+                               const std::function<int(GpuLpv&, int, bool, bool)>& variant) {
+    std::mt19937 rng(seed);
     std::uniform_int_distribution<int> open8(0, 255);
     const glm::ivec3 grids[] = {{3, 5, 7}, {9, 6, 5}};
     for (GLenum format : {GL_RGBA32F, GL_RGBA16F})
         for (glm::ivec3 grid : grids)
-            for (int iterations : {1, 3, 8})
-                for (int mode = 0; mode < 4; ++mode) {
-                    if (format == GL_RGBA16F && mode != 3) continue;  // llvmpipe time
+            for (int iterations : iterationCounts)
+                for (int mode = 0; mode < modes; ++mode) {
+                    if (format == GL_RGBA16F && mode != modes - 1) continue;  // llvmpipe time
                     CpuOptions o;
                     o.occlusion = o.bounce = mode >= 1;
                     o.flow = mode >= 1;
@@ -1311,7 +1256,7 @@ TEST_CASE("LPV per-face propagation kernel (lpv.propagate_kernel=face) equals th
                     struct Result {
                         CpuVolume last, accum, near;
                     };
-                    auto run = [&](bool faceKernel) {
+                    auto run = [&](bool useVariant) {
                         GpuLpv g(grid, format, o);
                         if (mode >= 2) {
                             g.settings.firstStepBlocked = true;
@@ -1330,18 +1275,40 @@ TEST_CASE("LPV per-face propagation kernel (lpv.propagate_kernel=face) equals th
                             glTextureSubImage3D(g.v.faces.id(), 0, 0, 0, 0, grid.x, grid.y, grid.z, GL_RGBA,
                                                 GL_UNSIGNED_BYTE, open.data());
                         }
-                        int last = lpv::propagateCompute(g.programs, g.ubo, g.v, iterations, near, visibility, 1, 0,
-                                                         faceKernel);
+                        int last = useVariant ? variant(g, iterations, near, visibility)
+                                              : lpv::propagateCompute(g.programs, g.ubo, g.v, iterations, near,
+                                                                      visibility, 1, 0, false);
                         glMemoryBarrier(GL_ALL_BARRIER_BITS);
                         return Result{readRgb(g.v.step[std::size_t(last)]), readRgb(g.v.accum),
                                       near ? readRgb(g.v.near) : CpuVolume(grid)};
                     };
                     Result a = run(false), b = run(true);
-                    auto compare = [&](const CpuVolume& x, const CpuVolume& y) { checkSameSteps(x, y, format, iterations); };
-                    compare(b.last, a.last);
-                    compare(b.accum, a.accum);
-                    if (near) compare(b.near, a.near);
+                    checkSameSteps(b.last, a.last, format, iterations);
+                    checkSameSteps(b.accum, a.accum, format, iterations);
+                    if (near) checkSameSteps(b.near, a.near, format, iterations);
                 }
+}
+
+TEST_CASE("LPV fused propagation (lpv.fuse=2) equals one dispatch per iteration") {
+    // docs/lpv.md, "Fused propagation": the same lpvGather on the same sources, from shared memory, so
+    // the steps agree to float tolerance (fp32) and one half-precision ulp per stored step (the fused
+    // path rounds its shared-memory steps to nearest; measured 2.2e-3 relative L2 at 8 iterations).
+    // Odd and even iteration counts (chunks of 2 and 1), the near part split where it is taken; the
+    // fused kernel does not run with traced face openness (modes 0-2).
+    GpuFixture gpu;
+    checkAgainstPerCellKernel(11, {2, 3, 5, 8}, 3, [](GpuLpv& g, int n, bool near, bool visibility) {
+        return lpv::propagateCompute(g.programs, g.ubo, g.v, n, near, visibility, 2);
+    });
+}
+
+TEST_CASE("LPV per-face propagation kernel (lpv.propagate_kernel=face) equals the per-cell kernel") {
+    // docs/lpv.md, "Per-face propagation kernel": lpvGather's per-face, per-colour terms computed by 18
+    // invocations per cell and summed in the per-cell kernel's order (checked to fail when one face's
+    // term is dropped from the sum, or the first step's sum starts from accum instead of the source).
+    GpuFixture gpu;
+    checkAgainstPerCellKernel(17, {1, 3, 8}, 4, [](GpuLpv& g, int n, bool near, bool visibility) {
+        return lpv::propagateCompute(g.programs, g.ubo, g.v, n, near, visibility, 1, 0, true);
+    });
 }
 
 TEST_CASE("LPV joint cascade propagation (lpv.propagate_cascades=joint) equals one dispatch per cascade") {
