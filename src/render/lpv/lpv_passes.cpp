@@ -79,6 +79,7 @@ struct LpvState {
         glm::vec3 irradiance{0.0f};
         std::uint64_t geometry = 0;
         int rsm = 0;
+        GLenum format = 0;                   // of the volumes the kept copy was packed into
         std::vector<std::uint8_t> uniforms;  // every cascade's uniform block (placement, grid, injection switches)
         bool operator==(const SunCacheKey&) const = default;
     } sunKey;
@@ -271,6 +272,7 @@ public:
             key.irradiance = sun->irradiance;
             key.geometry = ctx.gpuScene.geometryVersion();
             key.rsm = n;
+            key.format = volumeFormat(ctx.settings);
             for (const LpvCascade& c : st.cascades) {
                 gpu::LpvUniforms u = c.uniforms;
                 u.temporalShift = glm::ivec4(0);  // the history's re-indexing: the injection does not read it
