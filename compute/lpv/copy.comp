@@ -1,21 +1,37 @@
-// lpv.sun_cache (docs/lpv.md, "Sun injection cache"): copies r, g, b volumes (one invocation per cell):
-// the packed injection into the kept copy, and the kept copy into step 0. glCopyImageSubData of the
-// six 16^3 volumes of two cascades cost 0.117 ms on the H200; this dispatch a few microseconds.
+// Copies of LPV volumes (one invocation per cell): the sun cache's kept step 0 (lpv.sun_cache), a
+// cascade's near part taken from step 0 or the sum, band 2's first sum (lpv::copyVolumes). Three volumes
+// (r, g, b) at the SRC / DST units, or with RTGI_LPV_COPY_HI the four band-2 volumes (hi r, g, b, last)
+// at the SRC_HI / DST_HI units. glCopyImageSubData of a 16^3 volume cost ~20 us on the H200 (six of them
+// 0.117 ms, docs/lpv.md "Sun injection cache"); this dispatch a few microseconds.
 #include "lpv/lpv_common.glsl"
 
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
-layout(binding = RTGI_LPV_TEX_SRC_R) uniform sampler3D uSrcR;
-layout(binding = RTGI_LPV_TEX_SRC_G) uniform sampler3D uSrcG;
-layout(binding = RTGI_LPV_TEX_SRC_B) uniform sampler3D uSrcB;
-layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_R) uniform writeonly image3D uDstR;
-layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_G) uniform writeonly image3D uDstG;
-layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_B) uniform writeonly image3D uDstB;
+#ifdef RTGI_LPV_COPY_HI
+#define LPV_COPY_TEX RTGI_LPV_TEX_SRC_HI_R
+#define LPV_COPY_IMG RTGI_LPV_IMG_DST_HI_R
+#else
+#define LPV_COPY_TEX RTGI_LPV_TEX_SRC_R
+#define LPV_COPY_IMG RTGI_LPV_IMG_DST_R
+#endif
+layout(binding = LPV_COPY_TEX) uniform sampler3D uSrc0;
+layout(binding = LPV_COPY_TEX + 1) uniform sampler3D uSrc1;
+layout(binding = LPV_COPY_TEX + 2) uniform sampler3D uSrc2;
+layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG) uniform writeonly image3D uDst0;
+layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG + 1) uniform writeonly image3D uDst1;
+layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG + 2) uniform writeonly image3D uDst2;
+#ifdef RTGI_LPV_COPY_HI
+layout(binding = LPV_COPY_TEX + 3) uniform sampler3D uSrc3;
+layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG + 3) uniform writeonly image3D uDst3;
+#endif
 
 void main() {
     ivec3 c = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(c, textureSize(uSrcR, 0)))) return;
-    imageStore(uDstR, c, texelFetch(uSrcR, c, 0));
-    imageStore(uDstG, c, texelFetch(uSrcG, c, 0));
-    imageStore(uDstB, c, texelFetch(uSrcB, c, 0));
+    if (any(greaterThanEqual(c, textureSize(uSrc0, 0)))) return;
+    imageStore(uDst0, c, texelFetch(uSrc0, c, 0));
+    imageStore(uDst1, c, texelFetch(uSrc1, c, 0));
+    imageStore(uDst2, c, texelFetch(uSrc2, c, 0));
+#ifdef RTGI_LPV_COPY_HI
+    imageStore(uDst3, c, texelFetch(uSrc3, c, 0));
+#endif
 }

@@ -724,7 +724,7 @@ public:
             if (st.sunCached) {
                 // Producer: an earlier frame's copy (image stores; barriers since).
                 glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-                lpv::copyRgbVolume(ctx.programs, st.sunPacked[k], c.volumes.step[0], c.placement.grid, c.volumes.format);
+                lpv::copyVolumes(ctx.programs, st.sunPacked[k], c.volumes.step[0], c.placement.grid, c.volumes.format);
                 continue;
             }
             lpv::packLight(ctx.programs, c.ubo, c.volumes);
@@ -732,7 +732,7 @@ public:
             lpv::ensureSunCache(ctx.ledger, st.sunPacked[k], c.placement.grid, c.volumes.format);
             // Producer: lpv.pack's image stores into step 0, read as a texture here.
             glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-            lpv::copyRgbVolume(ctx.programs, c.volumes.step[0], st.sunPacked[k], c.placement.grid, c.volumes.format);
+            lpv::copyVolumes(ctx.programs, c.volumes.step[0], st.sunPacked[k], c.placement.grid, c.volumes.format);
         }
         if (st.sunCacheable) st.sunKeyValid = true;
     }

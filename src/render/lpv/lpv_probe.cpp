@@ -16,7 +16,7 @@ static_assert(RTGI_LPV_PROBE_IMG_ACCUM_B == RTGI_LPV_PROBE_IMG_ACCUM_R + 2 &&
               RTGI_LPV_PROBE_IMG_ACCUM_G == RTGI_LPV_PROBE_IMG_ACCUM_R + 1 &&
               RTGI_LPV_PROBE_IMG_ACCUM_LAST == RTGI_LPV_PROBE_IMG_ACCUM_HI_R + 3);
 
-ProbeParams probeParams(const Settings& s, const Aabb&) {
+ProbeParams probeParams(const Settings& s) {
     ProbeParams p;
     p.directions = s.lpv.probeDirections;
     p.bounces = s.lpv.bounce ? 2 : 1;  // as compareWithReference's matching-bounce reference
@@ -79,7 +79,7 @@ void faceVisibility(FrameContext& ctx, const gl::Buffer& ubo, const SceneBvh& bv
 
 void ProbeTracer::fill(FrameContext& ctx, const gl::Buffer& ubo, Volumes& v, bool near) {
     bvh_.ensure(ctx, "lpv.probe.bvh");
-    const ProbeParams p = probeParams(ctx.settings, ctx.scene.focusBounds());
+    const ProbeParams p = probeParams(ctx.settings);
     // Lambert only, as the matching-bounce reference (reference.specular=off).
     gl::Defines defines = formatDefines(v.format, v.shOrder);
     defines.push_back({"RTGI_REF_DIFFUSE_ONLY", ""});

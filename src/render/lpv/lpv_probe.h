@@ -23,7 +23,7 @@ struct ProbeParams {
     int bounces = 1;            // the matching-bounce reference's: 1, 2 with lpv.bounce=on
     unsigned seed = 1;          // reference.seed
 };
-ProbeParams probeParams(const Settings& settings, const Aabb& sceneBounds);
+ProbeParams probeParams(const Settings& settings);
 
 // The scene's BVH on the GPU (bvh_shared.h layout), built on first use and rebuilt when
 // the geometry moved (GpuScene::geometryVersion, issue 23); bind() binds it and the

@@ -279,10 +279,19 @@ bool ensureSunCache(gl::MemoryLedger& ledger, Rgb& cache, glm::ivec3 g, GLenum f
     return ensureRgb(ledger, cache, "lpv.sun_cache", volumeDesc(g, format), false);
 }
 
-void copyRgbVolume(gl::ProgramCache& programs, const Rgb& from, Rgb& to, glm::ivec3 g, GLenum format) {
+void copyVolumes(gl::ProgramCache& programs, const Rgb& from, Rgb& to, glm::ivec3 g, GLenum format) {
     const gl::Program& prog = programs.compute("lpv/copy.comp", formatDefines(format));
     bindRgbTextures(from, RTGI_LPV_TEX_SRC_R);
     bindRgbImages(to, RTGI_LPV_IMG_DST_R, GL_WRITE_ONLY, format);
+    gl::dispatch(prog, g.x, g.y, g.z);
+}
+
+void copyVolumes(gl::ProgramCache& programs, const Hi& from, Hi& to, glm::ivec3 g, GLenum format) {
+    gl::Defines d = formatDefines(format);
+    d.push_back({"RTGI_LPV_COPY_HI", ""});
+    const gl::Program& prog = programs.compute("lpv/copy.comp", d);
+    bindHiTextures(from, RTGI_LPV_TEX_SRC_HI_R);
+    bindHiImages(to, RTGI_LPV_IMG_DST_HI_R, GL_WRITE_ONLY, format);
     gl::dispatch(prog, g.x, g.y, g.z);
 }
 
@@ -554,17 +563,6 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     gl::dispatch(pack, v.grid.x + 1, v.grid.y + 1, v.grid.z + 1);
 }
 
-namespace {
-
-template <class Textures>
-void copyVolume(const Textures& from, Textures& to, glm::ivec3 g) {
-    for (std::size_t c = 0; c < from.size(); ++c)
-        glCopyImageSubData(from[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, to[c].id(), GL_TEXTURE_3D, 0, 0, 0, 0, g.x, g.y,
-                           g.z);
-}
-
-}  // namespace
-
 ComputePropagation::ComputePropagation(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v,
                                        int iterations, bool near, bool visibility, int fuse, int nearIterations,
                                        bool faceKernel)
@@ -582,9 +580,9 @@ ComputePropagation::ComputePropagation(gl::ProgramCache& programs, const gl::Buf
     nearStep(0);
     if (sh2_) {
         // Band 2 sums in lpv/accumulate.comp: accum starts as step 0 (lpv.pack's image stores).
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        copyVolume(v.step[0], v.accum, v.grid);
-        copyVolume(v.stepHi[0], v.accumHi, v.grid);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        copyVolumes(programs, v.step[0], v.accum, v.grid, v.format);
+        copyVolumes(programs, v.stepHi[0], v.accumHi, v.grid, v.format);
     }
 }
 
@@ -593,9 +591,9 @@ void ComputePropagation::nearStep(int k) {
     if (!near_) return;
     if (k == nearK_) {
         // Producer: lpv.pack (k = 0, step[0]) or the iteration k (accum), image stores.
-        glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        copyVolume(k == 0 ? v.step[0] : v.accum, v.near, v.grid);
-        if (sh2_) copyVolume(k == 0 ? v.stepHi[0] : v.accumHi, v.nearHi, v.grid);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        copyVolumes(programs_, k == 0 ? v.step[0] : v.accum, v.near, v.grid, v.format);
+        if (sh2_) copyVolumes(programs_, k == 0 ? v.stepHi[0] : v.accumHi, v.nearHi, v.grid, v.format);
     } else if (k == nearK_ + 1 && nearF_ > 0.0f) {
         const gl::Program& mix = programs_.compute("lpv/near.comp", formatDefines(v.format, v.shOrder));
         // Producers: the copy above and iteration k's accum stores.
@@ -729,7 +727,7 @@ int propagateJoint(gl::ProgramCache& programs, const gl::Buffer& ubo, const std:
             if (k == nearK) {
                 // Producer: lpv.pack (k = 0, step[0]) or iteration k (the stacked sum), image stores.
                 glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-                if (k == 0) copyVolume(v.step[0], v.near, g);
+                if (k == 0) glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT), copyVolumes(programs, v.step[0], v.near, g, format);
                 else copySlab(joint.accum, i * g.z, v.near, 0, g);
             } else if (k == nearK + 1 && nearF > 0.0f) {
                 const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(format));

@@ -68,11 +68,14 @@ std::vector<gl::NamedTextureDesc> historyTextures(glm::ivec3 grid, GLenum format
 // of a frame whose only light source is the sun, kept while nothing it depends on changes.
 std::vector<gl::NamedTextureDesc> sunCacheTextures(glm::ivec3 grid, GLenum format);
 bool ensureSunCache(gl::MemoryLedger& ledger, std::array<gl::Texture, 3>& cache, glm::ivec3 grid, GLenum format);
-// Copies the r, g, b volumes `from` into `to` (grid g, volume format `format`) with a compute dispatch
-// (lpv/copy.comp; glCopyImageSubData of small 3D volumes measured ~20 us each on the H200). Barriers: the
-// caller's (the producer of `from`); the next reader of `to` issues its own.
-void copyRgbVolume(gl::ProgramCache& programs, const std::array<gl::Texture, 3>& from, std::array<gl::Texture, 3>& to,
-                   glm::ivec3 g, GLenum format);
+// Copies the r, g, b volumes (or band 2's hi r, g, b, last) `from` into `to` (grid g, volume format
+// `format`) in one compute dispatch (lpv/copy.comp; glCopyImageSubData of a small 3D volume measured ~20 us
+// on the H200). `from` is read as textures: the caller issues the barrier for its producer's image stores;
+// the copy's are image stores, which the next reader's barrier covers.
+void copyVolumes(gl::ProgramCache& programs, const std::array<gl::Texture, 3>& from, std::array<gl::Texture, 3>& to,
+                 glm::ivec3 g, GLenum format);
+void copyVolumes(gl::ProgramCache& programs, const std::array<gl::Texture, 4>& from, std::array<gl::Texture, 4>& to,
+                 glm::ivec3 g, GLenum format);
 
 struct Volumes {
     glm::ivec3 grid{0};
