@@ -8,21 +8,21 @@
 layout(local_size_x = RTGI_LPV_LOCAL_3D, local_size_y = RTGI_LPV_LOCAL_3D, local_size_z = RTGI_LPV_LOCAL_3D) in;
 
 #ifdef RTGI_LPV_COPY_HI
-#define LPV_COPY_TEX RTGI_LPV_TEX_SRC_HI_R
-#define LPV_COPY_IMG RTGI_LPV_IMG_DST_HI_R
+layout(binding = RTGI_LPV_TEX_SRC_HI_R) uniform sampler3D uSrc0;
+layout(binding = RTGI_LPV_TEX_SRC_HI_G) uniform sampler3D uSrc1;
+layout(binding = RTGI_LPV_TEX_SRC_HI_B) uniform sampler3D uSrc2;
+layout(binding = RTGI_LPV_TEX_SRC_LAST) uniform sampler3D uSrc3;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_HI_R) uniform writeonly image3D uDst0;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_HI_G) uniform writeonly image3D uDst1;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_HI_B) uniform writeonly image3D uDst2;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_LAST) uniform writeonly image3D uDst3;
 #else
-#define LPV_COPY_TEX RTGI_LPV_TEX_SRC_R
-#define LPV_COPY_IMG RTGI_LPV_IMG_DST_R
-#endif
-layout(binding = LPV_COPY_TEX) uniform sampler3D uSrc0;
-layout(binding = LPV_COPY_TEX + 1) uniform sampler3D uSrc1;
-layout(binding = LPV_COPY_TEX + 2) uniform sampler3D uSrc2;
-layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG) uniform writeonly image3D uDst0;
-layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG + 1) uniform writeonly image3D uDst1;
-layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG + 2) uniform writeonly image3D uDst2;
-#ifdef RTGI_LPV_COPY_HI
-layout(binding = LPV_COPY_TEX + 3) uniform sampler3D uSrc3;
-layout(RTGI_LPV_FORMAT, binding = LPV_COPY_IMG + 3) uniform writeonly image3D uDst3;
+layout(binding = RTGI_LPV_TEX_SRC_R) uniform sampler3D uSrc0;
+layout(binding = RTGI_LPV_TEX_SRC_G) uniform sampler3D uSrc1;
+layout(binding = RTGI_LPV_TEX_SRC_B) uniform sampler3D uSrc2;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_R) uniform writeonly image3D uDst0;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_G) uniform writeonly image3D uDst1;
+layout(RTGI_LPV_FORMAT, binding = RTGI_LPV_IMG_DST_B) uniform writeonly image3D uDst2;
 #endif
 
 void main() {
