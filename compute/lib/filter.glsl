@@ -101,9 +101,10 @@ vec4 upsampleJoint(sampler2D low, sampler2D lowGeometry, vec2 uv, float dFull, b
     vec2 t = uv * vec2(lowSize) - 0.5;
     ivec2 base = ivec2(floor(t));
     vec2 f = t - vec2(base);
-    vec4 sum = vec4(0.0);
-    float wSum = 0.0, bestDiff = 1e30;
-    vec4 nearest = vec4(1.0);
+    vec4 v[4];
+    float w[4];
+    float wSum = 0.0, bestDiff = 1e30, wMax = -1.0;
+    int nearest = 0, heaviest = 0;
     bool skyFull = !(dFull > 0.0);
     for (int i = 0; i < 4; ++i) {
         ivec2 o = ivec2(i & 1, i >> 1);
@@ -111,13 +112,20 @@ vec4 upsampleJoint(sampler2D low, sampler2D lowGeometry, vec2 uv, float dFull, b
         float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
         vec4 g = texelFetch(lowGeometry, q, 0);
         float dLow = g.r;
-        vec4 v = texelFetch(low, q, 0);
+        v[i] = texelFetch(low, q, 0);
         float diff = abs(dLow - dFull);
-        if (diff < bestDiff) bestDiff = diff, nearest = v;
-        float w = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
-        if (useNormals && !skyFull) w *= upsampleNormalWeight(nFull, g.gba);
-        sum += w * v;
-        wSum += w;
+        if (diff < bestDiff) bestDiff = diff, nearest = i;
+        w[i] = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
+        if (useNormals && !skyFull) w[i] *= upsampleNormalWeight(nFull, g.gba);
+        wSum += w[i];
+        if (w[i] > wMax) wMax = w[i], heaviest = i;
     }
-    return wSum > 1e-6 ? sum / wSum : nearest;
+    if (!(wSum > 1e-6)) return v[nearest];
+    // The weighted mean as the heaviest tap plus the weighted mean of the differences to it: a
+    // constant field comes back bit-exact whatever the divide's rounding (an AO of 1, a sky alpha
+    // of 1; a reciprocal-multiply divide of sum by wSum can give 1 - 2^-24, which a 16-bit store
+    // that truncates keeps as 1 - 2^-11).
+    vec4 ref = v[heaviest], sum = vec4(0.0);
+    for (int i = 0; i < 4; ++i) sum += w[i] * (v[i] - ref);
+    return ref + sum / wSum;
 }

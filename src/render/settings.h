@@ -109,7 +109,7 @@ struct LpvSettings {
     // lpv.lookup=visibility: each cell's Chebyshev bound is raised to this power (DDGI's 3; docs/lpv.md).
     int visibilityExponent = 3;
     // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
-    bool halfApply = false;
+    bool halfApply = true;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.
     int fuse = 1;
     // lpv.propagate_kernel=face: one invocation per cell, neighbour face and colour (docs/lpv.md,

@@ -672,19 +672,24 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size, bool lpv = true) {
         for (std::size_t k = 0; k < dbg.size(); ++k) {
             FloatImage r = readTexture(*dbg[k].tex);
             // Relative (flux per texel is small), floored at 1e-6 of the image's peak. Normals are unit
-            // vectors interpolated by two rasterizers' barycentrics (fp32: ~1e-6 apart, more on a curved
-            // mesh's smooth normals); a component near 0 has no relative precision, so their floor is
-            // 2e-5 (0.001 degrees). Found when builtin:sphere-on-plane's RSM became fitted to the sphere
-            // (its ground plane marked, session 8): 59 of 4096 normal texels were off by more than 1e-6.
+            // vectors interpolated by two rasterizers' barycentrics and stored as half floats; the two
+            // snap vertices to their own sub-pixel grids, so a thin silhouette triangle of a curved mesh
+            // (smooth normals turning fast across it) gets barycentrics apart by ~2^-8 px / its width.
+            // builtin:sphere-on-plane (its RSM fitted to the sphere since session 8): 59 of 4096 normal
+            // texels differed by more than 1e-6, 52 by more than 2e-5, the largest by 2^-9 (0.1 degree;
+            // H200, driver 580.159.04). Floor 4e-3 (0.23 degree, far below what the injection resolves):
+            // a texel from another triangle or another vertex normal is off by far more.
             float peak = 0;
             for (float v : rsmA[k].data) peak = std::max(peak, std::abs(v));
             const bool normals = dbg[k].name.find("normal") != std::string::npos;
-            const float floor = normals ? 2e-5f : 1e-6f * peak;
+            const float floor = normals ? 4e-3f : 1e-6f * peak;
             std::size_t diff = 0;
+            float worst = 0;  // the largest |difference| among the texels that differ
             for (std::size_t i = 0; i < r.data.size(); i += 4)
                 for (std::size_t c = 0; c < 4; ++c)
                     if (std::abs(r.data[i + c] - rsmA[k].data[i + c]) > 1e-3f * std::abs(rsmA[k].data[i + c]) + floor) {
                         ++diff;
+                        for (std::size_t m = 0; m < 4; ++m) worst = std::max(worst, std::abs(r.data[i + m] - rsmA[k].data[i + m]));
                         break;
                     }
             // A texel differs only where the two paths see different
@@ -692,7 +697,8 @@ void compareWithHardware(const Scene& scene, glm::ivec2 size, bool lpv = true) {
             // 128^2 to the RSM side (edge pixels grow with the side, pixels
             // with its square).
             double allowed = (0.001 + sunExcused * 128.0 / double(r.width)) * double(r.width * r.height) + 1;
-            INFO(scene.name << " " << dbg[k].name << ": " << diff << " texels differ, allowed " << allowed);
+            INFO(scene.name << " " << dbg[k].name << ": " << diff << " texels differ (largest difference " << worst
+                            << "), allowed " << allowed);
             CHECK(double(diff) <= allowed);
         }
     }
