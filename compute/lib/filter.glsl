@@ -91,41 +91,59 @@ float upsampleNormalWeight(vec3 nFull, vec3 nLow) {
     return c4 * c4;
 }
 
-// Joint bilateral upsampling (SPEC 6.4) of `low` at the full-resolution texel centre uv whose
-// linear depth is dFull: the 2x2 low taps around uv, bilinear weights times upsampleWeight;
-// with useNormals, also times upsampleNormalWeight(nFull, lowGeometry.gba) (lowGeometry: depth
-// in .r, view normal in .gba). A sky pixel takes only sky taps. When every weight vanishes,
-// the tap nearest in depth.
-vec4 upsampleJoint(sampler2D low, sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {
-    ivec2 lowSize = textureSize(low, 0);
+// Joint bilateral upsampling (SPEC 6.4) at the full-resolution texel centre uv whose linear depth
+// is dFull: the 2x2 low taps around uv, bilinear weights times upsampleWeight; with useNormals,
+// also times upsampleNormalWeight(nFull, lowGeometry.gba) (lowGeometry: depth in .r, view normal
+// in .gba). A sky pixel takes only sky taps. When every weight vanishes, the tap nearest in depth.
+// upsampleTaps computes the taps and weights once; upsampleApply applies them to any texture of
+// the low resolution (lpv/upsample.comp upsamples two with one set).
+struct UpsampleTaps {
+    ivec2 q[4];
+    float w[4];
+    float wSum;
+    int nearest, heaviest;
+};
+
+UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {
+    ivec2 lowSize = textureSize(lowGeometry, 0);
     vec2 t = uv * vec2(lowSize) - 0.5;
     ivec2 base = ivec2(floor(t));
     vec2 f = t - vec2(base);
-    vec4 v[4];
-    float w[4];
-    float wSum = 0.0, bestDiff = 1e30, wMax = -1.0;
-    int nearest = 0, heaviest = 0;
+    UpsampleTaps u;
+    u.wSum = 0.0;
+    u.nearest = u.heaviest = 0;
+    float bestDiff = 1e30, wMax = -1.0;
     bool skyFull = !(dFull > 0.0);
     for (int i = 0; i < 4; ++i) {
         ivec2 o = ivec2(i & 1, i >> 1);
-        ivec2 q = clamp(base + o, ivec2(0), lowSize - 1);
+        u.q[i] = clamp(base + o, ivec2(0), lowSize - 1);
         float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-        vec4 g = texelFetch(lowGeometry, q, 0);
+        vec4 g = texelFetch(lowGeometry, u.q[i], 0);
         float dLow = g.r;
-        v[i] = texelFetch(low, q, 0);
         float diff = abs(dLow - dFull);
-        if (diff < bestDiff) bestDiff = diff, nearest = i;
-        w[i] = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
-        if (useNormals && !skyFull) w[i] *= upsampleNormalWeight(nFull, g.gba);
-        wSum += w[i];
-        if (w[i] > wMax) wMax = w[i], heaviest = i;
+        if (diff < bestDiff) bestDiff = diff, u.nearest = i;
+        float w = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
+        if (useNormals && !skyFull) w *= upsampleNormalWeight(nFull, g.gba);
+        u.w[i] = w;
+        u.wSum += w;
+        if (w > wMax) wMax = w, u.heaviest = i;
     }
-    if (!(wSum > 1e-6)) return v[nearest];
+    return u;
+}
+
+vec4 upsampleApply(sampler2D low, UpsampleTaps u) {
+    vec4 v[4];
+    for (int i = 0; i < 4; ++i) v[i] = texelFetch(low, u.q[i], 0);
+    if (!(u.wSum > 1e-6)) return v[u.nearest];
     // The weighted mean as the heaviest tap plus the weighted mean of the differences to it: a
     // constant field comes back bit-exact whatever the divide's rounding (an AO of 1, a sky alpha
     // of 1; a reciprocal-multiply divide of sum by wSum can give 1 - 2^-24, which a 16-bit store
     // that truncates keeps as 1 - 2^-11).
-    vec4 ref = v[heaviest], sum = vec4(0.0);
-    for (int i = 0; i < 4; ++i) sum += w[i] * (v[i] - ref);
-    return ref + sum / wSum;
+    vec4 ref = v[u.heaviest], sum = vec4(0.0);
+    for (int i = 0; i < 4; ++i) sum += u.w[i] * (v[i] - ref);
+    return ref + sum / u.wSum;
+}
+
+vec4 upsampleJoint(sampler2D low, sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {
+    return upsampleApply(low, upsampleTaps(lowGeometry, uv, dFull, useNormals, nFull));
 }

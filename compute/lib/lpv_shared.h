@@ -103,9 +103,9 @@ RTGI_LPV_STRUCT(LpvRsmFace) {
 #define RTGI_LPV_TEX_LIGHT_B         6  // lpv/apply.comp
 #define RTGI_LPV_TEX_BRDF_LUT        7  // lpv/apply.comp
 #define RTGI_LPV_TEX_DIRECTIONAL     8  // lpv/apply.comp
-#define RTGI_LPV_TEX_FLUX            0  // lpv/inject.comp lpv/inject_geometry.comp lpv/inject_raster.vert
-#define RTGI_LPV_TEX_NORMAL          1  // lpv/inject.comp lpv/inject_geometry.comp lpv/inject_raster.vert
-#define RTGI_LPV_TEX_DEPTH           2  // lpv/inject.comp lpv/inject_geometry.comp lpv/inject_raster.vert
+#define RTGI_LPV_TEX_FLUX            0  // lpv/inject.comp lpv/inject_raster.vert
+#define RTGI_LPV_TEX_NORMAL          1  // lpv/inject.comp lpv/inject_raster.vert
+#define RTGI_LPV_TEX_DEPTH           2  // lpv/inject.comp lpv/inject_raster.vert
 #define RTGI_LPV_TEX_SRC_R           0  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_TEX_SRC_G           1  // lpv/propagate.comp lpv/propagate_raster.frag
 #define RTGI_LPV_TEX_SRC_B           2  // lpv/propagate.comp lpv/propagate_raster.frag
@@ -131,6 +131,11 @@ RTGI_LPV_STRUCT(LpvRsmFace) {
 #define RTGI_LPV_INJECT_RASTER_LOC_LAYER 0  // lpv/inject_raster.vert (RTGI_LPV_RSM_ARRAY): layer of the face
 #define RTGI_LPV_INJECT_RASTER_LOC_INV_VIEW_PROJ 1  // and its RSM clip -> world (mat4: locations 1-4)
 #define RTGI_LPV_INJECT_GEOMETRY_IMG_GEOMETRY_ACCUM 0  // lpv/inject_geometry.comp
+// The sun RSM's textures in lpv/inject_geometry.comp: beside the G-buffer's (RTGI_LPV_TEX_LINEAR_DEPTH ..
+// RTGI_LPV_TEX_MATERIAL), since one dispatch reads both sources.
+#define RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_FLUX   4
+#define RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_NORMAL 5
+#define RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_DEPTH  6
 #define RTGI_LPV_IMG_GEOMETRY                       0  // lpv/pack.comp
 #define RTGI_LPV_IMG_VOL_R                          0  // lpv/pack.comp
 #define RTGI_LPV_IMG_GEOMETRY_ALBEDO                1  // lpv/pack.comp

@@ -13,9 +13,8 @@
 #define RTGI_POST_TEX_INDIRECT         3  // post/compose.comp
 #define RTGI_POST_TEX_SPECULAR         4  // post/compose.comp
 #define RTGI_POST_TEX_AO               5  // post/compose.comp
-#define RTGI_POST_TEX_SOURCE           0  // post/copy.comp post/finite_check.comp
-#define RTGI_POST_COPY_TEX_LINEAR_DEPTH 1  // post/copy.comp (POST_COPY_DEPTH_ALPHA)
-#define RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH 6  // post/compose.comp (RTGI_DIFFUSE_ONLY): depth into the history's alpha
+#define RTGI_POST_TEX_SOURCE           0  // post/finite_check.comp
+#define RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH 6  // post/compose.comp (RTGI_DIFFUSE_ONLY, RTGI_COMPOSE_HISTORY): depth into a history's alpha
 #define RTGI_POST_TEX_LINEAR_DEPTH     0  // post/direct.comp
 #define RTGI_POST_TEX_NORMAL           1  // post/direct.comp
 #define RTGI_POST_DIRECT_TEX_ALBEDO    2  // post/direct.comp
@@ -28,7 +27,7 @@
 #define RTGI_POST_IMG_LUT    0  // post/brdf_lut.comp
 #define RTGI_POST_IMG_HDR    0  // post/compose.comp
 #define RTGI_POST_IMG_LDR    1  // post/compose.comp
-#define RTGI_POST_IMG_TARGET 0  // post/copy.comp
+#define RTGI_POST_COMPOSE_IMG_HISTORY 2  // post/compose.comp (RTGI_COMPOSE_HISTORY): post.history's image, written here
 #define RTGI_POST_IMG_DIRECT 0  // post/direct.comp
 // shader storage bindings
 #define RTGI_POST_SSBO_COUNTS 0  // post/finite_check.comp

@@ -38,12 +38,13 @@ RTGI_STRUCT(SsrUniforms) {
 #define RTGI_SSR_TEX_VELOCITY           2  // ssr/resolve.comp
 #define RTGI_SSR_TEX_HISTORY            3  // ssr/resolve.comp
 #define RTGI_SSR_RESOLVE_TEX_LINEAR_DEPTH 4  // ssr/resolve.comp
-#define RTGI_SSR_TEX_REFLECTION         0  // ssr/shade.comp
+#define RTGI_SSR_TEX_REFLECTION         0  // ssr/shade.comp (half resolution with RTGI_SSR_SHADE_UPSAMPLE)
 #define RTGI_SSR_TEX_BRDF_LUT           1  // ssr/shade.comp
 #define RTGI_SSR_SHADE_TEX_LINEAR_DEPTH 2  // ssr/shade.comp
 #define RTGI_SSR_SHADE_TEX_NORMAL       3  // ssr/shade.comp
 #define RTGI_SSR_TEX_ALBEDO             4  // ssr/shade.comp
 #define RTGI_SSR_SHADE_TEX_MATERIAL     5  // ssr/shade.comp
+#define RTGI_SSR_SHADE_TEX_LOW_DEPTH    6  // ssr/shade.comp (RTGI_SSR_SHADE_UPSAMPLE): the traced pixels' depth
 #define RTGI_SSR_TRACE_TEX_LINEAR_DEPTH 0  // ssr/trace.comp
 #define RTGI_SSR_TRACE_TEX_NORMAL       1  // ssr/trace.comp
 #define RTGI_SSR_TRACE_TEX_MATERIAL     2  // ssr/trace.comp

@@ -4,10 +4,12 @@
 // the corner lattice (offset by half a cell: corner g sits at origin + g*s),
 // pre-reduced per workgroup in shared memory (lpv_reduce.glsl); the
 // accumulation texture is zero on entry (the geometry pack zeroes it).
-// Default source: the RSM; RTGI_LPV_GV_GBUFFER: the camera G-buffer sampled
-// at quarter resolution (every second pixel in x and y, seed 5.2.3), or with
+// Sources: RTGI_LPV_GV_RSM, the sun's RSM; RTGI_LPV_GV_GBUFFER, the camera G-buffer
+// sampled at quarter resolution (every second pixel in x and y, seed 5.2.3), or with
 // RTGI_LPV_GV_STRIDE = 4 (lpv.geometry_stride=4) every fourth, each sample's
 // surfel standing for the stride^2 pixels (docs/lpv.md, "Geometry injection stride").
+// With both, one dispatch of two workgroup layers: z = 0 reads the RSM, z = 1 the
+// G-buffer (one launch and one barrier fewer per cascade; the sums are the same).
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
@@ -27,10 +29,11 @@ layout(binding = RTGI_LPV_TEX_MATERIAL) uniform sampler2D uMaterial;
 #define RTGI_LPV_GV_STRIDE 2
 #endif
 const int kStride = RTGI_LPV_GV_STRIDE;
-#else
-layout(binding = RTGI_LPV_TEX_FLUX) uniform sampler2D uFlux;
-layout(binding = RTGI_LPV_TEX_NORMAL) uniform sampler2D uNormal;
-layout(binding = RTGI_LPV_TEX_DEPTH) uniform sampler2D uDepth;
+#endif
+#ifdef RTGI_LPV_GV_RSM
+layout(binding = RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_FLUX) uniform sampler2D uFlux;
+layout(binding = RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_NORMAL) uniform sampler2D uNormal;
+layout(binding = RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_DEPTH) uniform sampler2D uDepth;
 #endif
 
 #define LPV_REDUCE_CHANNELS RTGI_LPV_GV_CHANNELS
@@ -57,16 +60,19 @@ void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
 }
 
 // The contribution of this invocation's texel, if any (no barriers inside).
-void blocker() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
 #ifdef RTGI_LPV_GV_GBUFFER
-    ivec2 full = t * kStride;
+void gbufferBlocker() {
+    ivec2 full = ivec2(gl_GlobalInvocationID.xy) * kStride;
     vec3 wp, n;
     float area;
     if (!lpvGBufferSurfel(uLinearDepth, uViewNormal, full, kStride, lpv.rsm.w, wp, n, area)) return;
     vec3 albedo = diffuseAlbedo(texelFetch(uAlbedo, full, 0).rgb, texelFetch(uMaterial, full, 0).g);
     addBlocker(wp, n, area, albedo);
-#else
+}
+#endif
+#ifdef RTGI_LPV_GV_RSM
+void rsmBlocker() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(t, ivec2(lpv.grid.w)))) return;
     vec4 nrm = texelFetch(uNormal, t, 0);
     if (nrm.w == 0.0) return;
@@ -78,6 +84,17 @@ void blocker() {
     vec3 flux = texelFetch(uFlux, t, 0).rgb;
     vec3 albedo = vec3(e.r > 0.0 ? flux.r / e.r : 0.0, e.g > 0.0 ? flux.g / e.g : 0.0, e.b > 0.0 ? flux.b / e.b : 0.0);
     addBlocker(rsmWorldPosition(t, texelFetch(uDepth, t, 0).r), n, area, clamp(albedo, 0.0, 1.0));
+}
+#endif
+
+void blocker() {
+#if defined(RTGI_LPV_GV_RSM) && defined(RTGI_LPV_GV_GBUFFER)
+    if (gl_WorkGroupID.z == 0u) rsmBlocker();
+    else gbufferBlocker();
+#elif defined(RTGI_LPV_GV_RSM)
+    rsmBlocker();
+#else
+    gbufferBlocker();
 #endif
 }
 

@@ -37,10 +37,11 @@ void main() {
     vec3 vn = texelFetch(uViewNormal, p, 0).xyz;
     vec3 albedo = texelFetch(uAlbedo, p, 0).rgb;
     vec2 rm = texelFetch(uMaterial, p, 0).rg;
-    vec4 e = upsampleJoint(uLowIndirect, uLowGeometry, uv, d, true, vn);
+    UpsampleTaps taps = upsampleTaps(uLowGeometry, uv, d, true, vn);  // one set of weights for both terms
+    vec4 e = upsampleApply(uLowIndirect, taps);
     imageStore(uIndirect, p, vec4(diffuseAlbedo(albedo, rm.y) * e.rgb, e.a));
 #ifdef RTGI_LPV_SPECULAR
-    vec3 radiance = upsampleJoint(uLowSpecular, uLowGeometry, uv, d, true, vn).rgb;
+    vec3 radiance = upsampleApply(uLowSpecular, taps).rgb;
     vec3 f0 = specularF0(albedo, rm.y);
 #ifdef RTGI_LPV_BRDF_LUT
     vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);

@@ -5,6 +5,8 @@
 // (bent normals / S3HO), so occlusion is never applied twice.
 // RTGI_DIFFUSE_ONLY (ssr.diffuse_history): no specular term, no tonemapping,
 // the result goes to an RGBA16F history image.
+// RTGI_COMPOSE_HISTORY: also writes post.history's image (the radiance in RGBA16F, the linear depth in
+// alpha for the readers' disocclusion test), the copy that pass would otherwise dispatch.
 #include "lib/common.glsl"
 #include "lib/post_shared.h"
 #include "lib/brdf.glsl"
@@ -24,6 +26,10 @@ layout(binding = RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDe
 #else
 layout(rgba32f, binding = RTGI_POST_IMG_HDR) uniform writeonly image2D uHdr;
 layout(rgba8, binding = RTGI_POST_IMG_LDR) uniform writeonly image2D uLdr;
+#ifdef RTGI_COMPOSE_HISTORY
+layout(rgba16f, binding = RTGI_POST_COMPOSE_IMG_HISTORY) uniform writeonly image2D uHistory;
+layout(binding = RTGI_POST_COMPOSE_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
+#endif
 #endif
 
 layout(location = RTGI_POST_LOC_HAVE) uniform ivec4 uHave;  // indirect, specular, ao, ao already applied to indirect
@@ -51,5 +57,8 @@ void main() {
 #endif
 #ifndef RTGI_DIFFUSE_ONLY
     imageStore(uLdr, p, vec4(tonemap(color, frame.sky.a), 1.0));
+#ifdef RTGI_COMPOSE_HISTORY
+    imageStore(uHistory, p, vec4(color, texelFetch(uLinearDepth, p, 0).r));
+#endif
 #endif
 }

@@ -1,17 +1,24 @@
 // ssr.shade (full resolution): specular = splitSum(F0, n·v, roughness) ×
 // reflection × specular occlusion + LPV specular × (1 − specular occlusion)
 // (seed 000 5.2.6, 5.4; SPEC 3.6, 5). The filtered reflection is
-// premultiplied (L·c, c) at full resolution (ssr.upsample, the shared
-// depth-aware upsampling, brought it there from half resolution).
+// premultiplied (L·c, c); at ssr.resolution=half (RTGI_SSR_SHADE_UPSAMPLE) it is
+// brought to the pixel here by the shared joint bilateral upsampling (lib/filter.glsl,
+// the traced pixels' depth as the guide), only for the pixels SSR shades.
 #include "lib/common.glsl"
 #include "lib/depth.glsl"
 #include "lib/brdf.glsl"
 #include "lib/ssr_shared.h"
+#ifdef RTGI_SSR_SHADE_UPSAMPLE
+#include "lib/filter.glsl"
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std140, binding = RTGI_UBO_SSR) uniform SsrBlock { SsrUniforms ssr; };
-layout(binding = RTGI_SSR_TEX_REFLECTION) uniform sampler2D uReflection;  // full resolution
+layout(binding = RTGI_SSR_TEX_REFLECTION) uniform sampler2D uReflection;  // trace resolution
+#ifdef RTGI_SSR_SHADE_UPSAMPLE
+layout(binding = RTGI_SSR_SHADE_TEX_LOW_DEPTH) uniform sampler2D uLowDepth;
+#endif
 layout(binding = RTGI_SSR_TEX_BRDF_LUT) uniform sampler2D uBrdfLut;     // bilinear, (n·v, roughness)
 layout(binding = RTGI_SSR_SHADE_TEX_LINEAR_DEPTH) uniform sampler2D uLinearDepth;
 layout(binding = RTGI_SSR_SHADE_TEX_NORMAL) uniform sampler2D uNormal;
@@ -38,7 +45,11 @@ void main() {
         float NdotV = nn > 1e-12 && nn < 1e12 ? clamp(dot(n * inversesqrt(nn), v), 0.0, 1.0) : 0.0;
         vec2 ab = textureLod(uBrdfLut, vec2(NdotV, rm.x), 0.0).rg;
         splitSum = specularF0(texelFetch(uAlbedo, p, 0).rgb, rm.y) * ab.x + ab.y;
+#ifdef RTGI_SSR_SHADE_UPSAMPLE
+        reflection = upsampleJoint(uReflection, uLowDepth, uv, d, false, vec3(0.0));
+#else
         reflection = texelFetch(uReflection, p, 0);
+#endif
         reflection.a = clamp(reflection.a, 0.0, 1.0);
     }
     imageStore(uSpecular, p, vec4(splitSum * reflection.rgb + lpv * (1.0 - reflection.a), 1.0));

@@ -3,8 +3,6 @@
 // writes is in its declare(); the renderer builds the frame from those
 // declarations (render/frame_plan.h) and lists the passes that do not run,
 // with the reason, under "skipped" (rtgi-bench --print-frame shows it).
-#include "gl/program.h"
-#include "compute/lib/post_shared.h"
 #include "render/ao/ao_passes.h"
 #include "render/lpv/lpv_passes.h"
 #include "render/passes/core_passes.h"
@@ -19,23 +17,17 @@ namespace {
 // post.history: keeps this frame's radiance for the next frame's
 // reprojecting passes. In the frame only while one of them declares
 // readPrevious(R::history) (near-field light; SSR without its own history).
+// The image is written by post.compose (RTGI_COMPOSE_HISTORY: the radiance it
+// computes, the linear depth in alpha for the readers' disocclusion test), which
+// saves a full-resolution copy; this pass keeps the declaration, so the plan
+// keeps or drops the history (and its allocation) with its readers.
 class HistoryPass final : public Pass {
 public:
     std::string name() const override { return "post.history"; }
     void declare(PassDecl& d, const Scene&, const Settings&) const override {
         d.read(R::hdr).read(R::linearDepth).write(R::history).onlyIfRead();
     }
-    void execute(FrameContext& ctx) override {
-        const glm::ivec2 s = ctx.view.size;
-        // Alpha: the linear depth, for the readers' disocclusion test.
-        const gl::Program& prog = ctx.programs.compute("post/copy.comp", {{"POST_COPY_DEPTH_ALPHA", ""}});
-        // Producer: post.compose (image store into hdr).
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(RTGI_POST_TEX_SOURCE, ctx.res.hdr.id());
-        glBindTextureUnit(RTGI_POST_COPY_TEX_LINEAR_DEPTH, ctx.res.gbuffer.linearDepth.id());
-        glBindImageTexture(RTGI_POST_IMG_TARGET, ctx.res.history.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        gl::dispatch(prog, s.x, s.y);
-    }
+    void execute(FrameContext&) override {}
 };
 
 }  // namespace

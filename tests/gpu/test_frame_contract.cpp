@@ -52,3 +52,42 @@ TEST_CASE("shared resources: allocated by the renderer once, the same objects ev
     // The frame decides that ao.nearfield adds to lpv.apply's indirect light.
     CHECK(r.plan().table().find("+=indirectDiffuse") != std::string::npos);
 }
+
+// post.history's image is written by post.compose (one dispatch fewer than a copy): after a frame whose
+// near-field light reads the previous frame's radiance, it holds this frame's hdr in half precision and
+// the linear depth in alpha (the readers' disocclusion test); without a reader the plan drops it.
+TEST_CASE("post.history holds the frame's hdr radiance (RGBA16F) and its linear depth, written by post.compose") {
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene s = loadBuiltin("cornell");
+    Settings st = smallLpvSettings();
+    st.ao.variant = AoSettings::Variant::Gtao;
+    st.ao.nearfield = 1.0f;  // ao.nearfield reads the previous frame's history
+    Renderer r(s, st, prof);
+    REQUIRE(r.plan().written(R::history));
+    Camera cam = resolveCamera(s, st);
+    View prev;
+    for (unsigned f = 0; f < 2; ++f) {
+        View v = makeView(cam, {24, 18}, f == 0 ? nullptr : &prev, f);
+        r.render(v);
+        prev = v;
+    }
+    FloatImage hist = readTexture(r.resources().history), hdr = readTexture(r.resources().hdr),
+               depth = readTexture(r.resources().gbuffer.linearDepth);
+    REQUIRE(hist.data.size() == hdr.data.size());
+    std::size_t bad = 0, lit = 0;
+    for (std::size_t i = 0; i < hdr.data.size(); i += 4) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            // One half-precision rounding (2^-11 relative to nearest, 2^-10 truncated), plus the smallest normal half.
+            if (std::abs(hist.data[i + c] - hdr.data[i + c]) > 1e-3f * std::abs(hdr.data[i + c]) + 6.2e-5f) ++bad;
+            if (hdr.data[i + c] > 1e-3f) ++lit;
+        }
+        const float d = depth.data[i / 4 * std::size_t(depth.channels)];
+        if (std::abs(hist.data[i + 3] - d) > 1e-3f * std::abs(d)) ++bad;
+    }
+    CHECK(bad == 0);
+    CHECK(lit > hdr.data.size() / 8);  // a lit frame, not two empty images
+    st.ao.nearfield = 0.0f;
+    Renderer none(s, st, prof);
+    CHECK_FALSE(none.plan().written(R::history));
+}

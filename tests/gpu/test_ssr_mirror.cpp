@@ -272,7 +272,7 @@ TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates n
     CHECK(g->findPass("ssr.trace"));
     CHECK(g->findPass("ssr.shade"));
     CHECK_FALSE(g->findPass("ssr.hiz"));  // only the hiz tracer needs the pyramid
-    CHECK(g->findPass("ssr.upsample"));    // half resolution: the shared depth-aware upsampling
+    CHECK_FALSE(g->findPass("ssr.upsample"));  // half resolution: ssr.shade upsamples (no pass of its own)
     CHECK(g->findPass("post.history"));    // ssr.resolve reads the previous frame
     CHECK(g->resources().brdfLut);
     CHECK(g->resources().blueNoise);       // the linear tracer's start jitter
@@ -286,7 +286,6 @@ TEST_CASE("SSR pruning: rough scenes skip every ssr pass and ssr=off allocates n
     CHECK_FALSE(d->findPass("post.history"));
     // ssr.resolve declares readPrevious(diffuseHistory) instead, so nothing reads post.history's output.
     CHECK(skipReason(*d, "post.history").find("no pass in this frame reads history") != std::string::npos);
-    CHECK(skipReason(*d, "ssr.upsample") == "ssr.resolution=full");
 
     glossy.ssr.tracer = SsrSettings::Tracer::Off;
     auto o = renderFrames(rough, glossy, {16, 16}, prof, 1);

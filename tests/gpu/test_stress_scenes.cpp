@@ -114,7 +114,7 @@ TEST_CASE("stress: --check on every built-in scene with every technique on finds
                           "lpv.propagate", "lpv.temporal", "lpv.apply", "ao.downsample", "ao.radius", "ao.ssao-disk",
                           "ao.ssao-sphere", "ao.ssao-hemisphere", "ao.vo", "ao.hbao", "ao.gtao", "ao.blur",
                           "ao.temporal", "ao.blur2", "ao.upsample", "ao.nearfield", "ssr.hiz", "ssr.trace",
-                          "ssr.resolve", "ssr.blur", "ssr.temporal", "ssr.upsample", "ssr.shade", "ssr.diffuse_history",
+                          "ssr.resolve", "ssr.blur", "ssr.temporal", "ssr.shade", "ssr.diffuse_history",
                           "post.compose", "post.history", "ref.path", "ref.ao"})
         families.push_back(p);
     for (const std::string& p : families) {

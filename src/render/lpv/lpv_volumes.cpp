@@ -526,25 +526,31 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
     const bool twoSided = bool(v.geometryAxes);
     gl::Defines variant;
     if (twoSided) variant.push_back({"RTGI_LPV_TWO_SIDED", ""});
-    const gl::Program& fromRsm = programs.compute("lpv/inject_geometry.comp", variant);
-    if (rsmSize > 0) {
-        glBindTextureUnit(RTGI_LPV_TEX_FLUX, rsm.flux.id());
-        glBindTextureUnit(RTGI_LPV_TEX_NORMAL, rsm.normal.id());
-        glBindTextureUnit(RTGI_LPV_TEX_DEPTH, rsm.depth.id());
-        gl::dispatch(fromRsm, rsmSize, rsmSize);
-    }
-    if (gb.linearDepth) {
-        const gl::Program& fromGBuffer = programs.compute("lpv/inject_geometry.comp", [&] {
-            gl::Defines d = variant;
+    // One dispatch for both sources (lpv/inject_geometry.comp): workgroup layer z = 0 the RSM's texels,
+    // z = 1 the G-buffer's samples; the x/y extent covers the larger of the two, and workgroups
+    // beyond a source's extent add nothing.
+    const bool fromRsm = rsmSize > 0, fromGBuffer = gb.linearDepth != nullptr;
+    if (fromRsm || fromGBuffer) {
+        gl::Defines d = variant;
+        glm::ivec2 extent(0);
+        gl::ScopedBindings b;
+        if (fromRsm) {
+            d.push_back({"RTGI_LPV_GV_RSM", ""});
+            b.texture(RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_FLUX, rsm.flux)
+                .texture(RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_NORMAL, rsm.normal)
+                .texture(RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_DEPTH, rsm.depth);
+            extent = glm::max(extent, glm::ivec2(rsmSize));
+        }
+        if (fromGBuffer) {
             d.push_back({"RTGI_LPV_GV_GBUFFER", ""});
             if (gb.stride != 2) d.push_back({"RTGI_LPV_GV_STRIDE", std::to_string(gb.stride)});
-            return d;
-        }());
-        glBindTextureUnit(RTGI_LPV_TEX_LINEAR_DEPTH, gb.linearDepth->id());
-        glBindTextureUnit(RTGI_LPV_TEX_VIEW_NORMAL, gb.normal->id());
-        glBindTextureUnit(RTGI_LPV_TEX_ALBEDO, gb.albedo->id());
-        glBindTextureUnit(RTGI_LPV_TEX_MATERIAL, gb.material->id());
-        gl::dispatch(fromGBuffer, (gb.size.x + gb.stride - 1) / gb.stride, (gb.size.y + gb.stride - 1) / gb.stride);
+            b.texture(RTGI_LPV_TEX_LINEAR_DEPTH, *gb.linearDepth)
+                .texture(RTGI_LPV_TEX_VIEW_NORMAL, *gb.normal)
+                .texture(RTGI_LPV_TEX_ALBEDO, *gb.albedo)
+                .texture(RTGI_LPV_TEX_MATERIAL, *gb.material);
+            extent = glm::max(extent, (gb.size + gb.stride - 1) / gb.stride);
+        }
+        gl::dispatch(programs.compute("lpv/inject_geometry.comp", d), extent.x, extent.y, fromRsm && fromGBuffer ? 2 : 1);
     }
     const gl::Program& pack =
         programs.compute("lpv/pack.comp", [&] {

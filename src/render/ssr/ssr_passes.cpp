@@ -1,8 +1,9 @@
 // Screen-space reflections (seed 000 4.4, 5.4; SPEC 5):
 //   ssr.hiz -> ssr.trace -> ssr.resolve -> ssr.blur -> ssr.temporal
-//   -> ssr.upsample -> ssr.shade (+ ssr.diffuse_history with ssr.diffuse_history=on).
-// Blur, temporal filter and upsampling are the shared chain of render/filter.h
-// (the AO family's code) on the premultiplied RGBA16F reflection.
+//   -> ssr.shade (+ ssr.diffuse_history with ssr.diffuse_history=on).
+// Blur and temporal filter are the shared chain of render/filter.h (the AO
+// family's code) on the premultiplied RGBA16F reflection; at half resolution
+// ssr.shade upsamples it with the chain's joint bilateral weights (lib/filter.glsl).
 // The passes share one SsrState (private targets and the constant block); all
 // of it is created inside execute(), so nothing is allocated when SSR is off.
 #include "render/ssr/ssr_passes.h"
@@ -40,10 +41,9 @@ struct SsrState {
     gl::Texture traceDepth, traceNormal;       // the traced pixels' depth / normal (half resolution only)
     gl::Texture resolved, blurTemp, blurred;   // premultiplied (L·c, c)
     TemporalFilter temporal;                   // shared temporal filter with its own history
-    gl::Texture upsampled;                     // full-resolution reflection (half resolution only)
     gl::Texture directDiffuse;                 // diffuse-only direct light (ssr.diffuse_history)
     gl::Buffer ubo;
-    const gl::Texture* reflection = nullptr;  // what ssr.shade reads this frame (full resolution)
+    const gl::Texture* reflection = nullptr;  // what ssr.shade reads this frame (trace resolution)
     bool resolvedHadHistory = false;   // this frame's resolve fetched a valid history
     bool temporalHasReflections = false;  // the temporal history comes from a frame that resolved a history
 
@@ -265,26 +265,6 @@ public:
     }
 };
 
-// ---- ssr.upsample ----------------------------------------------------------
-class UpsamplePass final : public SsrPass {
-public:
-    using SsrPass::SsrPass;
-    void declare(PassDecl& d, const Scene&, const Settings& s) const override {
-        if (!s.ssr.halfResolution) return d.skip("ssr.resolution=full");
-        d.read(R::linearDepth).output("ssr.upsample", &st_->upsampled);
-        d.debugImage("ssr.upsample.reflection", &st_->upsampled);
-    }
-    void execute(FrameContext& ctx) override {
-        // Joint bilateral (depth-aware) so receivers do not take reflections across depth edges.
-        upsample(ctx.programs, ctx.ledger, "ssr.upsample", kSsrFormat, *st_->reflection, st_->traceDepth,
-                 ctx.res.gbuffer.linearDepth, st_->upsampled, true);
-        st_->reflection = &st_->upsampled;
-    }
-    std::vector<gl::NamedTextureDesc> privateTextures(const Settings&, glm::ivec2 view) const override {
-        return {upsampleTexture("ssr.upsample", kSsrFormat, view)};
-    }
-};
-
 // ---- ssr.shade -------------------------------------------------------------
 class ShadePass final : public SsrPass {
 public:
@@ -298,12 +278,17 @@ public:
         const glm::ivec2 s = ctx.view.size;
         FrameResources& r = ctx.res;
         bool haveLpv = ctx.accumulates(R::specular);
-        const gl::Program& prog = ctx.programs.compute("ssr/shade.comp");
+        // ssr.resolution=half: the reflection is upsampled here, per shaded pixel (joint bilateral with the
+        // traced pixels' depth, lib/filter.glsl), instead of by a full-resolution pass before.
+        const bool half = ctx.settings.ssr.halfResolution;
+        const gl::Program& prog =
+            ctx.programs.compute("ssr/shade.comp", half ? gl::Defines{{"RTGI_SSR_SHADE_UPSAMPLE", ""}} : gl::Defines{});
         st_->bindUniforms(ctx);
         const gl::Texture& reflection = *st_->reflection;
-        // Producers: ssr.upsample / ssr.temporal, brdf_lut, lpv.apply (image stores).
+        // Producers: ssr.temporal, brdf_lut, lpv.apply (image stores).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         glBindTextureUnit(RTGI_SSR_TEX_REFLECTION, reflection.id());
+        glBindTextureUnit(RTGI_SSR_SHADE_TEX_LOW_DEPTH, half ? st_->traceDepth.id() : 0);
         glBindTextureUnit(RTGI_SSR_TEX_BRDF_LUT, r.brdfLut.id());
         glBindTextureUnit(RTGI_SSR_SHADE_TEX_LINEAR_DEPTH, r.gbuffer.linearDepth.id());
         glBindTextureUnit(RTGI_SSR_SHADE_TEX_NORMAL, r.gbuffer.normal.id());
@@ -350,13 +335,12 @@ public:
 void appendSsrPasses(std::vector<std::unique_ptr<Pass>>& f) {
     auto st = std::make_shared<SsrState>();
     // min-depth pyramid (hiz only) -> ray march -> reproject the hit into last frame's radiance
-    // -> shared blur / temporal / depth-aware upsampling -> split-sum shading (+ diffuse-only history)
+    // -> shared blur / temporal -> split-sum shading with the depth-aware upsampling (+ diffuse-only history)
     f.push_back(std::make_unique<HizPass>(st, "ssr.hiz"));
     f.push_back(std::make_unique<TracePass>(st, "ssr.trace"));
     f.push_back(std::make_unique<ResolvePass>(st, "ssr.resolve"));
     f.push_back(std::make_unique<BlurPass>(st, "ssr.blur"));
     f.push_back(std::make_unique<TemporalPass>(st, "ssr.temporal"));
-    f.push_back(std::make_unique<UpsamplePass>(st, "ssr.upsample"));
     f.push_back(std::make_unique<ShadePass>(st, "ssr.shade"));
     f.push_back(std::make_unique<DiffuseHistoryPass>(st, "ssr.diffuse_history"));
 }
