@@ -136,6 +136,8 @@ RTGI_LPV_STRUCT(LpvRsmFace) {
 #define RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_FLUX   4
 #define RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_NORMAL 5
 #define RTGI_LPV_INJECT_GEOMETRY_TEX_RSM_DEPTH  6
+// Samples per invocation of lpv/inject_geometry.comp, in x and y (summed in registers while in one cell).
+#define RTGI_LPV_GV_BLOCK 2
 #define RTGI_LPV_IMG_GEOMETRY                       0  // lpv/pack.comp
 #define RTGI_LPV_IMG_VOL_R                          0  // lpv/pack.comp
 #define RTGI_LPV_IMG_GEOMETRY_ALBEDO                1  // lpv/pack.comp

@@ -14,6 +14,7 @@
 #define RTGI_VISIBILITY_SSBO_COUNTERS 9   // VisCounters
 #define RTGI_VISIBILITY_SSBO_HITS 10      // uint per pixel: fragments written (tests only, RTGI_VISIBILITY_COUNT_HITS)
 #define RTGI_VISIBILITY_SSBO_PREV_VERTICES 11  // GpuVertex[] of the previous frame (visibility/resolve.comp: object motion)
+#define RTGI_VISIBILITY_SSBO_TILESLOTS 12  // uint per tile: its bin entries; then RTGI_VISIBILITY_TILE_SLOTS large-triangle ids per tile
 // ---- images written by the resolves --------------------------------------------
 #define RTGI_VISIBILITY_IMG_LINEAR_DEPTH 0
 #define RTGI_VISIBILITY_IMG_NORMAL 1
@@ -46,6 +47,14 @@
 #define RTGI_VISIBILITY_SETUP_GROUP 64
 #define RTGI_VISIBILITY_BIN_GROUP 64
 #define RTGI_VISIBILITY_BIN_GROUPS 2048  // persistent bin workgroups (grid-stride over the large triangles)
+// A tile's first RTGI_VISIBILITY_TILE_SLOTS bin entries go to an array of its own (the rest to the linked
+// list of nodes), which the tile workgroup reads RTGI_VISIBILITY_TILE_BATCH records at a time into shared
+// memory: independent loads instead of a chain of dependent ones (docs/visibility.md, "Tile slots").
+#define RTGI_VISIBILITY_TILE_SLOTS_DEFAULT 64
+#define RTGI_VISIBILITY_TILE_BATCH 16
+#if defined(RTGI_GLSL) && !defined(RTGI_VISIBILITY_TILE_SLOTS)
+#define RTGI_VISIBILITY_TILE_SLOTS RTGI_VISIBILITY_TILE_SLOTS_DEFAULT  // the kernels get the target's count as a define
+#endif
 // Guard band in pixels: vertices are clipped to |x|,|y| <= this many pixels
 // around the viewport so that 8-bit fixed point and the edge products fit
 // (positions < 2^23 sub-pixel units, products < 2^47 in int64).

@@ -43,6 +43,14 @@ void lpvGlobalAdd(uint key, int channel, float value) {
 }
 #include "lpv/lpv_reduce.glsl"
 
+// This invocation's run of samples in one cell (key LPV_NO_KEY: none yet).
+uint gRunKey = LPV_NO_KEY;
+float gRun[RTGI_LPV_GV_CHANNELS];
+void flushRun() {
+    if (gRunKey != LPV_NO_KEY) lpvReduceAdd(gRunKey, gRun);
+    gRunKey = LPV_NO_KEY;
+}
+
 void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
     ivec3 g = ivec3(floor(lpvCellCoord(p) + 0.5));
     if (!lpvInside(g, lpv.grid.xyz + 1) || !(area > 0.0)) return;
@@ -56,13 +64,23 @@ void addBlocker(vec3 p, vec3 n, float area, vec3 albedo) {
 #ifdef RTGI_LPV_TWO_SIDED
     for (int k = 0; k < 3; ++k) v[8 + k] = area * lpv.rsm.y * abs(n[k]);
 #endif
-    lpvReduceAdd(lpvKeyOfCell(g, lpv.grid.xyz + 1), v);
+    // Consecutive samples of one invocation in the same cell add up in registers first: one
+    // contended shared-memory add per run instead of one per sample.
+    uint key = lpvKeyOfCell(g, lpv.grid.xyz + 1);
+    if (key != gRunKey) {
+        flushRun();
+        gRunKey = key;
+        for (int k = 0; k < RTGI_LPV_GV_CHANNELS; ++k) gRun[k] = v[k];
+    } else {
+        for (int k = 0; k < RTGI_LPV_GV_CHANNELS; ++k) gRun[k] += v[k];
+    }
 }
 
-// The contribution of this invocation's texel, if any (no barriers inside).
+// The contribution of sample / texel t, if any (no barriers inside). Each invocation takes a
+// block of RTGI_LPV_GV_BLOCK x RTGI_LPV_GV_BLOCK of them.
 #ifdef RTGI_LPV_GV_GBUFFER
-void gbufferBlocker() {
-    ivec2 full = ivec2(gl_GlobalInvocationID.xy) * kStride;
+void gbufferBlocker(ivec2 t) {
+    ivec2 full = t * kStride;
     vec3 wp, n;
     float area;
     if (!lpvGBufferSurfel(uLinearDepth, uViewNormal, full, kStride, lpv.rsm.w, wp, n, area)) return;
@@ -71,8 +89,7 @@ void gbufferBlocker() {
 }
 #endif
 #ifdef RTGI_LPV_GV_RSM
-void rsmBlocker() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+void rsmBlocker(ivec2 t) {
     if (any(greaterThanEqual(t, ivec2(lpv.grid.w)))) return;
     vec4 nrm = texelFetch(uNormal, t, 0);
     if (nrm.w == 0.0) return;
@@ -88,14 +105,18 @@ void rsmBlocker() {
 #endif
 
 void blocker() {
+    for (int j = 0; j < RTGI_LPV_GV_BLOCK * RTGI_LPV_GV_BLOCK; ++j) {
+        ivec2 t = ivec2(gl_GlobalInvocationID.xy) * RTGI_LPV_GV_BLOCK + ivec2(j % RTGI_LPV_GV_BLOCK, j / RTGI_LPV_GV_BLOCK);
 #if defined(RTGI_LPV_GV_RSM) && defined(RTGI_LPV_GV_GBUFFER)
-    if (gl_WorkGroupID.z == 0u) rsmBlocker();
-    else gbufferBlocker();
+        if (gl_WorkGroupID.z == 0u) rsmBlocker(t);
+        else gbufferBlocker(t);
 #elif defined(RTGI_LPV_GV_RSM)
-    rsmBlocker();
+        rsmBlocker(t);
 #else
-    gbufferBlocker();
+        gbufferBlocker(t);
 #endif
+    }
+    flushRun();
 }
 
 void main() {

@@ -3,7 +3,8 @@
 // stride over the triangles; the threads of a group share one triangle and
 // stride over the tiles of its box, so no thread walks a large box alone.
 // A tile gets the triangle when no edge function is negative at the tile's
-// most-inside sample (exact for the box, conservative inside it).
+// most-inside sample (exact for the box, conservative inside it). A tile's first
+// RTGI_VISIBILITY_TILE_SLOTS entries go to its slot array, the rest to its list.
 #include "lib/raster.glsl"
 
 layout(local_size_x = RTGI_VISIBILITY_BIN_GROUP) in;
@@ -12,6 +13,7 @@ layout(std430, binding = RTGI_VISIBILITY_SSBO_LARGE) readonly buffer Large { Vis
 layout(std430, binding = RTGI_VISIBILITY_SSBO_TILEHEADS) buffer TileHeads { uint tileHead[]; };
 layout(std430, binding = RTGI_VISIBILITY_SSBO_NODES) writeonly buffer Nodes { uvec2 nodes[]; };
 layout(std430, binding = RTGI_VISIBILITY_SSBO_COUNTERS) buffer Counters { VisCounters counters; };
+layout(std430, binding = RTGI_VISIBILITY_SSBO_TILESLOTS) buffer TileSlots { uint tileSlot[]; };
 
 void main() {
     uint count = min(counters.largeCount, uint(uCapacity.x));
@@ -33,9 +35,14 @@ void main() {
                 reject = reject || t.A[e] * px + t.B[e] * py + t.C[e] + t.rule[e] < 0L;
             }
             if (reject) continue;
+            uint ti = uint(tile.y * tiles.x + tile.x);
+            uint slot = atomicAdd(tileSlot[ti], 1u);
+            if (slot < uint(RTGI_VISIBILITY_TILE_SLOTS)) {
+                tileSlot[uint(tiles.x * tiles.y) + ti * uint(RTGI_VISIBILITY_TILE_SLOTS) + slot] = tri;
+                continue;
+            }
             uint node = atomicAdd(counters.nodeCount, 1u);
             if (node >= uint(uCapacity.y)) continue;  // overflow: reported by the pass
-            uint ti = uint(tile.y * tiles.x + tile.x);
             nodes[node] = uvec2(tri, atomicExchange(tileHead[ti], node));
         }
     }

@@ -550,6 +550,7 @@ void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm
                 .texture(RTGI_LPV_TEX_MATERIAL, *gb.material);
             extent = glm::max(extent, (gb.size + gb.stride - 1) / gb.stride);
         }
+        extent = (extent + RTGI_LPV_GV_BLOCK - 1) / RTGI_LPV_GV_BLOCK;  // a block of samples per invocation
         gl::dispatch(programs.compute("lpv/inject_geometry.comp", d), extent.x, extent.y, fromRsm && fromGBuffer ? 2 : 1);
     }
     const gl::Program& pack =

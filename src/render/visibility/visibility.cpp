@@ -80,6 +80,7 @@ VisibilityOptions visibilityOptions(const Settings& s) {
 gl::Defines visibilityDefines(const VisibilityTarget& t) {
     gl::Defines d;
     if (t.atomic64) d.push_back({"RTGI_VISIBILITY_ATOMIC64", ""});
+    d.push_back({"RTGI_VISIBILITY_TILE_SLOTS", std::to_string(t.tileSlots)});
     return d;
 }
 
@@ -123,7 +124,7 @@ VisibilityCapacity visibilityCapacity(glm::ivec2 size, std::int64_t triangles, i
     c.largeTriangles = std::min<std::int64_t>(c.largeTriangles, kMaxBufferBytes / kTriangleRecordBytes);
     c.binEntries = std::min<std::int64_t>(c.binEntries, kMaxBufferBytes / 8);
     c.bytes = 8 * pixels + kTriangleRecordBytes * c.largeTriangles + 8 * c.binEntries + 4 * tileCount +
-              std::int64_t(sizeof(VisCounters));
+              4 * (1 + RTGI_VISIBILITY_TILE_SLOTS_DEFAULT) * tileCount + std::int64_t(sizeof(VisCounters));
     return c;
 }
 
@@ -134,6 +135,7 @@ void bindRasterBuffers(const VisibilityTarget& t) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILEHEADS, t.tileHeads.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_NODES, t.nodes.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_COUNTERS, t.counters.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_VISIBILITY_SSBO_TILESLOTS, t.slots.id());
 }
 // One setup thread per scene triangle.
 void dispatchSetup(const gl::Program& setup, const VisibilityTarget& t) {
@@ -164,10 +166,12 @@ void rasterizeVisibility(gl::ProgramCache& programs, gl::MemoryLedger& ledger, c
     VisibilityCapacity cap = visibilityCapacity(size, t.triangles, o.binScale);
     t.largeCapacity = o.largeCapacity > 0 ? o.largeCapacity : cap.largeTriangles;
     t.nodeCapacity = o.nodeCapacity > 0 ? o.nodeCapacity : cap.binEntries;
+    t.tileSlots = std::max(o.tileSlots, 0);
     ensureBuffer(t.vis, ledger, t.label + ".vis", pixels * 8);
     ensureBuffer(t.large, ledger, t.label + ".large", t.largeCapacity * kTriangleRecordBytes);
     ensureBuffer(t.tileHeads, ledger, t.label + ".tiles", tileCount * 4);
     ensureBuffer(t.nodes, ledger, t.label + ".bins", t.nodeCapacity * 8);
+    ensureBuffer(t.slots, ledger, t.label + ".tile_slots", (1 + t.tileSlots) * tileCount * 4);
     ensureBuffer(t.counters, ledger, t.label + ".counters", sizeof(VisCounters));
     if (o.countHits) ensureBuffer(t.hits, ledger, t.label + ".hits", pixels * 4);
 
@@ -224,7 +228,7 @@ void rasterizeSecondLayer(gl::ProgramCache& programs, const GpuScene& scene, con
                           const glm::mat4& proj, const VisibilityTarget& t, const gl::Texture& layer1,
                           const gl::Texture& layer2, const SecondLayerOptions& o) {
     // Only a depth per pixel: the 32-bit layout on every driver, one phase.
-    const gl::Defines defs{{"RTGI_VISIBILITY_LAYER2", ""}};
+    const gl::Defines defs{{"RTGI_VISIBILITY_LAYER2", ""}, {"RTGI_VISIBILITY_TILE_SLOTS", std::to_string(t.tileSlots)}};
     const gl::Program& setup = programs.compute("visibility/setup.comp", defs);
     const gl::Program& tile = programs.compute("visibility/tile.comp", defs);
     const glm::vec4 layer(o.separation, o.depthScaled ? 1.0f : 0.0f, proj[2][2], proj[3][2]);

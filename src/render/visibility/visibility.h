@@ -8,6 +8,7 @@
 #include "gl/program.h"
 #include "gl/resources.h"
 #include "render/settings.h"
+#include "compute/lib/visibility_shared.h"
 
 #include <glm/glm.hpp>
 
@@ -30,6 +31,7 @@ struct VisibilityOptions {
     bool countHits = false;   // tests: count fragments written per pixel (VisibilityTarget::hits)
     int binScale = 1;         // multiplier on the bin capacities (setting raster.bin_scale)
     std::int64_t largeCapacity = 0, nodeCapacity = 0;  // > 0: fixed capacities instead (tests)
+    int tileSlots = RTGI_VISIBILITY_TILE_SLOTS_DEFAULT;  // bin entries per tile held in its slot array (0: lists only)
 };
 
 struct VisibilityCounters {
@@ -43,8 +45,10 @@ struct VisibilityTarget {
     bool atomic64 = false;       // layout of `vis` (set by rasterizeVisibility)
     int triangles = 0;
     std::int64_t largeCapacity = 0, nodeCapacity = 0;
+    int tileSlots = 0;           // bin entries per tile held in `slots` (the rest in the node lists)
     gl::Buffer vis;              // 8 bytes per pixel: uint64 depth|id, or uint depth[N] then uint id[N]
     gl::Buffer large, tileHeads, nodes, counters, hits;
+    gl::Buffer slots;            // per tile its entry count, then tileSlots large-triangle ids per tile
     // copyVisibilityDepth targets by (texture, layer): one per layer of a
     // local-light shadow array, made once, dropped with resetDepthTargets().
     std::map<std::pair<GLuint, int>, gl::FramebufferHandle> depthFbos;
