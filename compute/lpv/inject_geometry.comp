@@ -11,6 +11,9 @@
 // With both, one dispatch of two workgroup layers: z = 0 reads the RSM, z = 1 the
 // G-buffer (one launch and one barrier fewer per cascade; the sums are the same).
 #extension GL_NV_shader_atomic_float : require  // float atomics (images, shared memory)
+#if !defined(RTGI_LPV_GV_RSM) && !defined(RTGI_LPV_GV_GBUFFER)
+#define RTGI_LPV_GV_RSM  // the sun's RSM is the source when none is named
+#endif
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
 #include "lpv/gbuffer_surfel.glsl"
@@ -105,6 +108,7 @@ void rsmBlocker(ivec2 t) {
 #endif
 
 void blocker() {
+    for (int k = 0; k < RTGI_LPV_GV_CHANNELS; ++k) gRun[k] = 0.0;
     for (int j = 0; j < RTGI_LPV_GV_BLOCK * RTGI_LPV_GV_BLOCK; ++j) {
         ivec2 t = ivec2(gl_GlobalInvocationID.xy) * RTGI_LPV_GV_BLOCK + ivec2(j % RTGI_LPV_GV_BLOCK, j / RTGI_LPV_GV_BLOCK);
 #if defined(RTGI_LPV_GV_RSM) && defined(RTGI_LPV_GV_GBUFFER)
