@@ -22,6 +22,14 @@ using uint = std::uint32_t;
 #define RTGI_SSBO_REF_COUNTER 8    // uint: rays traced by a dispatch (rays/s statistics)
 #define RTGI_SSBO_REF_EMITTERS 9   // uint pairs: emissive triangle id, area CDF (float bits)
 #define RTGI_BVH_STACK 48          // traversal stack depth (the builder caps the tree depth below it)
+// Conservative slab test (Ize, "Robust BVH Ray Traversal", JCGT 2(2), 2013):
+// the exit distance of a box is multiplied by 1 + 2^-20 = 1 + 16u (u = 2^-24).
+// Each slab distance (b - o)·(1/d) is off by at most 3u on the CPU and 7u
+// in GLSL (1/d may be off by 2.5 ulp); without the margin a ray through a
+// box's edge or corner, such as a ray through a mesh edge lying on the
+// boundary between two leaves, could miss both boxes (tests/unit/test_bvh.cpp
+// watertightness: ~100 of 97k rays did).
+#define RTGI_BVH_BOX_EXIT_SCALE 1.00000095367431640625f
 #define RTGI_REF_LOCAL 8           // workgroup edge of the per-pixel reference kernels
 
 // A node of the flattened tree: interior nodes (count == 0) keep their left
@@ -34,12 +42,14 @@ RTGI_BVH_STRUCT(BvhNode) {
     uint count;
 };
 
-// Triangle in leaf order, Möller–Trumbore form; v0.w holds the original
-// triangle id (as uint bits), which indexes the GpuScene index buffer.
+// Triangle in leaf order as its three vertices, not v0 and two edges: the
+// watertight test (bvh.glsl bvhTriangle) needs a vertex shared by two
+// triangles to be the same floats in both. v0.w holds the original triangle
+// id (as uint bits), which indexes the GpuScene index buffer.
 RTGI_BVH_STRUCT(BvhTriangle) {
     vec4 v0;
-    vec4 e1;  // v1 - v0
-    vec4 e2;  // v2 - v0
+    vec4 v1;  // w unused
+    vec4 v2;  // w unused
 };
 
 #ifndef RTGI_GLSL

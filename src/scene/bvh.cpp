@@ -127,10 +127,12 @@ float bitsFloat(std::uint32_t u) {
     return f;
 }
 
-// Slab test; returns the entry distance or +inf when missed.
+// Slab test; returns the entry distance or +inf when missed. The exit
+// distance is scaled up by RTGI_BVH_BOX_EXIT_SCALE so that rounding cannot
+// reject a box the ray touches (see bvh_shared.h).
 float intersectBox(const gpu::BvhNode& n, glm::vec3 o, glm::vec3 invD, float tMin, float tMax) {
     glm::vec3 t0 = (n.lo - o) * invD, t1 = (n.hi - o) * invD;
-    glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
+    glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1) * RTGI_BVH_BOX_EXIT_SCALE;
     float enter = std::max(std::max(tn.x, tn.y), std::max(tn.z, tMin));
     float exit = std::min(std::min(tf.x, tf.y), std::min(tf.z, tMax));
     return enter <= exit ? enter : 1e30f;
@@ -147,6 +149,7 @@ std::optional<RayHit> traverse(const Bvh& bvh, glm::vec3 o, glm::vec3 d, float t
     std::optional<RayHit> best;
     if (bvh.nodes.empty()) return best;
     glm::vec3 invD = safeInverse(d);
+    const WatertightRay ray = watertightRay(o, d);
     std::array<std::uint32_t, RTGI_BVH_STACK> stack{};
     int sp = 0;
     std::uint32_t node = 0;
@@ -155,7 +158,7 @@ std::optional<RayHit> traverse(const Bvh& bvh, glm::vec3 o, glm::vec3 d, float t
         const gpu::BvhNode& n = bvh.nodes[node];
         if (n.count > 0) {
             for (std::uint32_t i = n.index; i < n.index + n.count; ++i)
-                if (auto h = intersectTriangle(bvh.triangles[i], o, d, tMin, tMax)) {
+                if (auto h = intersectTriangle(bvh.triangles[i], ray, tMin, tMax)) {
                     best = h;
                     tMax = h->t;
                     if (Any) return best;
@@ -210,8 +213,7 @@ Bvh buildBvh(const std::vector<glm::vec3>& v, const BvhBuildOptions& options) {
     out.triangles.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         std::uint32_t t = b.order[i];
-        glm::vec3 a = v[3 * t], e1 = v[3 * t + 1] - a, e2 = v[3 * t + 2] - a;
-        out.triangles[i] = {glm::vec4(a, bitsFloat(t)), glm::vec4(e1, 0), glm::vec4(e2, 0)};
+        out.triangles[i] = {glm::vec4(v[3 * t], bitsFloat(t)), glm::vec4(v[3 * t + 1], 0), glm::vec4(v[3 * t + 2], 0)};
     }
     return out;
 }
@@ -224,21 +226,61 @@ std::vector<glm::vec3> sceneTriangles(const Scene& scene) {
     return out;
 }
 
-std::optional<RayHit> intersectTriangle(const gpu::BvhTriangle& tri, glm::vec3 o, glm::vec3 d, float tMin, float tMax) {
-    glm::vec3 e1(tri.e1), e2(tri.e2);
-    glm::vec3 p = glm::cross(d, e2);
-    float det = glm::dot(e1, p);
-    if (std::abs(det) < 1e-12f) return std::nullopt;
-    float inv = 1.0f / det;
-    glm::vec3 s = o - glm::vec3(tri.v0);
-    float u = glm::dot(s, p) * inv;
-    if (u < 0.0f || u > 1.0f) return std::nullopt;
-    glm::vec3 q = glm::cross(s, e1);
-    float w = glm::dot(d, q) * inv;
-    if (w < 0.0f || u + w > 1.0f) return std::nullopt;
-    float t = glm::dot(e2, q) * inv;
+// Woop, Benthin, Wald 2013, section 3 (permutation and shear of the ray):
+// kz is the axis of the largest |d| component, kx and ky follow it
+// cyclically and are swapped where d[kz] < 0, which keeps the triangles'
+// winding (the sign of det) in the sheared space. The tie-breaking (the
+// lower axis wins) is the same as in bvh.glsl bvhRay.
+WatertightRay watertightRay(glm::vec3 o, glm::vec3 d) {
+    glm::vec3 a = glm::abs(d);
+    WatertightRay r;
+    r.origin = o;
+    r.kz = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+    r.kx = (r.kz + 1) % 3;
+    r.ky = (r.kx + 1) % 3;
+    if (d[r.kz] < 0.0f) std::swap(r.kx, r.ky);
+    r.sx = d[r.kx] / d[r.kz];
+    r.sy = d[r.ky] / d[r.kz];
+    r.sz = 1.0f / d[r.kz];
+    return r;
+}
+
+// Section 4 of the paper: the vertices relative to the origin, sheared so
+// that the ray runs along +z from (0, 0); U, V, W are twice the signed areas
+// of the 2D triangles (0, B, C), (0, C, A), (0, A, B), i.e. the unnormalized
+// barycentrics of A = v0, B = v1, C = v2. An edge shared with a neighbour
+// is computed from the same two sheared vertices in the other order there,
+// x·y' − y·x' against x'·y − y'·x: exactly the negated float as long as
+// neither product is fused into the subtraction (bvh.cpp is compiled with
+// -ffp-contract=off, see CMakeLists.txt; bvh.glsl marks these `precise`).
+std::optional<RayHit> intersectTriangle(const gpu::BvhTriangle& tri, const WatertightRay& r, float tMin, float tMax) {
+    const glm::vec3 a = glm::vec3(tri.v0) - r.origin, b = glm::vec3(tri.v1) - r.origin, c = glm::vec3(tri.v2) - r.origin;
+    const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+    const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+    const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+    float u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
+    // An edge function of exactly 0 may be a float product tie where the
+    // true sign is not 0: products of floats are exact in double, so the
+    // recomputed difference has the true sign (the paper's fallback).
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = float(double(cx) * double(by) - double(cy) * double(bx));
+        v = float(double(ax) * double(cy) - double(ay) * double(cx));
+        w = float(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return std::nullopt;
+    const float det = u + v + w;
+    if (det == 0.0f) return std::nullopt;  // the ray lies in the triangle's plane
+    // Scaled distance: the sheared z of the vertices interpolated with the
+    // unnormalized barycentrics (z' = z / d[kz], so t = z').
+    const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+    const float inv = 1.0f / det;
+    const float t = (u * az + v * bz + w * cz) * inv;
     if (!(t > tMin && t < tMax)) return std::nullopt;
-    return RayHit{t, floatBits(tri.v0.w), u, w};
+    return RayHit{t, floatBits(tri.v0.w), v * inv, w * inv};
+}
+
+std::optional<RayHit> intersectTriangle(const gpu::BvhTriangle& tri, glm::vec3 o, glm::vec3 d, float tMin, float tMax) {
+    return intersectTriangle(tri, watertightRay(o, d), tMin, tMax);
 }
 
 std::optional<RayHit> traceClosest(const Bvh& bvh, glm::vec3 o, glm::vec3 d, float tMin, float tMax) {

@@ -45,8 +45,22 @@ struct RayHit {
     float u = 0, v = 0;          // barycentrics of v1, v2
 };
 
-// Möller–Trumbore in float, the same arithmetic as bvh.glsl; hits with
-// tMin < t < tMax count.
+// Watertight ray/triangle test (Woop, Benthin, Wald, "Watertight
+// Ray/Triangle Intersection", JCGT 2(1), 2013), the same float arithmetic as
+// bvhTriangle in bvh.glsl (but for GLSL's looser division); hits with tMin < t < tMax count. The ray is
+// turned once into its permutation and shear (WatertightRay), each triangle
+// is then sheared into 2D about the ray origin, and the signs of its three
+// edge functions decide the hit. A ray meeting an edge shared by two
+// triangles (same vertices, bit for bit) sees exactly negated edge functions
+// in them, so it hits one or both, never neither: Möller–Trumbore let such
+// rays slip through (docs/reference.md, "Ray/triangle test").
+struct WatertightRay {
+    glm::vec3 origin;
+    int kx = 0, ky = 1, kz = 2;    // kz: axis of the largest |dir| component
+    float sx = 0, sy = 0, sz = 1;  // shear: dir[kx]/dir[kz], dir[ky]/dir[kz], 1/dir[kz]
+};
+WatertightRay watertightRay(glm::vec3 origin, glm::vec3 dir);
+std::optional<RayHit> intersectTriangle(const gpu::BvhTriangle& tri, const WatertightRay& ray, float tMin, float tMax);
 std::optional<RayHit> intersectTriangle(const gpu::BvhTriangle& tri, glm::vec3 origin, glm::vec3 dir, float tMin,
                                         float tMax);
 std::optional<RayHit> traceClosest(const Bvh& bvh, glm::vec3 origin, glm::vec3 dir, float tMin, float tMax);

@@ -1,5 +1,5 @@
 // GPU tier of the ray-traced reference: GPU BVH traversal == CPU brute
-// force; AO of a plane == 1; AO beside a wall == CPU quadrature over the same
+// force; rays at shared vertices and edges never slip through; AO of a plane == 1; AO beside a wall == CPU quadrature over the same
 // finite geometry (unbounded and finite rays); furnace (closed box of albedo
 // a, emission Le: L = Le/(1-a)); same seed -> same bits; SE ~ 1/sqrt(N);
 // cache round trip. Images 32x32, <= 64 samples (llvmpipe budget).
@@ -7,6 +7,7 @@
 
 #include "render/reference/reference_passes.h"
 #include "scene/bvh.h"
+#include "watertight_rays.h"
 
 #include <algorithm>
 #include <cmath>
@@ -71,25 +72,15 @@ double aoQuadrature(glm::dvec3 p, double rayLength, double wallW, double wallH, 
 
 }  // namespace
 
-TEST_CASE("Reference: GPU BVH traversal equals CPU brute force") {
-    GpuFixture fx;
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    std::vector<glm::vec3> v;
-    for (int t = 0; t < 300; ++t) {
-        glm::vec3 c(u(rng) * 3, u(rng) * 3, u(rng) * 3);
-        for (int k = 0; k < 3; ++k) v.push_back(c + 0.5f * glm::vec3(u(rng), u(rng), u(rng)));
-    }
-    Bvh bvh = buildBvh(v);
-    struct TestRay {
-        glm::vec4 origin, direction;
-    };
-    std::vector<TestRay> rays(256);
-    std::normal_distribution<float> g;
-    for (auto& r : rays) {
-        r.origin = glm::vec4(u(rng) * 4, u(rng) * 4, u(rng) * 4, 1e30f);
-        r.direction = glm::vec4(glm::normalize(glm::vec3(g(rng), g(rng), g(rng))), 0);
-    }
+namespace {
+
+struct TestRay {  // ref/trace_test.comp
+    glm::vec4 origin, direction;
+};
+
+// Traces rays (origin.xyz, tMax in w; direction.xyz) through bvh on the GPU;
+// returns direction = (closest t or -1, triangle id bits, any hit 0/1, 0).
+std::vector<TestRay> traceOnGpu(const Bvh& bvh, const std::vector<TestRay>& rays) {
     gl::MemoryLedger ledger;
     gl::Buffer nodes(ledger, "t.nodes", std::int64_t(bvh.nodes.size() * sizeof(gpu::BvhNode)), bvh.nodes.data(), 0);
     gl::Buffer tris(ledger, "t.tris", std::int64_t(bvh.triangles.size() * sizeof(gpu::BvhTriangle)), bvh.triangles.data(), 0);
@@ -109,6 +100,34 @@ TEST_CASE("Reference: GPU BVH traversal equals CPU brute force") {
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: trace_test.comp (SSBO writes)
     std::vector<TestRay> out(rays.size());
     rayBuf.download(out.data(), std::int64_t(out.size() * sizeof(TestRay)));
+    return out;
+}
+
+std::uint32_t hitTriangle(const TestRay& r) {
+    std::uint32_t id;
+    std::memcpy(&id, &r.direction.y, 4);
+    return id;
+}
+
+}  // namespace
+
+TEST_CASE("Reference: GPU BVH traversal equals CPU brute force") {
+    GpuFixture fx;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::vector<glm::vec3> v;
+    for (int t = 0; t < 300; ++t) {
+        glm::vec3 c(u(rng) * 3, u(rng) * 3, u(rng) * 3);
+        for (int k = 0; k < 3; ++k) v.push_back(c + 0.5f * glm::vec3(u(rng), u(rng), u(rng)));
+    }
+    Bvh bvh = buildBvh(v);
+    std::vector<TestRay> rays(256);
+    std::normal_distribution<float> g;
+    for (auto& r : rays) {
+        r.origin = glm::vec4(u(rng) * 4, u(rng) * 4, u(rng) * 4, 1e30f);
+        r.direction = glm::vec4(glm::normalize(glm::vec3(g(rng), g(rng), g(rng))), 0);
+    }
+    std::vector<TestRay> out = traceOnGpu(bvh, rays);
     int hits = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         glm::vec3 o(rays[i].origin), d(rays[i].direction);
@@ -120,13 +139,57 @@ TEST_CASE("Reference: GPU BVH traversal equals CPU brute force") {
         CHECK((out[i].direction.z > 0.5f) == best.has_value());
         if (!best) continue;
         ++hits;
-        std::uint32_t id;
-        std::memcpy(&id, &out[i].direction.y, 4);
-        CHECK(id == best->triangle);
-        // The GPU may contract to FMA: distances agree to float rounding.
+        CHECK(hitTriangle(out[i]) == best->triangle);
+        // The GPU's division may be inexact (GLSL allows 2.5 ulp):
+        // distances agree to float rounding.
         CHECK(out[i].direction.x == doctest::Approx(best->t).epsilon(1e-5));
     }
     CHECK(hits > 20);
+}
+
+// Watertightness on the GPU (tests/watertight_rays.h; the CPU side is in
+// tests/unit/test_bvh.cpp): rays at the shared vertices and edges of a
+// tessellated quad all hit, rays just outside its border all miss, and each
+// hit is the CPU's: the same distance, on a triangle holding the point aimed
+// at. Not necessarily the CPU's triangle: a ray through a shared edge or
+// vertex hits several at one distance, and which one wins can turn on an
+// ulp of the shear constants d[kx]/d[kz], ... (GLSL's division need not
+// round as the CPU's does; on an H200 19 % of these rays chose another).
+TEST_CASE("Reference: GPU rays at shared vertices and edges never slip through and equal the CPU's hits") {
+    GpuFixture fx;
+    test::WatertightCase c = test::watertightCase(64, 2, 5u);
+    Bvh bvh = buildBvh(c.triangles);
+    std::vector<TestRay> rays;
+    for (const auto& r : c.rays) rays.push_back({glm::vec4(r.origin, 1e30f), glm::vec4(r.dir, 0.0f)});
+    std::vector<TestRay> out = traceOnGpu(bvh, rays);
+    int onMesh = 0, missed = 0, anyMissed = 0, spurious = 0, otherDistance = 0, notIncident = 0, sameTriangle = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const test::WatertightRay& r = c.rays[i];
+        const bool hit = out[i].direction.x >= 0.0f, any = out[i].direction.z > 0.5f;
+        if (!r.onMesh) {
+            spurious += hit || any;
+            continue;
+        }
+        ++onMesh;
+        missed += !hit;
+        anyMissed += !any;
+        auto cpu = traceClosest(bvh, r.origin, r.dir, 0.0f, 1e30f);
+        if (!hit || !cpu) continue;
+        otherDistance += !(out[i].direction.x == doctest::Approx(cpu->t).epsilon(1e-5));
+        notIncident += std::find(r.incident.begin(), r.incident.end(), hitTriangle(out[i])) == r.incident.end();
+        sameTriangle += hitTriangle(out[i]) == cpu->triangle;
+    }
+    INFO(onMesh << " rays at shared vertices / edges: " << missed << " missed, any-hit missed " << anyMissed
+                << ", distance unlike the CPU's " << otherDistance << ", on a triangle not holding the target "
+                << notIncident << ", the CPU's triangle " << sameTriangle << "; " << rays.size() - std::size_t(onMesh)
+                << " rays just outside the border, " << spurious << " hit");
+    CHECK(onMesh > 30000);
+    CHECK(missed == 0);
+    CHECK(anyMissed == 0);
+    CHECK(otherDistance == 0);
+    CHECK(notIncident == 0);
+    CHECK(spurious == 0);
+    MESSAGE("hits on the CPU's triangle: " << sameTriangle << " of " << onMesh);
 }
 
 TEST_CASE("Reference AO: a plane is unoccluded (AO = 1)") {

@@ -1,8 +1,10 @@
 // BVH: traversal of the flattened nodes returns exactly the hits of a
 // brute-force loop over all triangles (closest distance + triangle id, any
-// hit), on random triangle soups and on built-in scenes.
+// hit), on random triangle soups and on built-in scenes; the triangle and
+// box tests are watertight on a finely tessellated quad.
 #include "scene/bvh.h"
 #include "scene/scene.h"
+#include "watertight_rays.h"
 
 #include <doctest/doctest.h>
 
@@ -21,7 +23,7 @@ struct Brute {
             std::uint32_t id = std::uint32_t(t);
             float f;
             std::memcpy(&f, &id, 4);
-            tris.push_back({glm::vec4(v[3 * t], f), glm::vec4(v[3 * t + 1] - v[3 * t], 0), glm::vec4(v[3 * t + 2] - v[3 * t], 0)});
+            tris.push_back({glm::vec4(v[3 * t], f), glm::vec4(v[3 * t + 1], 0), glm::vec4(v[3 * t + 2], 0)});
         }
     }
     std::optional<RayHit> closest(glm::vec3 o, glm::vec3 d, float tMax) const {
@@ -110,4 +112,54 @@ TEST_CASE("BVH degenerate inputs: coincident centroids and a single triangle") {
     Bvh one = buildBvh({{-1, 0, -1}, {1, 0, -1}, {0, 0, 1}});
     CHECK(one.nodes.size() == 1);
     CHECK_FALSE(traceAny(one, {0, 1, 0}, {0, 1, 0}, 0.0f, 1e30f));
+}
+
+// Watertightness (docs/reference.md, "Ray/triangle test"): rays aimed
+// exactly at the shared vertices and edges of a 64 x 64-cell quad at awkward
+// float coordinates all hit, where Möller–Trumbore let rays slip between
+// triangles; rays aimed just outside the border all miss. Both through the
+// BVH (traceClosest, traceAny) and triangle by triangle (brute force, for
+// the cause of a miss: the triangle test or the box test).
+TEST_CASE("BVH: rays at shared vertices and edges of a tessellated quad never slip through") {
+    for (unsigned seed : {1u, 2u, 3u}) {
+        test::WatertightCase c = test::watertightCase(64, 6, seed);
+        Bvh bvh = buildBvh(c.triangles);
+        int onMesh = 0, missed = 0, bruteMissed = 0, anyMissed = 0, far = 0, spurious = 0;
+        for (const auto& r : c.rays) {
+            auto h = traceClosest(bvh, r.origin, r.dir, 0.0f, 1e30f);
+            bool any = traceAny(bvh, r.origin, r.dir, 0.0f, 1e30f);
+            if (!r.onMesh) {
+                spurious += h.has_value() || any;
+                continue;
+            }
+            ++onMesh;
+            anyMissed += !any;
+            if (!h) {
+                ++missed;
+                bool brute = false;
+                for (auto& t : bvh.triangles) brute = brute || intersectTriangle(t, r.origin, r.dir, 0.0f, 1e30f);
+                bruteMissed += !brute;
+                continue;
+            }
+            // The hit is the point aimed at, by its distance and by its
+            // barycentrics (weights of v1, v2) on the stored vertices, on a
+            // triangle that holds it.
+            const glm::vec3* v = &c.triangles[3 * std::size_t(h->triangle)];
+            glm::vec3 p = r.origin + h->t * r.dir;
+            glm::vec3 b = v[0] + h->u * (v[1] - v[0]) + h->v * (v[2] - v[0]);
+            far += glm::length(p - r.target) > c.outside || glm::length(b - r.target) > c.outside ||
+                   h->u < 0.0f || h->v < 0.0f || h->u + h->v > 1.0f + 1e-6f ||  // rounding of V/det + W/det
+                   std::find(r.incident.begin(), r.incident.end(), h->triangle) == r.incident.end();
+        }
+        INFO("seed " << seed << ": " << onMesh << " rays at shared vertices / edges, " << missed
+                     << " missed (triangle test alone: " << bruteMissed << "), any-hit missed " << anyMissed
+                     << ", hits away from the target " << far << "; " << c.rays.size() - std::size_t(onMesh)
+                     << " rays just outside the border, " << spurious << " hit");
+        CHECK(onMesh > 80000);
+        CHECK(missed == 0);
+        CHECK(bruteMissed == 0);
+        CHECK(anyMissed == 0);
+        CHECK(far == 0);
+        CHECK(spurious == 0);
+    }
 }
