@@ -29,9 +29,6 @@
 #ifndef AO_DEPTH_LIGHT
 #define AO_DEPTH_LIGHT 0
 #endif
-#ifndef AO_PLANE
-#define AO_PLANE 0  // 1: sceneDepthAlongRay reads ao.downsample's planes (half resolution)
-#endif
 #ifndef AO_SECOND_LAYER
 #define AO_SECOND_LAYER 0  // 1: vbao reads gbuffer.linearDepth2 (visibility.layer2)
 #endif
@@ -46,7 +43,6 @@ layout(binding = RTGI_AO_TEX_RADIUS_SCALE) uniform sampler2D uRadiusScale;
 layout(binding = RTGI_AO_TEX_SHADOW_MAP) uniform sampler2D uShadowMap;
 layout(binding = RTGI_AO_ESTIMATE_TEX_ALBEDO) uniform sampler2D uAlbedo;   // full resolution (gtao multi-bounce)
 layout(binding = RTGI_AO_ESTIMATE_TEX_DEPTH2) uniform sampler2D uDepth2;  // full-resolution second layer (AO_SECOND_LAYER)
-layout(binding = RTGI_AO_ESTIMATE_TEX_PLANE) uniform sampler2D uPlane;    // AO_PLANE: (n, n.Q) per AO texel
 layout(r16f, binding = RTGI_AO_IMG_AO) uniform writeonly image2D uAo;
 layout(rgba16f, binding = RTGI_AO_IMG_DIRECTIONAL) uniform writeonly image2D uDirectional;
 layout(location = RTGI_AO_LOC_VIEW_TO_SHADOW) uniform mat4 uViewToShadow;  // shadowViewProj * invView
@@ -73,11 +69,6 @@ vec2 snapUv(vec2 uv) { return (floor(uv * vec2(aoSize())) + 0.5) / vec2(aoSize()
 float sceneDepthAlongRay(vec2 uv) {
     float z = sceneDepth(uv);
     if (isSky(z)) return z;
-#if AO_PLANE
-    // The texel's plane from ao.downsample: the same numbers as rebuilding it below.
-    vec4 plane = texelFetch(uPlane, ivec2(uv * vec2(aoSize())), 0);
-    return aoPlaneDepthAlongRayPlane(plane.xyz, plane.w, uv, tanHalfFov(), aspect(), z);
-#endif
     vec2 c = snapUv(uv);
     vec3 Q = viewPosAt(c, z);
     vec3 nQ = aoSafeNormal(texelFetch(uNormal, ivec2(c * vec2(aoSize())), 0).xyz, Q);

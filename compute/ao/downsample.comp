@@ -4,10 +4,7 @@
 // depth is moved along its tangent plane to the half-resolution texel centre:
 // the estimators reconstruct view positions at that centre, and a depth that
 // belongs to a point a quarter texel away would put every position off the
-// surface (self-occlusion on planes, docs/ao.md "Reconstruction"). It also stores each
-// half texel's tangent plane (its unit normal n and n.Q at the texel centre's view point Q),
-// the plane every AO sample that lands in the texel is intersected with: the estimators
-// fetch it instead of rebuilding it per sample (ao/ao.comp, AO_PLANE).
+// surface (self-occlusion on planes, docs/ao.md "Reconstruction").
 #include "lib/common.glsl"
 #include "lib/ao_shared.h"
 #include "lib/depth.glsl"
@@ -18,7 +15,6 @@ layout(binding = RTGI_AO_TEX_DEPTH) uniform sampler2D uDepth;
 layout(binding = RTGI_AO_TEX_NORMAL) uniform sampler2D uNormal;
 layout(r32f, binding = RTGI_AO_IMG_HALF_DEPTH) uniform writeonly image2D uHalfDepth;
 layout(rgba16f, binding = RTGI_AO_IMG_HALF_NORMAL) uniform writeonly image2D uHalfNormal;
-layout(rgba32f, binding = RTGI_AO_IMG_HALF_PLANE) uniform writeonly image2D uHalfPlane;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
@@ -41,13 +37,4 @@ void main() {
     }
     imageStore(uHalfDepth, p, vec4(best));
     imageStore(uHalfNormal, p, n);
-    // The plane as ao/ao.comp's sceneDepthAlongRay rebuilt it: Q at this texel's centre and the
-    // depth just stored, n as stored (gbuffer.normal is RGBA16F: the half store is exact).
-    vec4 plane = vec4(0.0);
-    if (!isSky(best)) {
-        vec3 Q = viewPositionFromDepth((vec2(p) + 0.5) / vec2(halfSize), best, frame.projParams.z, frame.projParams.w);
-        vec3 nQ = aoSafeNormal(n.xyz, Q);
-        plane = vec4(nQ, dot(nQ, Q));
-    }
-    imageStore(uHalfPlane, p, plane);
 }

@@ -88,17 +88,12 @@ vec3 nearFieldSample(vec3 rho, vec3 senderRadiance, vec3 toSender, vec3 senderNo
 // surface a depth texel holds, evaluated off the texel centre. Returns
 // `fallback` (the texel's own depth) when the ray grazes the plane or the
 // extension moves the depth by more than half of it (a silhouette, not a plane).
-// The same with the plane given as its unit normal nQ and nQ.Q (ao.downsample stores them per texel).
-float aoPlaneDepthAlongRayPlane(vec3 nQ, float nDotQ, vec2 uv, float tanHalfFov, float aspect, float fallback) {
+float aoPlaneDepthAlongRay(vec3 Q, vec3 nQ, vec2 uv, float tanHalfFov, float aspect, float fallback) {
     vec3 ray = viewPositionFromDepth(uv, 1.0, tanHalfFov, aspect);  // z = -1: t is the linear depth
     float denom = dot(nQ, ray);
     if (abs(denom) < 1e-4) return fallback;
-    float t = nDotQ / denom;
+    float t = dot(nQ, Q) / denom;
     return (t > 0.0 && abs(t - fallback) < 0.5 * fallback) ? t : fallback;
-}
-
-float aoPlaneDepthAlongRay(vec3 Q, vec3 nQ, vec2 uv, float tanHalfFov, float aspect, float fallback) {
-    return aoPlaneDepthAlongRayPlane(nQ, dot(nQ, Q), uv, tanHalfFov, aspect, fallback);
 }
 
 // Surface normal from the G-buffer, made safe: zero/NaN normals (holes,

@@ -52,7 +52,6 @@ RTGI_STRUCT(AoParams) {
 #define RTGI_AO_TEX_SHADOW_MAP       4  // ao/ao.comp
 #define RTGI_AO_ESTIMATE_TEX_ALBEDO  5  // ao/ao.comp
 #define RTGI_AO_ESTIMATE_TEX_DEPTH2  6  // ao/ao.comp (gbuffer.linearDepth2, AO_SECOND_LAYER)
-#define RTGI_AO_ESTIMATE_TEX_PLANE   7  // ao/ao.comp (AO_PLANE): ao.downsample's tangent planes
 #define RTGI_AO_NEARFIELD_TEX_ALBEDO 2  // ao/nearfield.comp
 #define RTGI_AO_RTAO_TEX_FULL_DEPTH  2  // ao/rtao.comp (the G-buffer's, at half resolution)
 #define RTGI_AO_RTAO_TEX_FULL_NORMAL 3  // ao/rtao.comp
@@ -65,7 +64,6 @@ RTGI_STRUCT(AoParams) {
 #define RTGI_AO_IMG_DIRECTIONAL 1  // ao/ao.comp
 #define RTGI_AO_IMG_HALF_DEPTH  0  // ao/downsample.comp
 #define RTGI_AO_IMG_HALF_NORMAL 1  // ao/downsample.comp
-#define RTGI_AO_IMG_HALF_PLANE  2  // ao/downsample.comp: per texel (n, n.Q), the plane sceneDepthAlongRay intersects
 #define RTGI_AO_IMG_NEAR_FIELD  0  // ao/nearfield.comp
 #define RTGI_AO_IMG_INDIRECT    1  // ao/nearfield.comp
 #define RTGI_AO_IMG_SCALE       0  // ao/radius.comp

@@ -43,7 +43,6 @@ glm::ivec2 aoSizeFor(const AoSettings& s, glm::ivec2 view) { return s.halfResolu
 // execute() allocates from these, privateTextures() lists them for the memory estimate.
 gl::NamedTextureDesc halfDepthTex(glm::ivec2 a) { return {"ao.half.depth", {GL_TEXTURE_2D, GL_R32F, a.x, a.y}}; }
 gl::NamedTextureDesc halfNormalTex(glm::ivec2 a) { return {"ao.half.normal", {GL_TEXTURE_2D, GL_RGBA16F, a.x, a.y}}; }
-gl::NamedTextureDesc halfPlaneTex(glm::ivec2 a) { return {"ao.half.plane", {GL_TEXTURE_2D, GL_RGBA32F, a.x, a.y}}; }
 gl::NamedTextureDesc radiusScaleTex(glm::ivec2 a) { return {"ao.radius.scale", {GL_TEXTURE_2D, GL_R16F, a.x, a.y}}; }
 gl::NamedTextureDesc radiusColorTex(glm::ivec2 a) { return {"ao.radius.color", {GL_TEXTURE_2D, GL_RGBA8, a.x, a.y}}; }
 gl::NamedTextureDesc rawTex(glm::ivec2 a) { return {"ao.raw", {GL_TEXTURE_2D, kAoFormat.internal, a.x, a.y}}; }
@@ -55,7 +54,6 @@ std::string blurLabel(const AoSettings& s, bool second) {
 
 struct AoChain {
     gl::Texture halfDepth, halfNormal;       // ao.downsample
-    gl::Texture halfPlane;                   // ao.downsample: (n, n.Q) per half texel, read by ao/ao.comp
     gl::Texture radiusScale, radiusColor;    // ao.radius
     gl::Texture raw;                         // ao.<variant> (unless it is the last stage)
     gl::Texture blurTmp, blurred;            // ao.blur
@@ -171,7 +169,6 @@ public:
         glm::ivec2 a = c.aoSize(ctx);
         c.halfDepth.ensure(ctx.ledger, halfDepthTex(a).label, halfDepthTex(a).desc);
         c.halfNormal.ensure(ctx.ledger, halfNormalTex(a).label, halfNormalTex(a).desc);
-        c.halfPlane.ensure(ctx.ledger, halfPlaneTex(a).label, halfPlaneTex(a).desc);
         const gl::Program& prog = ctx.programs.compute("ao/downsample.comp");
         // Producer: gbuffer (framebuffer writes).
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
@@ -179,12 +176,11 @@ public:
         glBindTextureUnit(RTGI_AO_TEX_NORMAL, ctx.res.gbuffer.normal.id());
         glBindImageTexture(RTGI_AO_IMG_HALF_DEPTH, c.halfDepth.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
         glBindImageTexture(RTGI_AO_IMG_HALF_NORMAL, c.halfNormal.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-        glBindImageTexture(RTGI_AO_IMG_HALF_PLANE, c.halfPlane.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         gl::dispatch(prog, a.x, a.y);
     }
     std::vector<gl::NamedTextureDesc> privateTextures(const Settings& s, glm::ivec2 view) const override {
         const glm::ivec2 a = aoSizeFor(s.ao, view);
-        return {halfDepthTex(a), halfNormalTex(a), halfPlaneTex(a)};
+        return {halfDepthTex(a), halfNormalTex(a)};
     }
 };
 
@@ -250,8 +246,7 @@ public:
                            {"AO_DIRECTIONAL", std::to_string(directional)},
                            {"AO_RADIUS", std::to_string(radius)},
                            {"AO_DEPTH_LIGHT", light ? "1" : "0"},
-                           {"AO_SECOND_LAYER", layer2 ? "1" : "0"},
-                           {"AO_PLANE", s.halfResolution ? "1" : "0"}});
+                           {"AO_SECOND_LAYER", layer2 ? "1" : "0"}});
         c.bindParams(ctx);
         const gl::Texture& noise = ensureBlueNoise(ctx.res, ctx.ledger);
         if (light) {
@@ -270,7 +265,6 @@ public:
                 .texture(RTGI_AO_TEX_SHADOW_MAP, light ? &ctx.res.shadowMap : nullptr)
                 .texture(RTGI_AO_ESTIMATE_TEX_ALBEDO, ctx.res.gbuffer.albedo)
                 .texture(RTGI_AO_ESTIMATE_TEX_DEPTH2, layer2 ? &ctx.res.gbuffer.linearDepth2 : nullptr)
-                .texture(RTGI_AO_ESTIMATE_TEX_PLANE, s.halfResolution ? &c.halfPlane : nullptr)
                 .image(RTGI_AO_IMG_AO, out, GL_WRITE_ONLY, GL_R16F);
             if (dirTex) b.image(RTGI_AO_IMG_DIRECTIONAL, *dirTex, GL_WRITE_ONLY, GL_RGBA16F);
             if (light) glBindSampler(RTGI_AO_TEX_SHADOW_MAP, c.rawDepth());
