@@ -29,6 +29,9 @@
 #ifndef AO_DEPTH_LIGHT
 #define AO_DEPTH_LIGHT 0
 #endif
+#ifndef AO_SLICE_BENT
+#define AO_SLICE_BENT 0  // 1 (ao=gtao, ao.bent_normals=slices): the bent normal from GTAO's slices
+#endif
 #ifndef AO_SECOND_LAYER
 #define AO_SECOND_LAYER 0  // 1: vbao reads gbuffer.linearDepth2 (visibility.layer2)
 #endif
@@ -112,6 +115,8 @@ float aoPointOcclusion(vec3 P, vec3 S, float R) {
 }
 
 // AO of the variant this program is compiled for (AO_VARIANT).
+vec3 gSliceBent = vec3(0.0);  // gtao: its slices' bent normal (AO_SLICE_BENT)
+
 float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) {
     AoCamera cam = aoCamera();
 #if AO_VARIANT == RTGI_AO_SSAO_DISK
@@ -125,7 +130,7 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     // Rotation over 360/N_d and step jitter from the per-pixel noise (seed 003 5.3).
     return aoHbao(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z, ao.radius.w, ao.flags.y != 0);
 #elif AO_VARIANT == RTGI_AO_GTAO
-    float vis = aoGtao(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z);
+    float vis = aoGtaoBent(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z, gSliceBent);
     if (ao.flags.z != 0) vis = gtaoMultiBounce(vis, luminance(texture(uAlbedo, uv).rgb));
     return vis;
 #elif AO_VARIANT == RTGI_AO_VBAO
@@ -178,7 +183,9 @@ void main() {
 #endif
     a = clamp(a, 0.0, 1.0);
     imageStore(uAo, p, vec4(a));
-#if AO_DIRECTIONAL == 1
+#if AO_DIRECTIONAL == 1 && AO_SLICE_BENT
+    imageStore(uDirectional, p, vec4(gSliceBent, a));
+#elif AO_DIRECTIONAL == 1
     imageStore(uDirectional, p, vec4(aoDirectional(P, n, R, bn, ao.counts.x, false).xyz, a));
 #elif AO_DIRECTIONAL == 2
     imageStore(uDirectional, p, aoDirectional(P, n, R, bn, ao.counts.x, true));

@@ -199,13 +199,31 @@ bool aoSlice(int k, int slices, float rotation, vec3 V, vec3 n, out vec3 dir, ou
     return true;
 }
 
+// The cosine-weighted mean direction of a slice's visible arc [h0, h1] (view angles from V,
+// positive towards `ortho`; h0 <= 0 <= h1): the integral over the arc of
+// w(t) cos(t - n) |sin t| dt, w(t) = V cos t + ortho sin t, |sin t| the slice measure of the
+// hemisphere (Jimenez et al. 2016, bent normals; derived here from the antiderivatives
+// Fo(t) = cos n sin^3 t / 3 + sin n (cos^3 t / 3 - cos t) and Fv(t) = (sin n sin^3 t - cos n cos^3 t) / 3,
+// split at t = 0 where |sin t| changes sign). Summed over the slices, weighted by projLen, it is
+// the integral of V(w) w (n.w)+ over the hemisphere: the bent normal's direction.
+vec3 gtaoSliceBent(float h0, float h1, float n, vec3 V, vec3 ortho) {
+    float cn = cos(n), sn = sin(n);
+    float s0 = sin(h0), c0 = cos(h0), s1 = sin(h1), c1 = cos(h1);
+    float fo = cn * (s1 * s1 * s1 + s0 * s0 * s0) / 3.0 + sn * ((c1 * c1 * c1 + c0 * c0 * c0) / 3.0 - c0 - c1) + sn * (4.0 / 3.0);
+    float fv = (sn * (s1 * s1 * s1 + s0 * s0 * s0) - cn * (c1 * c1 * c1 + c0 * c0 * c0)) / 3.0 + cn * (2.0 / 3.0);
+    return ortho * fo + V * fv;
+}
+
 // gtao (Jimenez et al. 2016, seed 000 4.1): `slices` slices rotated by
 // noise.x over 180/slices, `steps` steps per side jittered by noise.y;
 // cosine-weighted visibility up to distance R (without multi-bounce).
-float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise, int slices, int steps) {
+// `bent`: the normalized sum of the slices' gtaoSliceBent (n where nothing is visible).
+float aoGtaoBent(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise, int slices, int steps,
+                 out vec3 bent) {
     vec2 rUv = aoTextureRadius(R, d, cam.focal);
     vec3 V = normalize(-P);
     float vis = 0.0, open = 0.0;
+    vec3 bentSum = vec3(0.0);
     for (int k = 0; k < slices; ++k) {
         vec3 dir;
         float projLen, nAngle;
@@ -236,13 +254,21 @@ float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise
         float h1 = nAngle + min(acos(clamp(hc0, -1.0, 1.0)) - nAngle, HALF_PI);
         vis += gtaoSliceVisibility(h0, h1, nAngle, projLen);
         open += gtaoSliceVisibility(nAngle - HALF_PI, nAngle + HALF_PI, nAngle, projLen);
+        vec3 ortho = dir - dot(dir, V) * V;
+        bentSum += projLen * gtaoSliceBent(h0, h1, nAngle, V, ortho * inversesqrt(max(dot(ortho, ortho), 1e-12)));
     }
+    bent = dot(bentSum, bentSum) > 1e-12 ? normalize(bentSum) : n;
     // Self-normalized slice quadrature: a few slices integrate the unoccluded
     // hemisphere only approximately (to 1 +- 0.05 for tilted normals); dividing
     // by the same quadrature of the open hemisphere makes a plane exactly 1
     // instead of clipping the excess at 1 pixel by pixel (a bias under the
     // filter chain). The ratio converges to the same integral (docs/ao.md).
     return open > 1e-6 ? clamp(vis / open, 0.0, 1.0) : 1.0;
+}
+
+float aoGtao(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 noise, int slices, int steps) {
+    vec3 bent;
+    return aoGtaoBent(cam, uv, P, n, d, R, noise, slices, steps, bent);
 }
 
 // vbao (visibility bitmask, Therrien et al. 2023): GTAO's slices and march,

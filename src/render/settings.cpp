@@ -118,6 +118,7 @@ const char* const kLpvSky[] = {"ambient", "visibility"};
 const char* const kAoVariant[] = {"off", "ssao-disk", "ssao-sphere", "ssao-hemisphere", "vo", "hbao", "gtao", "vbao", "rtao"};
 const char* const kAoThicknessMode[] = {"constant", "depth", "infinite"};
 const char* const kAoDirectional[] = {"off", "bent-normals", "s3ho"};
+const char* const kAoBentNormals[] = {"slices", "rays"};
 const char* const kAoRadiusMode[] = {"fixed",    "dual",     "dynamic1", "dynamic2",
                                      "dynamic3", "dynamic4", "dynamic5", "dynamic6"};
 const char* const kAoDepthSource[] = {"camera", "light"};
@@ -336,6 +337,9 @@ std::vector<SettingKey> buildKeys() {
         KEY("ao.directional", "directional occlusion for the LPV lookup", "off|bent-normals|s3ho",
             s.ao.directional = parseEnum<AoSettings::Directional>("ao.directional", v, kAoDirectional),
             kAoDirectional[int(s.ao.directional)]),
+        KEY("ao.bent_normals", "with ao=gtao: bent normals from GTAO's slices (their horizons) or from ao.samples extra rays",
+            "slices|rays", s.ao.sliceBentNormals = parseEnum<int>("ao.bent_normals", v, kAoBentNormals) == 0,
+            kAoBentNormals[s.ao.sliceBentNormals ? 0 : 1]),
         KEY("ao.nearfield", "near-field indirect light strength (0 = off; with ao=vbao gathered through the bitmask)", "0..100",
             s.ao.nearfield = parseFloat("ao.nearfield", v, 0, 100), fmt(s.ao.nearfield)),
         KEY("ao.radius_mode", "fixed, dual radii or dynamic radius algorithm 1..6", "fixed|dual|dynamic1..dynamic6",

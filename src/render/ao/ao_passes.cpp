@@ -238,6 +238,9 @@ public:
         gl::Texture* dirTex = directionalTarget(ctx);
         bool light = s.depthSource == AoSettings::DepthSource::Light;
         bool layer2 = variant_ == Variant::Vbao && s.secondLayer && ctx.has(R::linearDepth2);
+        // ao.bent_normals=slices: GTAO's bent normal from its own slices (fixed radius: one estimate).
+        bool sliceBent = variant_ == Variant::Gtao && s.sliceBentNormals &&
+                         s.directional == AoSettings::Directional::BentNormals && s.radiusMode != AoSettings::RadiusMode::Dual;
         int radius = s.radiusMode == AoSettings::RadiusMode::Fixed ? 0
                      : s.radiusMode == AoSettings::RadiusMode::Dual ? 1
                                                                      : 2;
@@ -246,7 +249,8 @@ public:
                            {"AO_DIRECTIONAL", std::to_string(directional)},
                            {"AO_RADIUS", std::to_string(radius)},
                            {"AO_DEPTH_LIGHT", light ? "1" : "0"},
-                           {"AO_SECOND_LAYER", layer2 ? "1" : "0"}});
+                           {"AO_SECOND_LAYER", layer2 ? "1" : "0"},
+                           {"AO_SLICE_BENT", sliceBent ? "1" : "0"}});
         c.bindParams(ctx);
         const gl::Texture& noise = ensureBlueNoise(ctx.res, ctx.ledger);
         if (light) {
