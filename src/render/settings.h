@@ -140,7 +140,7 @@ struct AoSettings {
     // ao.bent_normals=slices: with ao=gtao, the bent normal is the cosine-weighted mean visible direction of GTAO's
     // own slices (their horizons, no extra samples; docs/ao.md "Bent normals from the slices"); rays: the
     // ray-sampled point visibility of every other variant.
-    bool sliceBentNormals = false;
+    bool sliceBentNormals = true;
     float nearfield = 0.0f;    // strength, 0 = off
     enum class RadiusMode { Fixed, Dual, Dynamic1, Dynamic2, Dynamic3, Dynamic4, Dynamic5, Dynamic6 } radiusMode =
         RadiusMode::Fixed;
