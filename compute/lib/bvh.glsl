@@ -13,6 +13,7 @@ struct Hit {
     float t;
     uint triangle;  // original triangle id (GpuScene index buffer order)
     vec2 bary;      // weights of v1, v2
+    uint leaf;      // index in bvhTris (leaf order): the vertices the test used
 };
 
 const float BVH_MISS = 1e30;
@@ -69,11 +70,14 @@ float bvhSceneReach(vec3 c) { return length(max(abs(bvhNodes[0].lo - c), abs(bvh
 //   contact AO for no measured gain).
 // docs/reference.md "Ray origins" has the measurements.
 const float GBUFFER_INTERPOLATION_ULPS = 16.0 * 5.9604645e-8;  // 16 u: the worst measured, 13.4 u (NVIDIA hardware path)
-vec3 gbufferRayOrigin(vec3 p, vec3 n, float d, vec3 cameraPos, float pixelAngle) {
+// The two terms above: a bound on p's distance from its surface along n.
+float gbufferPointError(float d, vec3 cameraPos, float pixelAngle) {
     float interpolation = GBUFFER_INTERPOLATION_ULPS * bvhSceneReach(cameraPos);
     const float snap = 1.41421356 / float(2 << RTGI_VISIBILITY_SUBPIXEL_BITS);
-    float coverage = d * pixelAngle * snap;
-    return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + (interpolation + coverage) * n;
+    return interpolation + d * pixelAngle * snap;
+}
+vec3 gbufferRayOrigin(vec3 p, vec3 n, float d, vec3 cameraPos, float pixelAngle) {
+    return offsetRayOrigin(p, n, max(maxAbs(cameraPos), d)) + gbufferPointError(d, cameraPos, pixelAngle) * n;
 }
 
 // Rays traced by this invocation; a kernel adds it once to the slot of its
@@ -158,6 +162,7 @@ bool bvhTriangle(uint i, BvhRay r, float tMin, inout Hit hit) {
     hit.t = t;
     hit.triangle = floatBitsToUint(bvhTris[i].v0.w);
     hit.bary = vec2(v, w) * inv;
+    hit.leaf = i;
     return true;
 }
 
@@ -220,6 +225,7 @@ bool traceClosest(vec3 o, vec3 d, float tMin, float tMax, out Hit hit) {
     hit.t = tMax;
     hit.triangle = 0u;
     hit.bary = vec2(0.0);
+    hit.leaf = 0u;
     return bvhTrace(o, d, tMin, hit, false);
 }
 
@@ -227,4 +233,73 @@ bool traceAny(vec3 o, vec3 d, float tMin, float tMax) {
     Hit hit;
     hit.t = tMax;
     return bvhTrace(o, d, tMin, hit, true);
+}
+
+// First vertex x1 of a pixel's paths and AO rays (ref/path.comp, ref/ao.comp;
+// docs/reference.md "First rays from the G-buffer"). The G-buffer point
+// p = C + d·r can lie behind a surface that the pixel-centre ray r meets
+// first: where two surfaces meet in a concave crease, the depth test and
+// coverage decide ties in either's favour (depth resolution, snapped
+// vertices, interpolation), and a wall that reaches past the crease (rooms
+// of planes or overlapping slabs) then shows a point outside the room,
+// whose rays start outside it. So the pixel-centre ray is traced from C
+// (tMin just past the near plane, which clips the raster): x1 is its
+// closest hit unless the G-buffer point lies in front of that hit by more
+// than its own error — then the raster shows a surface the ray misses (a
+// silhouette extended by coverage) and p, in front of every surface on the
+// ray, is kept with gbufferRayOrigin. r has unit view depth, so t is a
+// linear depth. The error of p along n, e = gbufferPointError, is
+// e/|n·r| in depth (2×, grazing angles capped at |n·r| = |r|/4 past which p
+// is kept). The hit point is interpolated from the hit triangle's vertices
+// relative to C: its distance from the plane is off by at most ~9u times
+// the largest |P_k − C| coordinate (four roundings of each term, the
+// weights summing to 1 ± u), hence 16u of it along the hit's geometric
+// normal (facing the camera) on top of offsetRayOrigin — but at least e,
+// the G-buffer point's offset: with 16u alone the V-groove AO test
+// (test_gbuffer_origin.cpp) came out 0.0034 (5 σ) darker than Lambert's
+// formula, with e 0.0011 brighter (1.6 σ), as with the G-buffer point; the
+// cause of the darkening is not found yet (docs/reference.md). Albedo and
+// material stay the G-buffer's (the surface the raster image shows); so
+// does the shading normal n, unless p lies off the hit, along r, by more
+// than the interpolation error alone: then the raster shows another surface
+// than the ray's (a coverage or depth tie: the neighbour's plane extended
+// behind a concave crease or in front of a convex edge) and a lobe about its
+// n at x1 would partly point into x1's own surface, so x1 takes the hit's
+// geometric normal.
+struct FirstVertex {
+    vec3 position;   // x1
+    vec3 origin;     // x1 moved off its surface: where the rays leaving x1 start
+    vec3 geometric;  // geometric normal at x1, facing the camera
+    vec3 normal;     // shading normal at x1: n, or `geometric` where the raster shows another surface
+    bool traced;     // x1 is the traced hit (false: the G-buffer point)
+};
+const float TRACED_POINT_ULPS = 16.0 * 5.9604645e-8;
+FirstVertex gbufferFirstVertex(vec3 cameraPos, vec3 p, vec3 r, float d, vec3 n, float near, float pixelAngle) {
+    FirstVertex x;
+    float e = gbufferPointError(d, cameraPos, pixelAngle);
+    float perDepth = 2.0 / max(abs(dot(n, r)), 0.25 * length(r));  // 2× a distance along n, in depth along r
+    float tol = e * perDepth;
+    Hit h;
+    if (traceClosest(cameraPos, r, near * (1.0 + 1.0 / 1024.0), d + tol, h)) {
+        vec3 a = bvhTris[h.leaf].v0.xyz - cameraPos, b = bvhTris[h.leaf].v1.xyz - cameraPos,
+             c = bvhTris[h.leaf].v2.xyz - cameraPos;
+        x.position = cameraPos + ((1.0 - h.bary.x - h.bary.y) * a + h.bary.x * b + h.bary.y * c);
+        vec3 ng = cross(b - a, c - a);
+        float len = length(ng);
+        ng = len > 0.0 ? ng / len : n;
+        if (dot(ng, r) > 0.0) ng = -ng;
+        float reach = max(maxAbs(a), max(maxAbs(b), maxAbs(c)));
+        x.origin = offsetRayOrigin(x.position, ng, max(maxAbs(cameraPos), h.t)) + max(TRACED_POINT_ULPS * reach, e) * ng;
+        x.geometric = ng;
+        float interpolation = GBUFFER_INTERPOLATION_ULPS * bvhSceneReach(cameraPos);
+        x.normal = abs(d - h.t) > interpolation * perDepth ? ng : n;
+        x.traced = true;
+    } else {
+        x.position = p;
+        x.origin = gbufferRayOrigin(p, n, d, cameraPos, pixelAngle);
+        x.geometric = n;
+        x.normal = n;
+        x.traced = false;
+    }
+    return x;
 }

@@ -34,9 +34,13 @@ void main() {
         float len = length(nrm);
         nrm = len > 0.0 ? nrm / len : vec3(0.0, 1.0, 0.0);
         if (dot(nrm, frame.cameraPos.xyz - wp) < 0.0) nrm = -nrm;
-        // x1 comes from linear depth: offset for its interpolation and
-        // reconstruction error (bvh.glsl gbufferRayOrigin).
-        vec3 origin = gbufferRayOrigin(wp, nrm, d, frame.cameraPos.xyz, 2.0 * frame.projParams.z / float(frameSize().y));
+        // x1: the pixel-centre ray's hit, or the G-buffer point where the
+        // raster shows a surface the ray misses (bvh.glsl gbufferFirstVertex).
+        vec3 r = viewToWorldDir(viewPositionFromDepth(uv, 1.0, frame.projParams.z, frame.projParams.w));
+        FirstVertex x1 = gbufferFirstVertex(frame.cameraPos.xyz, wp, r, d, nrm, frame.projParams.x,
+                                            2.0 * frame.projParams.z / float(frameSize().y));
+        vec3 origin = x1.origin;
+        nrm = x1.normal;
         visible = 0.0;
         for (uint s = 0u; s < uSamples.y; ++s) {
             Rng rng = rngInit(uvec2(p), uSamples.x + s, uSamples.z);

@@ -52,21 +52,29 @@ void main() {
     } else {
         vec2 uv = (vec2(p) + 0.5) / vec2(frameSize());
         Surface s;
-        s.position = viewToWorldPoint(viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w));
+        vec3 gp = viewToWorldPoint(viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w));
         vec3 n = viewToWorldDir(texelFetch(uNormal, p, 0).xyz);
         float len = length(n);
         n = len > 0.0 ? n / len : vec3(0.0, 1.0, 0.0);
+        if (dot(n, frame.cameraPos.xyz - gp) < 0.0) n = -n;
+        // x1: the pixel-centre ray's hit, or the G-buffer point where the
+        // raster shows a surface the ray misses (bvh.glsl gbufferFirstVertex);
+        // albedo, material and emission are the G-buffer's either way.
+        vec3 r = viewToWorldDir(viewPositionFromDepth(uv, 1.0, frame.projParams.z, frame.projParams.w));
+        FirstVertex x1 = gbufferFirstVertex(frame.cameraPos.xyz, gp, r, d, n, frame.projParams.x,
+                                            2.0 * frame.projParams.z / float(frameSize().y));
+        s.position = x1.position;
         vec3 v = normalize(frame.cameraPos.xyz - s.position);
-        if (dot(n, v) < 0.0) n = -n;
+        n = x1.normal;
         s.normal = n;
-        s.geometric = n;
+        s.geometric = x1.geometric;
         s.albedo = texelFetch(uAlbedo, p, 0).rgb;
         vec2 rm = texelFetch(uMaterial, p, 0).rg;
         s.roughness = rm.x;
         s.metallic = rm.y;
         s.emission = texelFetch(uEmissive, p, 0).rgb;
         s.specular = 1.0;
-        vec3 origin = gbufferRayOrigin(s.position, n, d, frame.cameraPos.xyz, 2.0 * frame.projParams.z / float(frameSize().y));  // x1 from linear depth
+        vec3 origin = x1.origin;
         for (uint k = 0u; k < uSamples.y; ++k) {
             Rng rng = rngInit(uvec2(p), uSamples.x + k, uSamples.z);
 #ifdef RTGI_REF_FULL

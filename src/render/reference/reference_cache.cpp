@@ -40,8 +40,10 @@ std::string referenceCacheKey(const Scene& scene, const Settings& settings, cons
     // Bump when the estimator changes. v4: G-buffer origins cover the interpolation error, running moments,
     // caustics modes; v5: single-sided emitters (glTF doubleSided); v6: the watertight ray/triangle test and
     // conservative box test (bvh.glsl): v5 references can have pixels whose rays slipped through a shared edge
-    // (builtin:cornell 96x54 had a black one on an H200), and a cached one would keep serving them.
-    h.str("rtgi-reference-v6");
+    // (builtin:cornell 96x54 had a black one on an H200), and a cached one would keep serving them; v7: the first
+    // vertex is the pixel-centre ray's BVH hit (bvh.glsl gbufferFirstVertex): v6 references can have crease pixels
+    // whose G-buffer point lay behind the other wall, so their paths and AO rays started outside the room.
+    h.str("rtgi-reference-v7");
     h.str(scene.name);
     h.vec(scene.vertices);
     h.vec(scene.indices);
