@@ -240,41 +240,49 @@ struct Oracle {
             }
         return acc / (nu1 * nu2);
     }
-    double gtao(glm::dvec3 P, glm::dvec3 n) const {
+    // GTAO's slices for one noise sample (u1 rotates the slices, u2 jitters the steps): per slice with a
+    // hemisphere, f(h0, h1, nA, projLen, ortho) with the horizon angles found on the exact geometry.
+    template <class F>
+    void gtaoSlices(glm::dvec3 P, glm::dvec3 n, double u1, double u2, F&& f) const {
         glm::ivec2 ds = horizonSampling(samples);
-        const int nu1 = 32, nu2 = 16;
         glm::dvec3 Vd = glm::normalize(-P);
+        for (int k = 0; k < ds.x; ++k) {
+            double phi = kPi * (k + u1) / ds.x;
+            glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
+            glm::dvec3 ortho = dir - glm::dot(dir, Vd) * Vd;
+            glm::dvec3 axis = glm::normalize(glm::cross(ortho, Vd));
+            glm::dvec3 projN = n - axis * glm::dot(n, axis);
+            double projLen = glm::length(projN);
+            if (projLen < 1e-4) continue;
+            double cosN = std::clamp(glm::dot(projN, Vd) / projLen, 0.0, 1.0);
+            double nA = (glm::dot(ortho, projN) >= 0 ? 1 : -1) * std::acos(cosN);
+            double low[2] = {std::cos(nA + kPi / 2), std::cos(nA - kPi / 2)}, hc[2] = {low[0], low[1]};
+            for (int j = 0; j < ds.y; ++j)
+                for (int side = 0; side < 2; ++side) {
+                    glm::dvec3 S;
+                    double s = (j + u2) / ds.y;
+                    if (!sceneAlong(P, side == 0 ? glm::dvec2(dir) : -glm::dvec2(dir), s, S)) continue;
+                    glm::dvec3 D = S - P;
+                    double dist = glm::length(D);
+                    if (dist < 1e-6 || dist >= R) continue;  // visibility up to R: hard cut
+                    hc[side] = std::max(hc[side], glm::dot(D / dist, Vd));
+                }
+            double h0 = nA + std::max(-std::acos(std::clamp(hc[1], -1.0, 1.0)) - nA, -kPi / 2);
+            double h1 = nA + std::min(std::acos(std::clamp(hc[0], -1.0, 1.0)) - nA, kPi / 2);
+            f(h0, h1, nA, projLen, glm::normalize(ortho));
+        }
+    }
+    double gtao(glm::dvec3 P, glm::dvec3 n) const {
+        const int nu1 = 32, nu2 = 16;
         double acc = 0;
         for (int a = 0; a < nu1; ++a)
             for (int b = 0; b < nu2; ++b) {
-                double u1 = (a + 0.5) / nu1, u2 = (b + 0.5) / nu2, vis = 0, open = 0;
-                for (int k = 0; k < ds.x; ++k) {
-                    double phi = kPi * (k + u1) / ds.x;
-                    glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
-                    glm::dvec3 ortho = dir - glm::dot(dir, Vd) * Vd;
-                    glm::dvec3 axis = glm::normalize(glm::cross(ortho, Vd));
-                    glm::dvec3 projN = n - axis * glm::dot(n, axis);
-                    double projLen = glm::length(projN);
-                    if (projLen < 1e-4) continue;
-                    double cosN = std::clamp(glm::dot(projN, Vd) / projLen, 0.0, 1.0);
-                    double nA = (glm::dot(ortho, projN) >= 0 ? 1 : -1) * std::acos(cosN);
-                    double low[2] = {std::cos(nA + kPi / 2), std::cos(nA - kPi / 2)}, hc[2] = {low[0], low[1]};
-                    for (int j = 0; j < ds.y; ++j)
-                        for (int side = 0; side < 2; ++side) {
-                            glm::dvec3 S;
-                            double s = (j + u2) / ds.y;
-                            if (!sceneAlong(P, side == 0 ? glm::dvec2(dir) : -glm::dvec2(dir), s, S)) continue;
-                            glm::dvec3 D = S - P;
-                            double dist = glm::length(D);
-                            if (dist < 1e-6 || dist >= R) continue;  // visibility up to R: hard cut
-                            hc[side] = std::max(hc[side], glm::dot(D / dist, Vd));
-                        }
-                    double h0 = nA + std::max(-std::acos(std::clamp(hc[1], -1.0, 1.0)) - nA, -kPi / 2);
-                    double h1 = nA + std::min(std::acos(std::clamp(hc[0], -1.0, 1.0)) - nA, kPi / 2);
+                double vis = 0, open = 0;
+                gtaoSlices(P, n, (a + 0.5) / nu1, (b + 0.5) / nu2, [&](double h0, double h1, double nA, double projLen, glm::dvec3) {
                     auto arc = [&](double hh) { return 0.25 * (std::cos(nA) + 2 * hh * std::sin(nA) - std::cos(2 * hh - nA)); };
                     vis += projLen * (arc(h0) + arc(h1));
                     open += projLen * (arc(nA - kPi / 2) + arc(nA + kPi / 2));
-                }
+                });
                 acc += open > 1e-6 ? std::clamp(vis / open, 0.0, 1.0) : 1.0;
             }
         return acc / (nu1 * nu2);
@@ -284,47 +292,21 @@ struct Oracle {
     // shader's closed form is not reused), summed over the slices with projLen, normalized per noise
     // sample; returns the mean of those unit vectors (what the box mean of the GPU's pixels estimates).
     glm::dvec3 gtaoBent(glm::dvec3 P, glm::dvec3 n) const {
-        glm::ivec2 ds = horizonSampling(samples);
         const int nu1 = 32, nu2 = 16, quad = 512;
         glm::dvec3 Vd = glm::normalize(-P), acc(0);
         for (int a = 0; a < nu1; ++a)
             for (int b = 0; b < nu2; ++b) {
-                double u1 = (a + 0.5) / nu1, u2 = (b + 0.5) / nu2;
                 glm::dvec3 bent(0);
-                for (int k = 0; k < ds.x; ++k) {
-                    double phi = kPi * (k + u1) / ds.x;
-                    glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
-                    glm::dvec3 ortho = dir - glm::dot(dir, Vd) * Vd;
-                    glm::dvec3 axis = glm::normalize(glm::cross(ortho, Vd));
-                    glm::dvec3 projN = n - axis * glm::dot(n, axis);
-                    double projLen = glm::length(projN);
-                    if (projLen < 1e-4) continue;
-                    double cosN = std::clamp(glm::dot(projN, Vd) / projLen, 0.0, 1.0);
-                    double nA = (glm::dot(ortho, projN) >= 0 ? 1 : -1) * std::acos(cosN);
-                    double hc[2] = {std::cos(nA + kPi / 2), std::cos(nA - kPi / 2)};
-                    for (int j = 0; j < ds.y; ++j)
-                        for (int side = 0; side < 2; ++side) {
-                            glm::dvec3 S;
-                            double sj = (j + u2) / ds.y;
-                            if (!sceneAlong(P, side == 0 ? glm::dvec2(dir) : -glm::dvec2(dir), sj, S)) continue;
-                            glm::dvec3 D = S - P;
-                            double dist = glm::length(D);
-                            if (dist < 1e-6 || dist >= R) continue;
-                            hc[side] = std::max(hc[side], glm::dot(D / dist, Vd));
-                        }
-                    double h0 = nA + std::max(-std::acos(std::clamp(hc[1], -1.0, 1.0)) - nA, -kPi / 2);
-                    double h1 = nA + std::min(std::acos(std::clamp(hc[0], -1.0, 1.0)) - nA, kPi / 2);
-                    glm::dvec3 on = glm::normalize(ortho);
+                gtaoSlices(P, n, (a + 0.5) / nu1, (b + 0.5) / nu2, [&](double h0, double h1, double nA, double projLen, glm::dvec3 on) {
                     // The arc [h0, h1] in two pieces at t = 0, where |sin t| changes sign.
                     for (auto [lo, hi] : {std::pair{h0, 0.0}, std::pair{0.0, h1}}) {
                         double step = (hi - lo) / quad;
                         for (int q = 0; q < quad; ++q) {
                             double t = lo + (q + 0.5) * step;
-                            bent += projLen * step * std::cos(t - nA) * std::abs(std::sin(t)) *
-                                    (Vd * std::cos(t) + on * std::sin(t));
+                            bent += projLen * step * std::cos(t - nA) * std::abs(std::sin(t)) * (Vd * std::cos(t) + on * std::sin(t));
                         }
                     }
-                }
+                });
                 if (glm::dot(bent, bent) > 1e-24) acc += glm::normalize(bent);
             }
         return acc / double(nu1 * nu2);
