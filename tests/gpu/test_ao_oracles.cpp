@@ -780,6 +780,20 @@ TEST_CASE("GTAO and hemisphere SSAO on sphere-on-plane match the analytic floor 
 
 namespace {
 
+// The bottom rows of up to four 4x4-pixel boxes (columns 22-25) on the floor, from the first all-floor row
+// under the crease towards the camera, three rows apart (the directional tests' boxes).
+std::vector<int> floorBoxRows(const CornerGeometry& g, int h) {
+    auto floorPixel = [&](int x, int y) {
+        glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(g.pixelPoint(x, y), 1));
+        return std::abs(W.y) < 1e-6 && W.x > 0.02;
+    };
+    int yTop = h - 1;
+    while (yTop > 0 && !(floorPixel(22, yTop) && floorPixel(25, yTop))) --yTop;
+    std::vector<int> rows;
+    for (int y0 = yTop - 3; y0 >= 0 && rows.size() < 4; y0 -= 3) rows.push_back(y0);
+    return rows;
+}
+
 std::vector<FloatImage> cornerFrames(const Scene& s, const Settings& st, glm::ivec2 size, gl::Profiler& prof,
                                      const std::function<const gl::Texture&(const FrameResources&)>& tex,
                                      int frames = 8) {
@@ -826,14 +840,7 @@ TEST_CASE("bent normals and S3HO on the corner match a CPU integral of the visib
         return std::make_pair(glm::normalize(bent), sh * (kPi / (m * m)));
     };
     // 4x4 boxes on the floor from the crease towards the camera, as in the corner AO test.
-    auto floorPixel = [&](int x, int y) {
-        glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(g.pixelPoint(x, y), 1));
-        return std::abs(W.y) < 1e-6 && W.x > 0.02;
-    };
-    int yTop = h - 1;
-    while (yTop > 0 && !(floorPixel(22, yTop) && floorPixel(25, yTop))) --yTop;
-    std::vector<int> rows;
-    for (int y0 = yTop - 3; y0 >= 0 && rows.size() < 4; y0 -= 3) rows.push_back(y0);
+    const std::vector<int> rows = floorBoxRows(g, h);
     REQUIRE(rows.size() >= 3);
     const glm::dvec3 n = g.floorNormal();
 
@@ -891,14 +898,7 @@ TEST_CASE("GTAO's slice bent normals on the corner match a CPU integral of its v
     CornerGeometry g(s.cameras[0], w, h);
     Oracle oracle{g};
     oracle.R = R;
-    auto floorPixel = [&](int x, int y) {
-        glm::dvec3 W = glm::dvec3(g.invView * glm::dvec4(g.pixelPoint(x, y), 1));
-        return std::abs(W.y) < 1e-6 && W.x > 0.02;
-    };
-    int yTop = h - 1;
-    while (yTop > 0 && !(floorPixel(22, yTop) && floorPixel(25, yTop))) --yTop;
-    std::vector<int> rows;
-    for (int y0 = yTop - 3; y0 >= 0 && rows.size() < 4; y0 -= 3) rows.push_back(y0);
+    const std::vector<int> rows = floorBoxRows(g, h);
     REQUIRE(rows.size() >= 3);
     const glm::dvec3 n = g.floorNormal();
     Settings st = rawAoSettings(V::Gtao, 16, R);
