@@ -20,21 +20,10 @@ void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     ivec2 halfSize = imageSize(uHalfDepth);
     if (any(greaterThanEqual(p, halfSize))) return;
-    ivec2 full = textureSize(uDepth, 0);
-    float best = 0.0;
-    ivec2 bestAt = min(2 * p, full - 1);
-    for (int i = 0; i < 4; ++i) {
-        ivec2 q = min(2 * p + ivec2(i & 1, i >> 1), full - 1);
-        float d = texelFetch(uDepth, q, 0).r;
-        if (!isSky(d) && (isSky(best) || d < best)) best = d, bestAt = q;
-    }
-    vec4 n = texelFetch(uNormal, bestAt, 0);
-    if (!isSky(best)) {
-        float tanHalf = frame.projParams.z, aspect = frame.projParams.w;
-        vec3 Q = viewPositionFromDepth((vec2(bestAt) + 0.5) / vec2(full), best, tanHalf, aspect);
-        vec3 nQ = aoSafeNormal(n.xyz, Q);
-        best = aoPlaneDepthAlongRay(Q, nQ, (vec2(p) + 0.5) / vec2(halfSize), tanHalf, aspect, best);
-    }
+    ivec2 at;
+    vec4 n;
+    float best = aoHalfTexelSurface(uDepth, uNormal, p, (vec2(p) + 0.5) / vec2(halfSize), 0.0, frame.projParams.z,
+                                    frame.projParams.w, at, n);
     imageStore(uHalfDepth, p, vec4(best));
     imageStore(uHalfNormal, p, n);
 }

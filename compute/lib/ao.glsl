@@ -104,6 +104,28 @@ vec3 aoSafeNormal(vec3 n, vec3 viewPos) {
     return n * inversesqrt(l2);
 }
 
+// The surface half-resolution texel o stands for (ao.downsample; the half-resolution LPV apply): of
+// its 2x2 full-resolution pixels the nearest non-sky one, nearer meaning nearer by more than `rel`
+// of the depth (rel > 0: near-equal depths keep the first pixel in block order instead of flipping
+// with the rounding of positions), its depth moved along its own tangent plane to the half texel's
+// centre uvHalf, so that every estimator reconstructs a point on that plane. Returns the depth (0:
+// sky); `at` is the chosen pixel, `n` its stored normal.
+float aoHalfTexelSurface(sampler2D depth, sampler2D normal, ivec2 o, vec2 uvHalf, float rel, float tanHalfFov,
+                         float aspect, out ivec2 at, out vec4 n) {
+    ivec2 full = textureSize(depth, 0);
+    float d = 0.0;
+    at = min(2 * o, full - 1);
+    for (int i = 0; i < 4; ++i) {
+        ivec2 q = min(2 * o + ivec2(i & 1, i >> 1), full - 1);
+        float dq = texelFetch(depth, q, 0).r;
+        if (!isSky(dq) && (isSky(d) || dq < d * (1.0 - rel))) d = dq, at = q;
+    }
+    n = texelFetch(normal, at, 0);
+    if (isSky(d)) return d;
+    vec3 Q = viewPositionFromDepth((vec2(at) + 0.5) / vec2(full), d, tanHalfFov, aspect);
+    return aoPlaneDepthAlongRay(Q, aoSafeNormal(n.xyz, Q), uvHalf, tanHalfFov, aspect, d);
+}
+
 // ---- visibility bitmask (vbao; Therrien et al. 2023, docs/ao.md "Visibility bitmask") ----
 // The slice of GTAO in view-angle coordinates (theta = 0 along V, positive
 // towards the marching direction), n the projected normal's angle. The

@@ -296,25 +296,16 @@ void main() {
 #endif
     if (any(greaterThanEqual(o, outSize))) return;
 #ifdef RTGI_LPV_APPLY_HALF
-    // The nearest non-sky pixel of the 2x2 block, its depth moved along its tangent plane to
-    // this texel's centre (ao.downsample's reconstruction, lib/ao.glsl). Nearer means nearer by
-    // more than 1e-3 of the depth: near-equal depths (a wall facing the camera, a crease) keep the
-    // first pixel in block order instead of flipping with the rounding of positions (the choice
-    // decides the normal the half texel shades with; the scale-invariance test caught the flip).
-    ivec2 full = frameSize();
-    float d = 0.0;
-    ivec2 p = min(2 * o, full - 1);
-    for (int i = 0; i < 4; ++i) {
-        ivec2 q = min(2 * o + ivec2(i & 1, i >> 1), full - 1);
-        float dq = texelFetch(uLinearDepth, q, 0).r;
-        if (!isSky(dq) && (isSky(d) || dq < d * (1.0 - 1e-3))) d = dq, p = q;
-    }
+    // The surface of the texel as ao.downsample chooses it (lib/ao.glsl), except that a pixel must be
+    // nearer by more than 1e-3 of the depth to replace the block's first: near-equal depths (a wall
+    // facing the camera, a crease) then keep one pixel instead of flipping with the rounding of
+    // positions (the choice decides the normal the texel shades with; the scale-invariance test
+    // caught the flip).
     vec2 uv = (vec2(o) + 0.5) / vec2(outSize);
-    vec3 lowNormal = texelFetch(uViewNormal, p, 0).xyz;
-    if (!isSky(d)) {
-        vec3 Q = viewPositionFromDepth((vec2(p) + 0.5) / vec2(full), d, frame.projParams.z, frame.projParams.w);
-        d = aoPlaneDepthAlongRay(Q, aoSafeNormal(lowNormal, Q), uv, frame.projParams.z, frame.projParams.w, d);
-    }
+    ivec2 p;
+    vec4 lowN;
+    float d = aoHalfTexelSurface(uLinearDepth, uViewNormal, o, uv, 1e-3, frame.projParams.z, frame.projParams.w, p, lowN);
+    vec3 lowNormal = lowN.xyz;
 #if !defined(RTGI_LPV_APPLY_SPECULAR_ONLY)
 #ifdef RTGI_LPV_CASCADED
     if (uLast != 0)

@@ -591,6 +591,12 @@ Settings effectiveSettings(const Assignments& sceneSuggestions, const Assignment
     // (results.json's config) say so.
     if (s.lpv.path == LpvSettings::Path::Raster && s.lpv.blocking == LpvSettings::Blocking::Visibility)
         s.lpv.blocking = LpvSettings::Blocking::Oriented;
+    // Slice bent normals exist only where GTAO writes bent normals from one fixed radius; elsewhere the AO pass
+    // samples rays (src/render/ao/ao_passes.cpp), and the reported settings say so.
+    if (s.ao.sliceBentNormals &&
+        (s.ao.variant != AoSettings::Variant::Gtao || s.ao.directional != AoSettings::Directional::BentNormals ||
+         s.ao.radiusMode == AoSettings::RadiusMode::Dual))
+        s.ao.sliceBentNormals = false;
     return s;
 }
 

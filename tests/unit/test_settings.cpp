@@ -110,6 +110,11 @@ TEST_CASE("scene-suggested settings: applied first, explicit assignments win, ba
     CHECK(effectiveSettings({}, {{"lpv.path", "raster"}}, "builtin:test").lpv.blocking == LpvSettings::Blocking::Oriented);
     CHECK(effectiveSettings({}, {{"lpv.path", "raster"}, {"lpv.blocking", "two-sided"}}, "builtin:test").lpv.blocking ==
           LpvSettings::Blocking::TwoSided);
+    // ao.bent_normals=slices holds only for GTAO's bent normals from one radius; otherwise rays are reported.
+    CHECK(effectiveSettings({}, {}, "builtin:test").ao.sliceBentNormals);
+    CHECK_FALSE(effectiveSettings({}, {{"ao", "hbao"}}, "builtin:test").ao.sliceBentNormals);
+    CHECK_FALSE(effectiveSettings({}, {{"ao.directional", "s3ho"}}, "builtin:test").ao.sliceBentNormals);
+    CHECK_FALSE(effectiveSettings({}, {{"ao.radius_mode", "dual"}}, "builtin:test").ao.sliceBentNormals);
     CHECK_THROWS_WITH_AS(effectiveSettings({{"lpv.gird", "4"}}, {}, "builtin:test"),
                          doctest::Contains("builtin:test: suggested settings"), ConfigError);
     Assignments flat = flattenJsonConfig(R"({"ao": {"samples": 8}, "lpv": "on"})", "x.json");

@@ -717,8 +717,7 @@ public:
     }
     void execute(FrameContext& ctx) override {
         LpvState& st = *st_;
-        if (!st.sunCacheable) st.sunPacked.clear();
-        st.sunPacked.resize(st.sunCacheable ? st.cascades.size() : 0);
+        st.sunPacked.resize(st.sunCacheable ? st.cascades.size() : 0);  // not cacheable: the kept volumes are freed
         for (std::size_t k = 0; k < st.cascades.size(); ++k) {
             LpvCascade& c = st.cascades[k];
             if (st.sunCached) {

@@ -733,9 +733,13 @@ int propagateJoint(gl::ProgramCache& programs, const gl::Buffer& ubo, const std:
             Volumes& v = *vs[std::size_t(i)];
             if (k == nearK) {
                 // Producer: lpv.pack (k = 0, step[0]) or iteration k (the stacked sum), image stores.
-                glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-                if (k == 0) glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT), copyVolumes(programs, v.step[0], v.near, g, format);
-                else copySlab(joint.accum, i * g.z, v.near, 0, g);
+                // step[0] is read as textures by the compute copy, the sum by glCopyImageSubData.
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                                GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                if (k == 0)
+                    copyVolumes(programs, v.step[0], v.near, g, format);
+                else
+                    copySlab(joint.accum, i * g.z, v.near, 0, g);
             } else if (k == nearK + 1 && nearF > 0.0f) {
                 const gl::Program& mix = programs.compute("lpv/near.comp", formatDefines(format));
                 // Producers: the copy above and iteration k's stores into the stacked sum.
