@@ -126,6 +126,20 @@ float aoHalfTexelSurface(sampler2D depth, sampler2D normal, ivec2 o, vec2 uvHalf
     return aoPlaneDepthAlongRay(Q, aoSafeNormal(n.xyz, Q), uvHalf, tanHalfFov, aspect, d);
 }
 
+// Whether depth d of half texel o (aoHalfTexelSurface's moved depth) lies within the depths of its
+// non-sky pixels, widened by `rel`: on a plane it always does (1/z is linear across the block); at a
+// crease the plane continued to the texel centre can pass behind the other face (outside the room)
+// or into the air in front of it, and then it does not.
+bool aoHalfTexelInBlock(sampler2D depth, ivec2 o, float d, float rel) {
+    ivec2 full = textureSize(depth, 0);
+    float lo = 3.4e38, hi = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        float dq = texelFetch(depth, min(2 * o + ivec2(i & 1, i >> 1), full - 1), 0).r;
+        if (!isSky(dq)) lo = min(lo, dq), hi = max(hi, dq);
+    }
+    return d >= lo * (1.0 - rel) && d <= hi * (1.0 + rel);
+}
+
 // ---- visibility bitmask (vbao; Therrien et al. 2023, docs/ao.md "Visibility bitmask") ----
 // The slice of GTAO in view-angle coordinates (theta = 0 along V, positive
 // towards the marching direction), n the projected normal's angle. The

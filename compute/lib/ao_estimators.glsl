@@ -231,6 +231,12 @@ float aoGtaoBent(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 n
         if (!aoSlice(k, slices, noise.x, V, n, dir, projLen, nAngle)) continue;
         float low0 = cos(nAngle + HALF_PI), low1 = cos(nAngle - HALF_PI);
         float hc0 = low0, hc1 = low1;
+        // The bent normal's horizons (hb): a sample at distance t < R raises them by the share 1 - t/R
+        // of its elevation above the hemisphere's edge. A point-sample estimate of eq. 17 (rays) counts a
+        // direction blocked at distance t as open for the samples nearer than t; with the hard horizons
+        // the direction bent away from everything behind a thin column within R (the atrium court's
+        // final error +1.7 %, docs/ao.md "Bent normals from the slices").
+        float hb0 = low0, hb1 = low1;
         for (int j = 0; j < steps; ++j) {
             float s = (float(j) + noise.y) / float(steps);
             vec2 off = dir.xy * rUv * s;
@@ -247,7 +253,8 @@ float aoGtaoBent(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 n
                 // corner scene, docs/ao.md "Error against ray-traced AO".)
                 if (dist >= R) continue;
                 float shc = dot(D / dist, V);
-                if (side == 0) hc0 = max(hc0, shc); else hc1 = max(hc1, shc);
+                float sb = mix(side == 0 ? low0 : low1, shc, 1.0 - dist / R);
+                if (side == 0) hc0 = max(hc0, shc), hb0 = max(hb0, sb); else hc1 = max(hc1, shc), hb1 = max(hb1, sb);
             }
         }
         float h0 = nAngle + max(-acos(clamp(hc1, -1.0, 1.0)) - nAngle, -HALF_PI);
@@ -255,7 +262,9 @@ float aoGtaoBent(AoCamera cam, vec2 uv, vec3 P, vec3 n, float d, float R, vec2 n
         vis += gtaoSliceVisibility(h0, h1, nAngle, projLen);
         open += gtaoSliceVisibility(nAngle - HALF_PI, nAngle + HALF_PI, nAngle, projLen);
         vec3 ortho = dir - dot(dir, V) * V;
-        bentSum += projLen * gtaoSliceBent(h0, h1, nAngle, V, ortho * inversesqrt(max(dot(ortho, ortho), 1e-12)));
+        float b0 = nAngle + max(-acos(clamp(hb1, -1.0, 1.0)) - nAngle, -HALF_PI);
+        float b1 = nAngle + min(acos(clamp(hb0, -1.0, 1.0)) - nAngle, HALF_PI);
+        bentSum += projLen * gtaoSliceBent(b0, b1, nAngle, V, ortho * inversesqrt(max(dot(ortho, ortho), 1e-12)));
     }
     bent = dot(bentSum, bentSum) > 1e-12 ? normalize(bentSum) : n;
     // Self-normalized slice quadrature: a few slices integrate the unoccluded
