@@ -102,7 +102,15 @@ struct UpsampleTaps {
     float w[4];
     float wSum;
     int nearest, heaviest;
+    float match;  // the best tap's similarity (upsampleSimilarity) to the full-resolution pixel
 };
+
+// How well a low-resolution texel (depth, view normal in g) represents a full-resolution pixel, in
+// (0, 1]: the depth weight scaled to 1 at equal depth times the normal weight (0 for sky).
+float upsampleSimilarity(float dFull, bool useNormals, vec3 nFull, vec4 g) {
+    if (!(g.r > 0.0)) return 0.0;
+    return 1e-3 / (1e-3 + abs(g.r - dFull) / dFull) * (useNormals ? upsampleNormalWeight(nFull, g.gba) : 1.0);
+}
 
 UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {
     ivec2 lowSize = textureSize(lowGeometry, 0);
@@ -112,6 +120,7 @@ UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useN
     UpsampleTaps u;
     u.wSum = 0.0;
     u.nearest = u.heaviest = 0;
+    u.match = 0.0;
     float bestDiff = 1e30, wMax = -1.0;
     bool skyFull = !(dFull > 0.0);
     for (int i = 0; i < 4; ++i) {
@@ -124,11 +133,37 @@ UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useN
         if (diff < bestDiff) bestDiff = diff, u.nearest = i;
         float w = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
         if (useNormals && !skyFull) w *= upsampleNormalWeight(nFull, g.gba);
+        if (!skyFull) u.match = max(u.match, upsampleSimilarity(dFull, useNormals, nFull, g));
         u.w[i] = w;
         u.wSum += w;
         if (w > wMax) wMax = w, u.heaviest = i;
     }
     return u;
+}
+
+// A pixel none of whose four taps is its surface (u.match < minMatch: more than 10 % apart in depth
+// or turned by more than ~56 degrees at minMatch 0.01) — the background next to a thin column
+// whose half texels all chose the column — takes the best-matching texel of the 4x4 around it
+// instead, alone, where one matches better (lpv/upsample.comp; docs/lpv.md "Half-resolution apply").
+void upsampleWiden(inout UpsampleTaps u, sampler2D lowGeometry, vec2 uv, float dFull, vec3 nFull, float minMatch) {
+    if (!(dFull > 0.0) || u.match >= minMatch) return;
+    ivec2 lowSize = textureSize(lowGeometry, 0);
+    ivec2 base = ivec2(floor(uv * vec2(lowSize) - 0.5)) - 1;
+    float best = u.match;
+    ivec2 bestQ = ivec2(-1);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            if ((i == 1 || i == 2) && (j == 1 || j == 2)) continue;  // the four taps
+            ivec2 q = clamp(base + ivec2(i, j), ivec2(0), lowSize - 1);
+            float m = upsampleSimilarity(dFull, true, nFull, texelFetch(lowGeometry, q, 0));
+            if (m > best) best = m, bestQ = q;
+        }
+    if (bestQ.x < 0) return;
+    u.q[0] = bestQ;
+    u.w = float[4](1.0, 0.0, 0.0, 0.0);
+    u.wSum = 1.0;
+    u.nearest = u.heaviest = 0;
+    u.match = best;
 }
 
 vec4 upsampleApply(sampler2D low, UpsampleTaps u) {

@@ -1,7 +1,8 @@
 // lpv.upsample (lpv.apply_resolution=half; docs/lpv.md, "Half-resolution apply"): the
 // half-resolution apply's albedo-free terms (irradiance / pi with the sky alpha; specular
 // radiance) to full resolution by joint bilateral upsampling (lib/filter.glsl, the AO chain's
-// weights times a normal weight), then times this pixel's albedo (1 - metallic) and BRDF, as
+// weights times a normal weight; a pixel none of whose taps is its surface takes the best texel of
+// the 4x4 around it, upsampleWiden), then times this pixel's albedo (1 - metallic) and BRDF, as
 // lpv/apply.comp does at full resolution. Sky pixels get (0, 0, 0, 1) and no specular.
 #include "lpv/lpv_common.glsl"
 #include "lib/lpv_shared.h"
@@ -38,6 +39,7 @@ void main() {
     vec3 albedo = texelFetch(uAlbedo, p, 0).rgb;
     vec2 rm = texelFetch(uMaterial, p, 0).rg;
     UpsampleTaps taps = upsampleTaps(uLowGeometry, uv, d, true, vn);  // one set of weights for both terms
+    upsampleWiden(taps, uLowGeometry, uv, d, vn, 0.01);
     vec4 e = upsampleApply(uLowIndirect, taps);
     imageStore(uIndirect, p, vec4(diffuseAlbedo(albedo, rm.y) * e.rgb, e.a));
 #ifdef RTGI_LPV_SPECULAR

@@ -19,8 +19,8 @@ namespace {
 
 // A wall at z = 0 facing +z (albedo 0.5), seen head-on from (0, 1, 3): every visible point has the
 // same depth, so world positions, the lookup points and a field linear in them are linear in the
-// pixel coordinates. `front`: a second wall at z = 1 over x > edgeX (depth 2 instead of 3).
-Scene wallScene(bool front, float edgeX) {
+// pixel coordinates. `front`: a second wall at z = 1 over edgeX < x < edgeX2 (depth 2 instead of 3).
+Scene wallScene(bool front, float edgeX, float edgeX2 = 4.0f) {
     Scene s;
     s.name = "test:wall";
     Material m;
@@ -28,7 +28,7 @@ Scene wallScene(bool front, float edgeX) {
     m.roughness = 1.0f;
     s.materials.push_back(m);
     addQuad(s, {-4, -3, 0}, {4, -3, 0}, {4, 5, 0}, {-4, 5, 0}, 0);
-    if (front) addQuad(s, {edgeX, -3, 1}, {4, -3, 1}, {4, 5, 1}, {edgeX, 5, 1}, 0);
+    if (front) addQuad(s, {edgeX, -3, 1}, {edgeX2, -3, 1}, {edgeX2, 5, 1}, {edgeX, 5, 1}, 0);
     Camera c;
     c.position = {0, 1, 3};
     c.target = {0, 1, 0};
@@ -201,6 +201,51 @@ TEST_CASE("LPV half-resolution apply: no bleeding across a depth edge (full-reso
         CHECK(edgePixels >= 2 * (size.y - 2));  // both sides of the edge in every inner row
         CHECK(checked == (size.x - 2) * (size.y - 2));
     }
+}
+
+TEST_CASE("LPV half-resolution apply: wall pixels between two thin columns keep their own light (upsampleWiden)") {
+    // Two columns 0.8 pixels wide at depth 2 in front of the wall at depth 3, on pixels 14 and 17, under
+    // the field of the depth-edge test (the columns ~4x brighter). Each takes the half texel of its 2x2
+    // block (the nearer pixel), so the wall pixels 15 and 16 between them have only column texels
+    // among their four taps and would get the columns' light, 4x too much (the nearest-depth tap). With
+    // the wider search they take a wall texel up to 2.5 pixels away: |half - full| <= the smooth bound
+    // + the field's change over 3.5 pixels.
+    GpuFixture gpu;
+    const glm::ivec2 size{32, 24};
+    const double a = -9.5;
+    const glm::dvec3 b(0.05, -0.03, 3.0);
+    const float pitch = float(2.0 * 2.0 * std::tan(glm::radians(30.0)) / double(size.y));  // a pixel at depth 2
+    Scene scene = wallScene(false, 0.0f);
+    for (int px : {14, 17}) {
+        float cx = (float(px) - 16.0f + 0.5f) * pitch;
+        addQuad(scene, {cx - 0.4f * pitch, -3, 1}, {cx + 0.4f * pitch, -3, 1}, {cx + 0.4f * pitch, 5, 1}, {cx - 0.4f * pitch, 5, 1}, 0);
+    }
+    lpv::Placement pl;
+    Outputs o = applyBoth(scene, size, a, b, &pl);
+    const double perCell = 0.5 / 3.14159265358979 * 0.886226925 * (std::abs(b.x) + std::abs(b.y) + std::abs(b.z)) / (pl.cell * pl.cell);
+    const double pixelCells = 3.0 * 2.0 * std::tan(glm::radians(30.0)) / double(size.y) / pl.cell;
+    const double far = 3.5 * pixelCells * 0.5 / 3.14159265358979 * 0.886226925 * (std::abs(b.x) + std::abs(b.y)) / (pl.cell * pl.cell);
+    int between = 0;
+    for (int y = 1; y < size.y - 1; ++y) {
+        // The columns are where they should be: pixels 14 and 17 near, 15 and 16 the wall.
+        REQUIRE(o.depth.at(14, y, 0) < 2.5f);
+        REQUIRE(o.depth.at(17, y, 0) < 2.5f);
+        REQUIRE(o.depth.at(15, y, 0) > 2.5f);
+        REQUIRE(o.depth.at(16, y, 0) > 2.5f);
+        CHECK(o.full.at(14, y, 0) > 2.0 * o.full.at(15, y, 0));  // brighter: bleeding would show
+        for (int x = 1; x < size.x - 1; ++x) {
+            if (o.depth.at(x, y, 0) < 2.5f) continue;  // the columns: the depth-edge test's case
+            const bool nearColumn = x >= 12 && x <= 19;
+            between += (x == 15 || x == 16) ? 1 : 0;
+            for (int c = 0; c < 3; ++c) {
+                double f = o.full.at(x, y, c), h = o.half.at(x, y, c);
+                CAPTURE(x);
+                CAPTURE(y);
+                CHECK(std::abs(h - f) <= smoothBound(f, perCell) + (nearColumn ? far : 0.0));
+            }
+        }
+    }
+    CHECK(between == 2 * (size.y - 2));
 }
 
 TEST_CASE("LPV half-resolution apply: at a concave crease every half texel shades a point within its pixels' depths") {
