@@ -269,22 +269,17 @@ void main() {
 #endif
     if (any(greaterThanEqual(o, outSize))) return;
 #ifdef RTGI_LPV_APPLY_HALF
-    // The nearest non-sky pixel of the 2x2 block, its depth moved along its tangent plane to
-    // this texel's centre (ao.downsample's reconstruction, lib/ao.glsl).
-    ivec2 full = frameSize();
-    float d = 0.0;
-    ivec2 p = min(2 * o, full - 1);
-    for (int i = 0; i < 4; ++i) {
-        ivec2 q = min(2 * o + ivec2(i & 1, i >> 1), full - 1);
-        float dq = texelFetch(uLinearDepth, q, 0).r;
-        if (!isSky(dq) && (isSky(d) || dq < d)) d = dq, p = q;
-    }
+    // The half texel's surface as compute/lpv/apply.comp chooses it (sessions 8-10: the 1e-3 margin,
+    // the crease guard; not shortcuts of the lookup, which is what this copy freezes).
     vec2 uv = (vec2(o) + 0.5) / vec2(outSize);
-    vec3 lowNormal = texelFetch(uViewNormal, p, 0).xyz;
-    if (!isSky(d)) {
-        vec3 Q = viewPositionFromDepth((vec2(p) + 0.5) / vec2(full), d, frame.projParams.z, frame.projParams.w);
-        d = aoPlaneDepthAlongRay(Q, aoSafeNormal(lowNormal, Q), uv, frame.projParams.z, frame.projParams.w, d);
+    ivec2 p;
+    vec4 lowN;
+    float d = aoHalfTexelSurface(uLinearDepth, uViewNormal, o, uv, 1e-3, frame.projParams.z, frame.projParams.w, p, lowN);
+    if (!isSky(d) && !aoHalfTexelInBlock(uLinearDepth, o, d, 1e-3)) {
+        uv = (vec2(p) + 0.5) / vec2(textureSize(uLinearDepth, 0));
+        d = texelFetch(uLinearDepth, p, 0).r;
     }
+    vec3 lowNormal = lowN.xyz;
 #ifdef RTGI_LPV_CASCADED
     if (uLast != 0)
 #endif
