@@ -22,8 +22,9 @@ void main() {
     if (any(greaterThanEqual(p, halfSize))) return;
     ivec2 at;
     vec4 n;
+    vec2 range;  // unused here
     float best = aoHalfTexelSurface(uDepth, uNormal, p, (vec2(p) + 0.5) / vec2(halfSize), 0.0, frame.projParams.z,
-                                    frame.projParams.w, at, n);
+                                    frame.projParams.w, at, n, range);
     imageStore(uHalfDepth, p, vec4(best));
     imageStore(uHalfNormal, p, n);
 }

@@ -109,15 +109,18 @@ vec3 aoSafeNormal(vec3 n, vec3 viewPos) {
 // of the depth (rel > 0: near-equal depths keep the first pixel in block order instead of flipping
 // with the rounding of positions), its depth moved along its own tangent plane to the half texel's
 // centre uvHalf, so that every estimator reconstructs a point on that plane. Returns the depth (0:
-// sky); `at` is the chosen pixel, `n` its stored normal.
+// sky); `at` is the chosen pixel, `n` its stored normal, `range` the least and largest depth of its
+// non-sky pixels.
 float aoHalfTexelSurface(sampler2D depth, sampler2D normal, ivec2 o, vec2 uvHalf, float rel, float tanHalfFov,
-                         float aspect, out ivec2 at, out vec4 n) {
+                         float aspect, out ivec2 at, out vec4 n, out vec2 range) {
     ivec2 full = textureSize(depth, 0);
     float d = 0.0;
     at = min(2 * o, full - 1);
+    range = vec2(3.4e38, 0.0);
     for (int i = 0; i < 4; ++i) {
         ivec2 q = min(2 * o + ivec2(i & 1, i >> 1), full - 1);
         float dq = texelFetch(depth, q, 0).r;
+        if (!isSky(dq)) range = vec2(min(range.x, dq), max(range.y, dq));
         if (!isSky(dq) && (isSky(d) || dq < d * (1.0 - rel))) d = dq, at = q;
     }
     n = texelFetch(normal, at, 0);
@@ -126,18 +129,33 @@ float aoHalfTexelSurface(sampler2D depth, sampler2D normal, ivec2 o, vec2 uvHalf
     return aoPlaneDepthAlongRay(Q, aoSafeNormal(n.xyz, Q), uvHalf, tanHalfFov, aspect, d);
 }
 
-// Whether depth d of half texel o (aoHalfTexelSurface's moved depth) lies within the depths of its
-// non-sky pixels, widened by `rel`: on a plane it always does (1/z is linear across the block); at a
-// crease the plane continued to the texel centre can pass behind the other face (outside the room)
-// or into the air in front of it, and then it does not.
-bool aoHalfTexelInBlock(sampler2D depth, ivec2 o, float d, float rel) {
-    ivec2 full = textureSize(depth, 0);
-    float lo = 3.4e38, hi = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        float dq = texelFetch(depth, min(2 * o + ivec2(i & 1, i >> 1), full - 1), 0).r;
-        if (!isSky(dq)) lo = min(lo, dq), hi = max(hi, dq);
+// How far depth d (aoHalfTexelSurface's moved depth) lies outside its block's depth `range` widened by
+// `rel`, relative to d (0 inside). On a plane it is 0 (1/z is linear across the block); at a crease the
+// plane continued to the texel centre can pass behind the other face (outside the room) or into the
+// air in front of it.
+float aoHalfTexelOutside(float d, vec2 range, float rel) {
+    return max(max(range.x * (1.0 - rel) - d, d - range.y * (1.0 + rel)), 0.0) / d;
+}
+
+// The view-space point a half texel of lpv.apply shades (docs/lpv.md "Half-resolution apply"): the
+// texel centre's point on its chosen pixel's plane (aoHalfTexelSurface), moved towards the pixel's own
+// point as that plane leaves the block's depths (aoHalfTexelOutside, 10^-3 margin): all the way once it
+// is 1 % outside, linearly before, so that rounding near the edge of the range changes the point by
+// little. `dStore` is the matching depth (0: sky) for the upsample's weights.
+vec3 aoHalfTexelPoint(sampler2D depth, sampler2D normal, ivec2 o, vec2 uvHalf, float tanHalfFov, float aspect,
+                      out ivec2 at, out vec4 n, out float dStore) {
+    vec2 range;
+    float d = aoHalfTexelSurface(depth, normal, o, uvHalf, 1e-3, tanHalfFov, aspect, at, n, range);
+    dStore = d;
+    if (isSky(d)) return vec3(0.0);
+    vec3 P = viewPositionFromDepth(uvHalf, d, tanHalfFov, aspect);
+    float t = clamp(aoHalfTexelOutside(d, range, 1e-3) / 1e-2, 0.0, 1.0);
+    if (t > 0.0) {
+        float dOwn = texelFetch(depth, at, 0).r;
+        P = mix(P, viewPositionFromDepth((vec2(at) + 0.5) / vec2(textureSize(depth, 0)), dOwn, tanHalfFov, aspect), t);
+        dStore = mix(d, dOwn, t);
     }
-    return d >= lo * (1.0 - rel) && d <= hi * (1.0 + rel);
+    return P;
 }
 
 // ---- visibility bitmask (vbao; Therrien et al. 2023, docs/ao.md "Visibility bitmask") ----

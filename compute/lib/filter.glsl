@@ -103,6 +103,8 @@ struct UpsampleTaps {
     float wSum;
     int nearest, heaviest;
     float match;  // the best tap's similarity (upsampleSimilarity) to the full-resolution pixel
+    ivec2 wide;   // upsampleWiden: a texel of the 4x4 around, mixed in with weight wideK (0: none)
+    float wideK;
 };
 
 // How well a low-resolution texel (depth, view normal in g) represents a full-resolution pixel, in
@@ -121,6 +123,8 @@ UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useN
     u.wSum = 0.0;
     u.nearest = u.heaviest = 0;
     u.match = 0.0;
+    u.wide = ivec2(0);
+    u.wideK = 0.0;
     float bestDiff = 1e30, wMax = -1.0;
     bool skyFull = !(dFull > 0.0);
     for (int i = 0; i < 4; ++i) {
@@ -143,40 +147,38 @@ UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useN
 
 // A pixel none of whose four taps is its surface (u.match < minMatch: more than 10 % apart in depth
 // or turned by more than ~56 degrees at minMatch 0.01) — the background next to a thin column
-// whose half texels all chose the column — takes the best-matching texel of the 4x4 around it
-// instead, alone, where one matches better (lpv/upsample.comp; docs/lpv.md "Half-resolution apply").
+// whose half texels all chose the column — mixes in the best-matching texel of the 4x4 around it
+// (lpv/upsample.comp; docs/lpv.md "Half-resolution apply"), with the weight
+// clamp((10 minMatch - match) / (9 minMatch), 0, 1) (1 - match / its match): 1 for a pixel no tap matches
+// (match <= minMatch) and a texel that does, falling to 0 as the taps' match reaches 10 minMatch or the
+// texel's, so that the result is continuous in the depths (rounding moves it by little).
 void upsampleWiden(inout UpsampleTaps u, sampler2D lowGeometry, vec2 uv, float dFull, vec3 nFull, float minMatch) {
-    if (!(dFull > 0.0) || u.match >= minMatch) return;
+    if (!(dFull > 0.0) || u.match >= 10.0 * minMatch) return;
     ivec2 lowSize = textureSize(lowGeometry, 0);
     ivec2 base = ivec2(floor(uv * vec2(lowSize) - 0.5)) - 1;
-    float best = u.match;
-    ivec2 bestQ = ivec2(-1);
+    float best = 0.0;
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) {
             if ((i == 1 || i == 2) && (j == 1 || j == 2)) continue;  // the four taps
             ivec2 q = clamp(base + ivec2(i, j), ivec2(0), lowSize - 1);
             float m = upsampleSimilarity(dFull, true, nFull, texelFetch(lowGeometry, q, 0));
-            if (m > best) best = m, bestQ = q;
+            if (m > best) best = m, u.wide = q;
         }
-    if (bestQ.x < 0) return;
-    u.q[0] = bestQ;
-    u.w = float[4](1.0, 0.0, 0.0, 0.0);
-    u.wSum = 1.0;
-    u.nearest = u.heaviest = 0;
-    u.match = best;
+    if (best > u.match) u.wideK = clamp((10.0 * minMatch - u.match) / (9.0 * minMatch), 0.0, 1.0) * (1.0 - u.match / best);
 }
 
 vec4 upsampleApply(sampler2D low, UpsampleTaps u) {
     vec4 v[4];
     for (int i = 0; i < 4; ++i) v[i] = texelFetch(low, u.q[i], 0);
-    if (!(u.wSum > 1e-6)) return v[u.nearest];
+    if (!(u.wSum > 1e-6)) return u.wideK > 0.0 ? mix(v[u.nearest], texelFetch(low, u.wide, 0), u.wideK) : v[u.nearest];
     // The weighted mean as the heaviest tap plus the weighted mean of the differences to it: a
     // constant field comes back bit-exact whatever the divide's rounding (an AO of 1, a sky alpha
     // of 1; a reciprocal-multiply divide of sum by wSum can give 1 - 2^-24, which a 16-bit store
     // that truncates keeps as 1 - 2^-11).
     vec4 ref = v[u.heaviest], sum = vec4(0.0);
     for (int i = 0; i < 4; ++i) sum += u.w[i] * (v[i] - ref);
-    return ref + sum / u.wSum;
+    vec4 r = ref + sum / u.wSum;
+    return u.wideK > 0.0 ? mix(r, texelFetch(low, u.wide, 0), u.wideK) : r;
 }
 
 vec4 upsampleJoint(sampler2D low, sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {

@@ -1,7 +1,7 @@
 // lpv.upsample (lpv.apply_resolution=half; docs/lpv.md, "Half-resolution apply"): the
 // half-resolution apply's albedo-free terms (irradiance / pi with the sky alpha; specular
 // radiance) to full resolution by joint bilateral upsampling (lib/filter.glsl, the AO chain's
-// weights times a normal weight; a pixel none of whose taps is its surface takes the best texel of
+// weights times a normal weight; a pixel none of whose taps is its surface mixes in the best texel of
 // the 4x4 around it, upsampleWiden), then times this pixel's albedo (1 - metallic) and BRDF, as
 // lpv/apply.comp does at full resolution. Sky pixels get (0, 0, 0, 1) and no specular.
 #include "lpv/lpv_common.glsl"

@@ -274,11 +274,8 @@ void main() {
     vec2 uv = (vec2(o) + 0.5) / vec2(outSize);
     ivec2 p;
     vec4 lowN;
-    float d = aoHalfTexelSurface(uLinearDepth, uViewNormal, o, uv, 1e-3, frame.projParams.z, frame.projParams.w, p, lowN);
-    if (!isSky(d) && !aoHalfTexelInBlock(uLinearDepth, o, d, 1e-3)) {
-        uv = (vec2(p) + 0.5) / vec2(textureSize(uLinearDepth, 0));
-        d = texelFetch(uLinearDepth, p, 0).r;
-    }
+    float d;
+    vec3 halfPoint = aoHalfTexelPoint(uLinearDepth, uViewNormal, o, uv, frame.projParams.z, frame.projParams.w, p, lowN, d);
     vec3 lowNormal = lowN.xyz;
 #ifdef RTGI_LPV_CASCADED
     if (uLast != 0)
@@ -294,7 +291,11 @@ void main() {
     // its cascade weight u_i (1 for a single volume); alpha of the indirect output (compose's sky term).
     float skyVisible = 0.0, skyWeight = 0.0, skyAlpha = 1.0;
     if (!isSky(d)) {
+#ifdef RTGI_LPV_APPLY_HALF
+        vec3 vp = halfPoint;
+#else
         vec3 vp = viewPositionFromDepth(uv, d, frame.projParams.z, frame.projParams.w);
+#endif
         vec3 wp = viewToWorldPoint(vp);
         vec3 vn = texelFetch(uViewNormal, p, 0).xyz;
         vec3 n = dot(vn, vn) > 0.0 ? normalize(viewToWorldDir(vn)) : vec3(0.0, 1.0, 0.0);
