@@ -20,13 +20,19 @@ namespace {
 // A wall at z = 0 facing +z (albedo 0.5), seen head-on from (0, 1, 3): every visible point has the
 // same depth, so world positions, the lookup points and a field linear in them are linear in the
 // pixel coordinates. `front`: a second wall at z = 1 over edgeX < x < edgeX2 (depth 2 instead of 3).
-Scene wallScene(bool front, float edgeX, float edgeX2 = 4.0f) {
+// An empty scene with one material, grey (albedo 0.5) and rough.
+Scene greyScene(const char* name) {
     Scene s;
-    s.name = "test:wall";
+    s.name = name;
     Material m;
     m.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     m.roughness = 1.0f;
     s.materials.push_back(m);
+    return s;
+}
+
+Scene wallScene(bool front, float edgeX, float edgeX2 = 4.0f) {
+    Scene s = greyScene("test:wall");
     addQuad(s, {-4, -3, 0}, {4, -3, 0}, {4, 5, 0}, {-4, 5, 0}, 0);
     if (front) addQuad(s, {edgeX, -3, 1}, {edgeX2, -3, 1}, {edgeX2, 5, 1}, {edgeX, 5, 1}, 0);
     Camera c;
@@ -259,12 +265,7 @@ TEST_CASE("LPV half-resolution apply: at a concave crease every half texel shade
     // point moves to the pixel's own point.
     GpuFixture gpu;
     const glm::ivec2 size{48, 36};
-    Scene s;
-    s.name = "test:crease";
-    Material m;
-    m.baseColor = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
-    m.roughness = 1.0f;
-    s.materials.push_back(m);
+    Scene s = greyScene("test:crease");
     addQuad(s, {-6, 0, -6}, {-6, 0, 2}, {6, 0, 2}, {6, 0, -6}, 0);  // floor, facing +y
     addQuad(s, {-6, 0, -6}, {6, 0, -6}, {6, 6, -6}, {-6, 6, -6}, 0);  // back wall, facing +z
     Camera c;
