@@ -337,7 +337,7 @@ std::vector<SettingKey> buildKeys() {
         KEY("ao.directional", "directional occlusion for the LPV lookup", "off|bent-normals|s3ho",
             s.ao.directional = parseEnum<AoSettings::Directional>("ao.directional", v, kAoDirectional),
             kAoDirectional[int(s.ao.directional)]),
-        KEY("ao.bent_normals", "with ao=gtao: bent normals from GTAO's slices (their horizons) or from ao.samples extra rays",
+        KEY("ao.bent_normals", "with ao=gtao: bent normals from GTAO's slices (horizons of their own, a sample at distance t counting 1 - t/R) or from ao.samples extra rays",
             "slices|rays", s.ao.sliceBentNormals = parseEnum<int>("ao.bent_normals", v, kAoBentNormals) == 0,
             kAoBentNormals[s.ao.sliceBentNormals ? 0 : 1]),
         KEY("ao.nearfield", "near-field indirect light strength (0 = off; with ao=vbao gathered through the bitmask)", "0..100",
