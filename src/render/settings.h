@@ -138,7 +138,8 @@ struct AoSettings {
     // Default: bent normals for the LPV lookup (seed 000 5.3), the seeds' system.
     enum class Directional { Off, BentNormals, S3ho } directional = Directional::BentNormals;
     // ao.bent_normals=slices: with ao=gtao, the bent normal is the cosine-weighted mean visible direction of GTAO's
-    // own slices (their horizons, no extra samples; docs/ao.md "Bent normals from the slices"); rays: the
+    // own slices (horizons of its own that a sample at distance t raises by the share 1 - t/R, no extra samples;
+    // docs/ao.md "Bent normals from the slices"); rays: the
     // ray-sampled point visibility of every other variant.
     bool sliceBentNormals = true;
     float nearfield = 0.0f;    // strength, 0 = off
