@@ -102,16 +102,16 @@ struct UpsampleTaps {
     float w[4];
     float wSum;
     int nearest, heaviest;
-    float match;  // the best tap's similarity (upsampleSimilarity) to the full-resolution pixel
+    float match;  // with useNormals: the best tap's upsampleSimilarity to the full-resolution pixel
     ivec2 wide;   // upsampleWiden: a texel of the 4x4 around, mixed in with weight wideK (0: none)
     float wideK;
 };
 
-// How well a low-resolution texel (depth, view normal in g) represents a full-resolution pixel, in
-// (0, 1]: the depth weight scaled to 1 at equal depth times the normal weight (0 for sky).
-float upsampleSimilarity(float dFull, bool useNormals, vec3 nFull, vec4 g) {
-    if (!(g.r > 0.0)) return 0.0;
-    return 1e-3 / (1e-3 + abs(g.r - dFull) / dFull) * (useNormals ? upsampleNormalWeight(nFull, g.gba) : 1.0);
+// How well a low-resolution texel represents a full-resolution pixel, in (0, 1]: the depth weight
+// scaled to 1 at equal depth (times the normal weight in upsampleSimilarity; 0 for sky).
+float upsampleDepthSimilarity(float dFull, float dLow) { return 1e-3 / (1e-3 + abs(dLow - dFull) / dFull); }
+float upsampleSimilarity(float dFull, vec3 nFull, vec4 g) {
+    return g.r > 0.0 ? upsampleDepthSimilarity(dFull, g.r) * upsampleNormalWeight(nFull, g.gba) : 0.0;
 }
 
 UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useNormals, vec3 nFull) {
@@ -136,8 +136,11 @@ UpsampleTaps upsampleTaps(sampler2D lowGeometry, vec2 uv, float dFull, bool useN
         float diff = abs(dLow - dFull);
         if (diff < bestDiff) bestDiff = diff, u.nearest = i;
         float w = skyFull ? (!(dLow > 0.0) ? bilinear : 0.0) : upsampleWeight(bilinear, dFull, dLow);
-        if (useNormals && !skyFull) w *= upsampleNormalWeight(nFull, g.gba);
-        if (!skyFull) u.match = max(u.match, upsampleSimilarity(dFull, useNormals, nFull, g));
+        if (useNormals && !skyFull && dLow > 0.0) {
+            float nw = upsampleNormalWeight(nFull, g.gba);
+            w *= nw;
+            u.match = max(u.match, upsampleDepthSimilarity(dFull, dLow) * nw);
+        }
         u.w[i] = w;
         u.wSum += w;
         if (w > wMax) wMax = w, u.heaviest = i;
@@ -161,7 +164,7 @@ void upsampleWiden(inout UpsampleTaps u, sampler2D lowGeometry, vec2 uv, float d
         for (int i = 0; i < 4; ++i) {
             if ((i == 1 || i == 2) && (j == 1 || j == 2)) continue;  // the four taps
             ivec2 q = clamp(base + ivec2(i, j), ivec2(0), lowSize - 1);
-            float m = upsampleSimilarity(dFull, true, nFull, texelFetch(lowGeometry, q, 0));
+            float m = upsampleSimilarity(dFull, nFull, texelFetch(lowGeometry, q, 0));
             if (m > best) best = m, u.wide = q;
         }
     if (best > u.match) u.wideK = clamp((10.0 * minMatch - u.match) / (9.0 * minMatch), 0.0, 1.0) * (1.0 - u.match / best);

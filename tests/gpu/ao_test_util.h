@@ -4,7 +4,11 @@
 #include "gpu_fixture.h"
 #include "render/gpu_scene.h"
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
+#include <numbers>
+#include <optional>
 #include <vector>
 
 namespace rtgi::test {
@@ -38,6 +42,26 @@ inline std::vector<FloatImage> frameReadbacks(const Scene& s, const Settings& st
         out.push_back(readTexture(tex(r.resources())));
     }
     return out;
+}
+
+// Slice k of `slices` of GTAO / VBAO in double, as the shader's aoSlice (lib/ao_estimators.glsl): its
+// screen direction (rotated by `rotation` over 180/slices), the in-plane axis ortho (normalized), the
+// length of the normal projected into the slice plane and the normal's angle from V in it; none when
+// the normal lies along the slice axis.
+struct AoSliceGeometry {
+    glm::dvec3 dir, ortho;
+    double projLen, nAngle;
+};
+inline std::optional<AoSliceGeometry> aoSliceGeometry(int k, int slices, double rotation, glm::dvec3 V, glm::dvec3 n) {
+    double phi = std::numbers::pi * (k + rotation) / slices;
+    glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
+    glm::dvec3 ortho = dir - glm::dot(dir, V) * V;
+    glm::dvec3 axis = glm::normalize(glm::cross(ortho, V));
+    glm::dvec3 projN = n - axis * glm::dot(n, axis);
+    double projLen = glm::length(projN);
+    if (projLen < 1e-4) return std::nullopt;
+    double nAngle = (glm::dot(ortho, projN) >= 0 ? 1.0 : -1.0) * std::acos(std::clamp(glm::dot(projN, V) / projLen, 0.0, 1.0));
+    return AoSliceGeometry{dir, glm::normalize(ortho), projLen, nAngle};
 }
 
 }  // namespace rtgi::test

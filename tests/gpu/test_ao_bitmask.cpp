@@ -20,6 +20,7 @@
 //    T seen by a depth buffer). From P it covers tan(theta) in
 //    [a/(h+T), b (Z0-h)/(df h)]: visible 1 - (sin^2 t2 - sin^2 t1); with
 //    infinite thickness (GTAO) everything below t1 is occluded: sin^2 t1.
+#include "ao_test_util.h"
 #include "gpu_fixture.h"
 
 #include "gl/program.h"
@@ -109,15 +110,10 @@ Estimate estimateCpu(const SceneDesc& s, glm::dvec2 uv, glm::dvec3 n, double R, 
     glm::dvec2 rUv = 0.5 * R * glm::dvec2(cot / kAspect, cot) / d;
     double visB = 0, visG = 0, open = 0;
     for (int k = 0; k < slices; ++k) {
-        double phi = kPi * (k + noise.x) / slices;
-        glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
-        glm::dvec3 ortho = dir - glm::dot(dir, V) * V;
-        glm::dvec3 axis = glm::normalize(glm::cross(ortho, V));
-        glm::dvec3 projN = n - axis * glm::dot(n, axis);
-        double projLen = glm::length(projN);
-        if (projLen < 1e-4) continue;
-        double nAngle = (glm::dot(ortho, projN) >= 0 ? 1.0 : -1.0) *
-                        std::acos(std::clamp(glm::dot(projN, V) / projLen, 0.0, 1.0));
+        std::optional<AoSliceGeometry> sl = aoSliceGeometry(k, slices, noise.x, V, n);
+        if (!sl) continue;
+        const glm::dvec3 dir = sl->dir;
+        const double projLen = sl->projLen, nAngle = sl->nAngle;
         double lo = nAngle - kPi / 2, hi = nAngle + kPi / 2;
         bool occluded[kSectors] = {};
         double horizon[2] = {lo, hi};  // gtao: the visible arc [side-1 horizon, side-0 horizon]

@@ -248,15 +248,10 @@ struct Oracle {
         glm::ivec2 ds = horizonSampling(samples);
         glm::dvec3 Vd = glm::normalize(-P);
         for (int k = 0; k < ds.x; ++k) {
-            double phi = kPi * (k + u1) / ds.x;
-            glm::dvec3 dir(std::cos(phi), std::sin(phi), 0);
-            glm::dvec3 ortho = dir - glm::dot(dir, Vd) * Vd;
-            glm::dvec3 axis = glm::normalize(glm::cross(ortho, Vd));
-            glm::dvec3 projN = n - axis * glm::dot(n, axis);
-            double projLen = glm::length(projN);
-            if (projLen < 1e-4) continue;
-            double cosN = std::clamp(glm::dot(projN, Vd) / projLen, 0.0, 1.0);
-            double nA = (glm::dot(ortho, projN) >= 0 ? 1 : -1) * std::acos(cosN);
+            std::optional<AoSliceGeometry> sl = aoSliceGeometry(k, ds.x, u1, Vd, n);
+            if (!sl) continue;
+            const glm::dvec3 dir = sl->dir;
+            const double projLen = sl->projLen, nA = sl->nAngle;
             double low[2] = {std::cos(nA + kPi / 2), std::cos(nA - kPi / 2)}, hc[2] = {low[0], low[1]};
             double hb[2] = {low[0], low[1]};  // the bent normal's horizons: a sample at t raises them by 1 - t/R
             for (int j = 0; j < ds.y; ++j)
@@ -275,7 +270,7 @@ struct Oracle {
                 return std::pair{nA + std::max(-std::acos(std::clamp(h[1], -1.0, 1.0)) - nA, -kPi / 2),
                                  nA + std::min(std::acos(std::clamp(h[0], -1.0, 1.0)) - nA, kPi / 2)};
             };
-            f(angles(hc), angles(hb), nA, projLen, glm::normalize(ortho));
+            f(angles(hc), angles(hb), nA, projLen, sl->ortho);
         }
     }
     double gtao(glm::dvec3 P, glm::dvec3 n) const {

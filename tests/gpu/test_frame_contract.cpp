@@ -63,17 +63,10 @@ TEST_CASE("post.history holds the frame's hdr radiance (RGBA16F) and its linear 
     Settings st = smallLpvSettings();
     st.ao.variant = AoSettings::Variant::Gtao;
     st.ao.nearfield = 1.0f;  // ao.nearfield reads the previous frame's history
-    Renderer r(s, st, prof);
-    REQUIRE(r.plan().written(R::history));
-    Camera cam = resolveCamera(s, st);
-    View prev;
-    for (unsigned f = 0; f < 2; ++f) {
-        View v = makeView(cam, {24, 18}, f == 0 ? nullptr : &prev, f);
-        r.render(v);
-        prev = v;
-    }
-    FloatImage hist = readTexture(r.resources().history), hdr = readTexture(r.resources().hdr),
-               depth = readTexture(r.resources().gbuffer.linearDepth);
+    auto r = renderFrames(s, st, {24, 18}, prof, 2);
+    REQUIRE(r->plan().written(R::history));
+    FloatImage hist = readTexture(r->resources().history), hdr = readTexture(r->resources().hdr),
+               depth = readTexture(r->resources().gbuffer.linearDepth);
     REQUIRE(hist.data.size() == hdr.data.size());
     std::size_t bad = 0, lit = 0;
     for (std::size_t i = 0; i < hdr.data.size(); i += 4) {
