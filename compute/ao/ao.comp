@@ -130,7 +130,11 @@ float estimate(ivec2 pixel, vec2 uv, vec3 P, vec3 n, float d, float R, vec4 bn) 
     // Rotation over 360/N_d and step jitter from the per-pixel noise (seed 003 5.3).
     return aoHbao(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z, ao.radius.w, ao.flags.y != 0);
 #elif AO_VARIANT == RTGI_AO_GTAO
+#if AO_SLICE_BENT
     float vis = aoGtaoBent(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z, gSliceBent);
+#else
+    float vis = aoGtao(cam, uv, P, n, d, R, bn.xy, ao.counts.y, ao.counts.z);  // no bent normal to keep
+#endif
     if (ao.flags.z != 0) vis = gtaoMultiBounce(vis, luminance(texture(uAlbedo, uv).rgb));
     return vis;
 #elif AO_VARIANT == RTGI_AO_VBAO
