@@ -149,11 +149,17 @@ vec3 lpvVisibilityCoord(ivec3 c, vec3 w, ivec3 texSize) {
 #ifndef RTGI_LPV_VIS_EXPONENT
 #define RTGI_LPV_VIS_EXPONENT 1
 #endif
-void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
+// lpv.visibility_view_bias (cells; lpv/apply.comp): 0 tests against the lookup point itself.
+#ifndef RTGI_LPV_VIS_VIEW_BIAS
+#define RTGI_LPV_VIS_VIEW_BIAS 0.0
+#endif
+// blocked[k] of the stencil cells around q for light that reaches the point `target` (cell coordinates):
+// the same bound with the direction and r_k taken from c_k to the target (lpv.apply's view bias).
+void lpvVisibilityBlockingAt(sampler3D moments, vec3 q, vec3 target, ivec3 grid, out float blocked[8]) {
     ivec3 texSize = textureSize(moments, 0);
     for (int k = 0; k < 8; ++k) {
         vec3 c = lpvStencilCentre(q, k);
-        vec3 d = q - c;
+        vec3 d = target - c;
         float r = length(d);
         ivec3 cell = clamp(lpvStencilBase(q) + lpvStencilOffset(k), ivec3(0), grid - 1);
         float p = r > 0.0 ? lpvChebyshev(texture(moments, lpvVisibilityCoord(cell, d / r, texSize)).xy, r) : 1.0;
@@ -161,4 +167,7 @@ void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float bloc
         for (int i = 1; i < RTGI_LPV_VIS_EXPONENT; ++i) v *= p;
         blocked[k] = 1.0 - v;
     }
+}
+void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
+    lpvVisibilityBlockingAt(moments, q, q, grid, blocked);
 }

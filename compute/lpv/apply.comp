@@ -184,10 +184,15 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     l.weighted = true;
 #elif defined(RTGI_LPV_LOOKUP_VISIBILITY)
     // The same side test, the cells' own visibility (Chebyshev bound of their distance moments)
-    // instead of the geometry volume's blocking.
+    // instead of the geometry volume's blocking, tested against a point RTGI_LPV_VIS_VIEW_BIAS cells
+    // from q towards the camera (DDGI's view bias; docs/lpv.md, "View bias of the visibility test"): the
+    // segment from the surface to the camera is free space, so that point lies on the visible side of
+    // every surface near the pixel, also of a second one at a crease, which the normal offset to q
+    // alone leaves q on (a ceiling pixel at the restaurant's back wall read the sunlit outside).
     vec3 q = lpvCellCoord(world);
+    vec3 target = q + float(RTGI_LPV_VIS_VIEW_BIAS) * normalize(frame.cameraPos.xyz - wp);
     float blocked[8];
-    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
+    lpvVisibilityBlockingAt(uVisibility, q, target, lpv.grid.xyz, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;

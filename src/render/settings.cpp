@@ -268,6 +268,10 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.visibility_exponent", "lpv.lookup=visibility: power of each cell's Chebyshev visibility bound before "
             "the weights are renormalized (1 = the bound itself, 3 = DDGI's sharpening; docs/lpv.md, \"Leaks, third pass\")",
             "1..8", s.lpv.visibilityExponent = parseInt("lpv.visibility_exponent", v, 1, 8), fmt(s.lpv.visibilityExponent)),
+        KEY("lpv.visibility_view_bias", "lpv.lookup=visibility: cells from the lookup point towards the camera to the point "
+            "the cells' distance moments are tested against (0 = the lookup point; docs/lpv.md, \"View bias of the "
+            "visibility test\")", "0..2",
+            s.lpv.visibilityViewBias = parseFloat("lpv.visibility_view_bias", v, 0, 2), fmt(s.lpv.visibilityViewBias)),
         KEY("lpv.reflect", "lpv.bounce: the reflected flux goes into the cell behind the blocker (destination, seed 3.5.2) "
             "or back into the cell the light came from (source; docs/lpv.md, \"Leaks\")", "destination|source",
             s.lpv.reflect = parseEnum<LpvSettings::Reflect>("lpv.reflect", v, kLpvReflect), kLpvReflect[int(s.lpv.reflect)]),

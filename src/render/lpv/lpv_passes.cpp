@@ -1097,6 +1097,7 @@ public:
             in.sky = ctx.settings.lpv.sky == LpvSettings::Sky::Visibility ? &c.volumes.sky : nullptr;
             in.skySelf = skyBounceNeeded(ctx.settings) && ctx.settings.lpv.selfCorrection;
             in.visibilityExponent = ctx.settings.lpv.visibilityExponent;
+            in.visibilityViewBias = ctx.settings.lpv.visibilityViewBias;
             in.damping = ctx.settings.lpv.damping;
             lpv::applyCompute(ctx.programs, c.ubo, in);
         }

@@ -860,7 +860,12 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
     else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
-    if (!in.geometry && in.visibility) d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
+    if (!in.geometry && in.visibility) {
+        d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
+        char bias[32];
+        std::snprintf(bias, sizeof bias, "%.9g", double(in.visibilityViewBias));
+        d.push_back({"RTGI_LPV_VIS_VIEW_BIAS", bias});
+    }
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     if (in.sky && in.skySelf) d.push_back({"RTGI_LPV_SKY_SELF", ""});

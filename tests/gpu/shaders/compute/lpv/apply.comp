@@ -184,10 +184,11 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     l.weighted = true;
 #elif defined(RTGI_LPV_LOOKUP_VISIBILITY)
     // The same side test, the cells' own visibility (Chebyshev bound of their distance moments)
-    // instead of the geometry volume's blocking.
+    // instead of the geometry volume's blocking, tested with the current apply's view bias.
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
+    lpvVisibilityBlockingAt(uVisibility, q, q + float(RTGI_LPV_VIS_VIEW_BIAS) * normalize(frame.cameraPos.xyz - wp),
+                            lpv.grid.xyz, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
