@@ -30,9 +30,18 @@ public:
         if (id_) Traits::destroy(id_);
         id_ = 0;
     }
-    // Debuggers and KHR_debug messages then speak the pass's language.
+    // Debuggers and KHR_debug messages then speak the pass's language. A label must be shorter than
+    // GL_MAX_LABEL_LENGTH (GL_INVALID_VALUE otherwise: a program named by its many defines exceeded
+    // NVIDIA's 256), so a longer name is cut.
     void label(std::string_view name) const {
-        if (id_ && glObjectLabel) glObjectLabel(Traits::kLabelKind, id_, GLsizei(name.size()), name.data());
+        if (!id_ || !glObjectLabel) return;
+        static const GLint maxLength = [] {
+            GLint m = 0;
+            glGetIntegerv(GL_MAX_LABEL_LENGTH, &m);
+            return m;
+        }();
+        if (maxLength > 0 && name.size() >= std::size_t(maxLength)) name = name.substr(0, std::size_t(maxLength) - 1);
+        glObjectLabel(Traits::kLabelKind, id_, GLsizei(name.size()), name.data());
     }
 
 private:
