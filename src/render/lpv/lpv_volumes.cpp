@@ -898,7 +898,10 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
-    if (in.lowGeometry) b.image(RTGI_LPV_IMG_APPLY_LOW_GEOMETRY, *in.lowGeometry, GL_WRITE_ONLY, GL_RGBA32F);
+    if (in.lowGeometry && !in.lowPoint) throw std::logic_error("lpv::applyCompute: the half-resolution apply needs lowPoint");
+    if (in.lowGeometry)
+        b.image(RTGI_LPV_IMG_APPLY_LOW_GEOMETRY, *in.lowGeometry, GL_READ_WRITE, GL_RGBA32F)
+            .image(RTGI_LPV_IMG_APPLY_LOW_POINT, *in.lowPoint, GL_READ_WRITE, GL_RGBA32F);
     if (in.volumeHi)
         b.texture(RTGI_LPV_TEX_LIGHT_HI_R, (*in.volumeHi)[0])
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])

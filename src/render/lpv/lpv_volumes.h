@@ -282,6 +282,8 @@ struct ApplyInputs {
     // half-resolution (applyHalfSize) and hold the albedo-free terms; this RGBA32F image gets
     // each texel's depth and view normal; applyUpsample makes the full-resolution outputs.
     gl::Texture* lowGeometry = nullptr;
+    // With `lowGeometry`: each texel's shaded point and pixel, stored by cascade 0, read by the others.
+    gl::Texture* lowPoint = nullptr;
 };
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in);
 // lpv.upsample: the half-resolution apply's terms (`lowIndirect`, `lowSpecular` when `specular`
