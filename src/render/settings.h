@@ -110,7 +110,7 @@ struct LpvSettings {
     int visibilityExponent = 3;
     // lpv.lookup=visibility: the point the moments are tested against lies this many cells from the lookup
     // point towards the camera (DDGI's view bias; docs/lpv.md, "View bias of the visibility test").
-    float visibilityViewBias = 0.5f;
+    float visibilityViewBias = 0.35f;
     // lpv.apply at half resolution with joint bilateral upsampling (docs/lpv.md, "Half-resolution apply").
     bool halfApply = true;
     // Propagation iterations per dispatch (docs/lpv.md, "Fused propagation"): 1 = one dispatch per iteration.

@@ -270,7 +270,7 @@ struct ApplyInputs {
     const gl::Texture* geometryAxes = nullptr;  // set with `geometry`: lpv.blocking=two-sided segments
     const gl::Texture* visibility = nullptr;  // set: lpv.lookup=visibility with this cascade's moments
     int visibilityExponent = 3;               // lpv.visibility_exponent
-    float visibilityViewBias = 0.5f;          // lpv.visibility_view_bias (cells)
+    float visibilityViewBias = 0.35f;         // lpv.visibility_view_bias (cells)
     const gl::Texture* sky = nullptr;         // set: lpv.sky=visibility with this cascade's sky visibility
     // With `sky`: the volume holds the sky bounce (lpv.sky_bounce), whose self-illumination of the
     // receiver (kappa rho pi sky f) is subtracted with the sun's (lpv.self_correction).
