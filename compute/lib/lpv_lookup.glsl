@@ -171,3 +171,11 @@ void lpvVisibilityBlockingAt(sampler3D moments, vec3 q, vec3 target, ivec3 grid,
 void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float blocked[8]) {
     lpvVisibilityBlockingAt(moments, q, q, grid, blocked);
 }
+// The receivers' test (lpv.apply, the sky bounce's injection): against RTGI_LPV_VIS_VIEW_BIAS cells from q
+// along toCamera, the unit direction from the surface point to the camera (DDGI's view bias; docs/lpv.md,
+// "View bias of the visibility test"): the segment from a visible surface to the camera is free space, so
+// the point lies on the visible side of every surface near the pixel, also of a second one at a crease,
+// which the normal offset to q alone leaves q on.
+void lpvVisibilityBlockingFromView(sampler3D moments, vec3 q, vec3 toCamera, ivec3 grid, out float blocked[8]) {
+    lpvVisibilityBlockingAt(moments, q, q + float(RTGI_LPV_VIS_VIEW_BIAS) * toCamera, grid, blocked);
+}

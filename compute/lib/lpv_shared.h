@@ -280,7 +280,6 @@ RTGI_LPV_STRUCT(LpvRsmFace) {
 #define RTGI_LPV_TEX_APPLY_SKY           25  // lpv/apply.comp with RTGI_LPV_SKY: the cascade's sky visibility SH
 // lpv.apply_resolution=half (docs/lpv.md, "Half-resolution apply")
 #define RTGI_LPV_IMG_APPLY_LOW_GEOMETRY   4  // lpv/apply.comp with RTGI_LPV_APPLY_HALF: depth (r), view normal (gba)
-#define RTGI_LPV_IMG_APPLY_LOW_POINT      5  // and the shaded view-space point (xyz), its pixel (w, as int bits)
 #define RTGI_LPV_UPSAMPLE_TEX_LOW_INDIRECT 4  // lpv/upsample.comp (G-buffer and BRDF LUT at the apply's units)
 #define RTGI_LPV_UPSAMPLE_TEX_LOW_SPECULAR 5  // lpv/upsample.comp
 #define RTGI_LPV_UPSAMPLE_TEX_LOW_GEOMETRY 6  // lpv/upsample.comp

@@ -30,9 +30,7 @@
 #include "lib/lpv_lookup.glsl"
 #ifdef RTGI_LPV_APPLY_HALF
 #include "lib/ao.glsl"
-// Written by the first dispatch (cascade 0, diffuse), read by the later ones (docs/lpv.md, "Apply cost").
-layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_LOW_GEOMETRY) uniform image2D uLowGeometry;
-layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_LOW_POINT) uniform image2D uLowPoint;
+layout(rgba32f, binding = RTGI_LPV_IMG_APPLY_LOW_GEOMETRY) uniform writeonly image2D uLowGeometry;
 #endif
 
 layout(local_size_x = RTGI_LPV_LOCAL_2D, local_size_y = RTGI_LPV_LOCAL_2D) in;
@@ -186,15 +184,11 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     l.weighted = true;
 #elif defined(RTGI_LPV_LOOKUP_VISIBILITY)
     // The same side test, the cells' own visibility (Chebyshev bound of their distance moments)
-    // instead of the geometry volume's blocking, tested against a point RTGI_LPV_VIS_VIEW_BIAS cells
-    // from q towards the camera (DDGI's view bias; docs/lpv.md, "View bias of the visibility test"): the
-    // segment from the surface to the camera is free space, so that point lies on the visible side of
-    // every surface near the pixel, also of a second one at a crease, which the normal offset to q
-    // alone leaves q on (a ceiling pixel at the restaurant's back wall read the sunlit outside).
+    // instead of the geometry volume's blocking, with the view bias (a ceiling pixel at the restaurant's
+    // back wall read the sunlit outside without it).
     vec3 q = lpvCellCoord(world);
-    vec3 target = q + float(RTGI_LPV_VIS_VIEW_BIAS) * normalize(frame.cameraPos.xyz - wp);
     float blocked[8];
-    lpvVisibilityBlockingAt(uVisibility, q, target, lpv.grid.xyz, blocked);
+    lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - wp), lpv.grid.xyz, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
@@ -310,31 +304,18 @@ void main() {
     // caught the flip).
     vec2 uv = (vec2(o) + 0.5) / vec2(outSize);
     ivec2 p;
+    vec4 lowN;
     float d;
-    vec3 halfPoint;
-    // The texel's surface is chosen once, by cascade 0 (its diffuse dispatch stores it; its specular
-    // dispatch, which runs without a barrier after it, chooses again); the coarser cascades' dispatches
-    // read it back (the same values, bit for bit).
-#ifdef RTGI_LPV_CASCADED
-    if (lpv.cascade.x > 0) {
-        vec4 stored = imageLoad(uLowPoint, o);
-        d = imageLoad(uLowGeometry, o).r;
-        halfPoint = stored.xyz;
-        int at = int(stored.w);  // exact: pixel indices < 2^24
-        p = ivec2(at % frameSize().x, at / frameSize().x);
-    } else
-#endif
-    {
-        vec4 lowN;
-        halfPoint = aoHalfTexelPoint(uLinearDepth, uViewNormal, o, uv, frame.projParams.z, frame.projParams.w, p, lowN, d);
-        // (The point leaves the texel centre's plane only where that plane leaves the block's depths — a
-        // crease: continued behind the other face, where the volume holds the outside's light; a ceiling
-        // texel at the restaurant's back wall read 0.22 against 0.03 inside.)
+    vec3 halfPoint = aoHalfTexelPoint(uLinearDepth, uViewNormal, o, uv, frame.projParams.z, frame.projParams.w, p, lowN, d);
+    // (The point leaves the texel centre's plane only where that plane leaves the block's depths — a
+    // crease: continued behind the other face, where the volume holds the outside's light; a ceiling
+    // texel at the restaurant's back wall read 0.22 against 0.03 inside.)
 #if !defined(RTGI_LPV_APPLY_SPECULAR_ONLY)
-        imageStore(uLowGeometry, o, vec4(d, lowN.xyz));
-        imageStore(uLowPoint, o, vec4(halfPoint, float(p.x + p.y * frameSize().x)));
+#ifdef RTGI_LPV_CASCADED
+    if (uLast != 0)
 #endif
-    }
+        imageStore(uLowGeometry, o, vec4(d, lowN.xyz));
+#endif
 #else
     ivec2 p = o;
     vec2 uv = (vec2(p) + 0.5) / vec2(outSize);

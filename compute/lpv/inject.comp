@@ -92,12 +92,12 @@ void lpvGlobalAdd(uint key, int channel, float value) {
 
 #ifdef RTGI_LPV_INJECT_SKY
 // The cosine-weighted sky visibility f in [0, 1] of the cells in front of the surface point x
-// (normal n), read at q = x + n s / 2 as lpv/apply.comp reads it for the receiver.
+// (normal n), read at q = x + n s / 2 as lpv/apply.comp reads it for the receiver (with its view bias).
 float lpvSkyVisibleAt(vec3 x, vec3 n) {
     vec3 q = lpvCellCoord(x + 0.5 * lpvCellSize() * n);
     float blocked[8];
 #ifdef RTGI_LPV_LOOKUP_VISIBILITY
-    lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
+    lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - x), lpv.grid.xyz, blocked);
 #else
     for (int k = 0; k < 8; ++k) blocked[k] = 0.0;
 #endif

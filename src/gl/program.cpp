@@ -7,10 +7,12 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <regex>
+#include <utility>
 #include <set>
 #include <sstream>
 
@@ -29,6 +31,13 @@ std::optional<std::string> readEmbeddedFile(std::string_view path) {
 }  // namespace rtgi
 
 namespace rtgi::gl {
+
+Define floatDefine(std::string name, double value) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", value);
+    return {std::move(name), buf};
+}
+
 namespace {
 
 void expandInto(const std::string& path, const std::function<std::optional<std::string>(const std::string&)>& load,

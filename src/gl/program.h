@@ -22,6 +22,8 @@ struct Define {
     std::string value;
 };
 using Defines = std::vector<Define>;
+// A float-valued define: the value printed with enough digits to read back the same float.
+Define floatDefine(std::string name, double value);
 
 class ShaderError : public std::runtime_error {
     using std::runtime_error::runtime_error;

@@ -97,7 +97,6 @@ Outputs applyBoth(const Scene& scene, glm::ivec2 size, double a, glm::dvec3 b, l
     gl::Texture half(ledger, "t.indirect.half", {GL_TEXTURE_2D, GL_RGBA16F, size.x, size.y});
     gl::Texture low(ledger, "t.low", lpv::applyLowDesc(size));
     gl::Texture lowGeometry(ledger, "t.low.geometry", lpv::applyLowGeometryDesc(size));
-    gl::Texture lowPoint(ledger, "t.low.point", lpv::applyLowGeometryDesc(size));
     lpv::ApplyInputs ai;
     ai.gbuffer = g;
     ai.volume = &volume;
@@ -105,7 +104,6 @@ Outputs applyBoth(const Scene& scene, glm::ivec2 size, double a, glm::dvec3 b, l
     lpv::applyCompute(programs, ubo, ai);
     ai.indirect = &low;
     ai.lowGeometry = &lowGeometry;
-    ai.lowPoint = &lowPoint;
     lpv::applyCompute(programs, ubo, ai);
     lpv::UpsampleInputs up;
     up.gbuffer = g;

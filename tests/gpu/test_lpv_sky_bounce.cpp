@@ -95,7 +95,7 @@ TEST_CASE("LPV sky bounce: the injected flux of a head-on wall equals rho sky f 
             glTextureSubImage3D(v.sky.id(), 0, 0, 0, 0, grid.x, grid.y, grid.z, GL_RGBA, GL_FLOAT, sky.data());
             lpv::GBufferView g{&res.gbuffer.linearDepth, &res.gbuffer.normal, &res.gbuffer.albedo,
                                &res.gbuffer.material, size, stride};
-            lpv::injectSky(programs, ubo, g, v, false, 1);
+            lpv::injectSky(programs, ubo, g, v, false, 1, 0.0f);
             glMemoryBarrier(GL_ALL_BARRIER_BITS);
             for (int c = 0; c < 3; ++c) {
                 const std::vector<float> acc = readR32(v.inject[std::size_t(c)]);  // (4x + k, y, z)

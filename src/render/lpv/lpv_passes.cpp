@@ -109,7 +109,7 @@ struct LpvState {
     VisibilityTarget rsmVis{"lpv.rsm"};  // raster.path=compute
     gl::Buffer stats;
     gl::Texture sumE, sumS;  // apply's running sums over cascades (C > 1)
-    gl::Texture lowIndirect, lowSpecular, lowGeometry, lowPoint;  // lpv.apply_resolution=half
+    gl::Texture lowIndirect, lowSpecular, lowGeometry;  // lpv.apply_resolution=half
     gl::ProgramCache* programs = nullptr;  // for the debug slices made on request
     // Debug slices (made when a debug image is requested, outside the measured frame).
     mutable gl::Texture lightSlice, geometrySlice;
@@ -684,7 +684,8 @@ private:
             if (skyBounceNeeded(ctx.settings)) {
                 const GBuffer& g = ctx.res.gbuffer;
                 lpv::GBufferView gb{&g.linearDepth, &g.normal, &g.albedo, &g.material, ctx.view.size, ls.geometryStride};
-                lpv::injectSky(ctx.programs, c.ubo, gb, c.volumes, momentsNeeded(ctx.settings), ls.visibilityExponent);
+                lpv::injectSky(ctx.programs, c.ubo, gb, c.volumes, momentsNeeded(ctx.settings), ls.visibilityExponent,
+                               ls.visibilityViewBias);
             }
             for (const Batch& b : dynamic) {
                 lpv::injectFaces(ctx.programs, c.ubo, st.localArrays[std::size_t(b.array)], st.faceList, b.first,
@@ -1028,7 +1029,6 @@ public:
             t.push_back({"lpv.apply.low_indirect", lpv::applyLowDesc(view)});
             if (specularFor_) t.push_back({"lpv.apply.low_specular", lpv::applyLowDesc(view)});
             t.push_back({"lpv.apply.low_geometry", lpv::applyLowGeometryDesc(view)});
-            t.push_back({"lpv.apply.low_point", lpv::applyLowGeometryDesc(view)});
         }
         if (cascadeCount(s.lpv) > 1) {
             t.push_back({"lpv.apply.sum_irradiance", lpv::applySumDesc(applySize)});
@@ -1057,7 +1057,6 @@ public:
             st.lowIndirect.ensure(ctx.ledger, "lpv.apply.low_indirect", lpv::applyLowDesc(s));
             if (specular) st.lowSpecular.ensure(ctx.ledger, "lpv.apply.low_specular", lpv::applyLowDesc(s));
             st.lowGeometry.ensure(ctx.ledger, "lpv.apply.low_geometry", lpv::applyLowGeometryDesc(s));
-            st.lowPoint.ensure(ctx.ledger, "lpv.apply.low_point", lpv::applyLowGeometryDesc(s));
         }
         if (count > 1) {
             st.sumE.ensure(ctx.ledger, "lpv.apply.sum_irradiance", lpv::applySumDesc(applySize));
@@ -1076,7 +1075,6 @@ public:
             in.indirect = half ? &st.lowIndirect : &r.indirectDiffuse;
             in.specular = specular ? (half ? &st.lowSpecular : &r.specular) : nullptr;
             in.lowGeometry = half ? &st.lowGeometry : nullptr;
-            in.lowPoint = half ? &st.lowPoint : nullptr;
             in.cascade = i;
             in.cascades = count;
             in.near = i > 0 ? c.nearResult : nullptr;

@@ -350,15 +350,21 @@ void injectCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm&
     gl::dispatch(prog, rsmSize, rsmSize);
 }
 
+namespace {
+// lpv.lookup=visibility's receiver test, shared by lpv.apply and the sky bounce's injection.
+void appendVisibilityDefines(gl::Defines& d, int exponent, float viewBias) {
+    d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
+    d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(exponent)});
+    d.push_back(gl::floatDefine("RTGI_LPV_VIS_VIEW_BIAS", viewBias));
+}
+}  // namespace
+
 void injectSky(gl::ProgramCache& programs, const gl::Buffer& ubo, const GBufferView& gb, Volumes& v, bool moments,
-               int visibilityExponent) {
+               int visibilityExponent, float visibilityViewBias) {
     gl::Defines d{{"RTGI_LPV_INJECT_SKY", ""}};
     if (v.shOrder == 2) d.push_back({"RTGI_LPV_SH2", ""});
     if (gb.stride != 2) d.push_back({"RTGI_LPV_GV_STRIDE", std::to_string(gb.stride)});
-    if (moments) {
-        d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
-        d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(visibilityExponent)});
-    }
+    if (moments) appendVisibilityDefines(d, visibilityExponent, visibilityViewBias);
     const gl::Program& prog = programs.compute("lpv/inject.comp", d);
     bindUbo(ubo);
     // Producers: gbuffer (framebuffer writes or the compute resolve), lpv.visibility (image
@@ -859,13 +865,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
     if (cascaded) d.push_back({"RTGI_LPV_CASCADED", ""});
     if (in.volumeHi) d.push_back({"RTGI_LPV_SH2", ""});
     if (in.geometry) d.push_back({"RTGI_LPV_LOOKUP_GEOMETRY", ""});
-    else if (in.visibility) d.push_back({"RTGI_LPV_LOOKUP_VISIBILITY", ""});
-    if (!in.geometry && in.visibility) {
-        d.push_back({"RTGI_LPV_VIS_EXPONENT", std::to_string(in.visibilityExponent)});
-        char bias[32];
-        std::snprintf(bias, sizeof bias, "%.9g", double(in.visibilityViewBias));
-        d.push_back({"RTGI_LPV_VIS_VIEW_BIAS", bias});
-    }
+    else if (in.visibility) appendVisibilityDefines(d, in.visibilityExponent, in.visibilityViewBias);
     if (in.damping) d.push_back({"RTGI_LPV_DAMPING", ""});
     if (in.sky) d.push_back({"RTGI_LPV_SKY", ""});
     if (in.sky && in.skySelf) d.push_back({"RTGI_LPV_SKY_SELF", ""});
@@ -898,10 +898,7 @@ void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const Apply
         .texture(RTGI_LPV_TEX_DIRECTIONAL, directional)
         .image(RTGI_LPV_IMG_INDIRECT, *in.indirect, GL_WRITE_ONLY, GL_RGBA16F);
     if (in.specular) b.image(RTGI_LPV_IMG_SPECULAR, *in.specular, GL_WRITE_ONLY, GL_RGBA16F);
-    if (in.lowGeometry && !in.lowPoint) throw std::logic_error("lpv::applyCompute: the half-resolution apply needs lowPoint");
-    if (in.lowGeometry)
-        b.image(RTGI_LPV_IMG_APPLY_LOW_GEOMETRY, *in.lowGeometry, GL_READ_WRITE, GL_RGBA32F)
-            .image(RTGI_LPV_IMG_APPLY_LOW_POINT, *in.lowPoint, GL_READ_WRITE, GL_RGBA32F);
+    if (in.lowGeometry) b.image(RTGI_LPV_IMG_APPLY_LOW_GEOMETRY, *in.lowGeometry, GL_WRITE_ONLY, GL_RGBA32F);
     if (in.volumeHi)
         b.texture(RTGI_LPV_TEX_LIGHT_HI_R, (*in.volumeHi)[0])
             .texture(RTGI_LPV_TEX_LIGHT_HI_G, (*in.volumeHi)[1])

@@ -183,9 +183,9 @@ struct GBufferView {
 };
 // lpv.sky_bounce (docs/lpv.md, "Sky bounce"): the G-buffer surfels (every gb.stride-th pixel) lit by
 // the sky add (rho pi sky f A / pi) cosLobe(n) into v.inject, f read from v.sky (and, when
-// `moments`, weighted by v.visibility's moments with `visibilityExponent`, as lpv.apply does).
+// `moments`, weighted by v.visibility's moments with `visibilityExponent` and `visibilityViewBias`, as lpv.apply does).
 void injectSky(gl::ProgramCache& programs, const gl::Buffer& ubo, const GBufferView& gb, Volumes& v,
-               bool moments, int visibilityExponent);
+               bool moments, int visibilityExponent, float visibilityViewBias);
 void injectGeometry(gl::ProgramCache& programs, const gl::Buffer& ubo, const Rsm& rsm, int rsmSize,
                     const GBufferView& gbuffer, Volumes& v);
 // Iterations 1..n; returns the index of step[] holding the last iteration.
@@ -282,8 +282,6 @@ struct ApplyInputs {
     // half-resolution (applyHalfSize) and hold the albedo-free terms; this RGBA32F image gets
     // each texel's depth and view normal; applyUpsample makes the full-resolution outputs.
     gl::Texture* lowGeometry = nullptr;
-    // With `lowGeometry`: each texel's shaded point and pixel, stored by cascade 0, read by the others.
-    gl::Texture* lowPoint = nullptr;
 };
 void applyCompute(gl::ProgramCache& programs, const gl::Buffer& ubo, const ApplyInputs& in);
 // lpv.upsample: the half-resolution apply's terms (`lowIndirect`, `lowSpecular` when `specular`

@@ -28,9 +28,7 @@ gl::Defines ReferenceConstants::defines(bool haveEmitters) const {
         d.push_back({"RTGI_REF_EMISSION_IS_DIRECT", ""});
     if (kind != ReferenceSettings::Kind::Ao && caustics != ReferenceSettings::Caustics::On && !diffuseOnly) {
         d.push_back({caustics == ReferenceSettings::Caustics::Off ? "RTGI_REF_CAUSTICS_OFF" : "RTGI_REF_CAUSTICS_REGULARIZED", ""});
-        char r[32];
-        std::snprintf(r, sizeof r, "%.9g", double(causticRoughness));
-        d.push_back({"RTGI_REF_CAUSTIC_ROUGHNESS", r});
+        d.push_back(gl::floatDefine("RTGI_REF_CAUSTIC_ROUGHNESS", causticRoughness));
     }
     return d;
 }

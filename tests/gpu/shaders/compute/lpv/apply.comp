@@ -187,8 +187,7 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     // instead of the geometry volume's blocking, tested with the current apply's view bias.
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    lpvVisibilityBlockingAt(uVisibility, q, q + float(RTGI_LPV_VIS_VIEW_BIAS) * normalize(frame.cameraPos.xyz - wp),
-                            lpv.grid.xyz, blocked);
+    lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - wp), lpv.grid.xyz, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
