@@ -179,16 +179,3 @@ void lpvVisibilityBlocking(sampler3D moments, vec3 q, ivec3 grid, out float bloc
 void lpvVisibilityBlockingFromView(sampler3D moments, vec3 q, vec3 toCamera, ivec3 grid, out float blocked[8]) {
     lpvVisibilityBlockingAt(moments, q, q + float(RTGI_LPV_VIS_VIEW_BIAS) * toCamera, grid, blocked);
 }
-// The receivers' two weight sets (lpvGeometryWeights of x, n at q): w with the view-biased test, w0 with the
-// test at q itself. The bias is there to find light that came through a second surface near the pixel, so it
-// may only remove light: the receivers take the darker of the two lookups (lpv/apply.comp, lpv/inject.comp's
-// sky bounce; docs/lpv.md, "View bias of the visibility test"). Where the biased test blocks cells that are
-// dark (under a floor an object stands on) and renormalizes onto brighter ones, the unbiased lookup is darker.
-void lpvVisibilityWeightPair(sampler3D moments, vec3 q, vec3 x, vec3 n, vec3 toCamera, ivec3 grid, out float w[8],
-                             out float w0[8]) {
-    float blocked[8];
-    lpvVisibilityBlockingFromView(moments, q, toCamera, grid, blocked);
-    lpvGeometryWeights(q, x, n, blocked, w);
-    lpvVisibilityBlocking(moments, q, grid, blocked);
-    lpvGeometryWeights(q, x, n, blocked, w0);
-}

@@ -163,9 +163,6 @@ struct LpvLookup {
     bool weighted;
     ivec3 base;
     float w[8];
-#ifdef RTGI_LPV_LOOKUP_VISIBILITY
-    float w0[8];  // the unbiased visibility test's weights (lpvVisibilityWeightPair): the darker lookup is taken
-#endif
 };
 
 LpvLookup lpvPlainLookup(vec3 world) {
@@ -190,8 +187,9 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     // instead of the geometry volume's blocking, with the view bias (a ceiling pixel at the restaurant's
     // back wall read the sunlit outside without it).
     vec3 q = lpvCellCoord(world);
-    lpvVisibilityWeightPair(uVisibility, q, lpvCellCoord(wp), n, normalize(frame.cameraPos.xyz - wp), lpv.grid.xyz,
-                            l.w, l.w0);
+    float blocked[8];
+    lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - wp), lpv.grid.xyz, blocked);
+    lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
 #endif
@@ -203,86 +201,28 @@ vec4 lpvFetch(sampler3D t, LpvLookup l) {
     return lpvStencilFetch(t, l.base, l.w, lpv.grid.xyz);
 }
 
-// The same lookup with the unbiased visibility test's weights (lpvVisibilityWeightPair); a plain or
-// geometry-weighted lookup is its own.
-LpvLookup lpvUnbiased(LpvLookup l) {
-#ifdef RTGI_LPV_LOOKUP_VISIBILITY
-    if (l.weighted) l.w = l.w0;
-#endif
-    return l;
-}
-
 // lpvFetch of the r, g, b volumes of one lookup in one pass over the stencil: each cell's weight
-// test and clamped coordinate once for the three (the same sums, in the same order), and with the
-// visibility lookup the sums with the unbiased weights w0 (r0, g0, b0) from the same fetches; for other
-// lookups r0, g0, b0 = r, g, b.
-void lpvFetchRgb(sampler3D tr, sampler3D tg, sampler3D tb, LpvLookup l, out vec4 r, out vec4 g, out vec4 b,
-                 out vec4 r0, out vec4 g0, out vec4 b0) {
+// test and clamped coordinate once for the three (the same sums, in the same order).
+void lpvFetchRgb(sampler3D tr, sampler3D tg, sampler3D tb, LpvLookup l, out vec4 r, out vec4 g, out vec4 b) {
     if (!l.weighted) {
-        r = r0 = texture(tr, l.uvw);
-        g = g0 = texture(tg, l.uvw);
-        b = b0 = texture(tb, l.uvw);
+        r = texture(tr, l.uvw);
+        g = texture(tg, l.uvw);
+        b = texture(tb, l.uvw);
         return;
     }
     r = g = b = vec4(0.0);
-    r0 = g0 = b0 = vec4(0.0);
     ivec3 top = lpv.grid.xyz - 1;
     for (int k = 0; k < 8; ++k) {
-#ifdef RTGI_LPV_LOOKUP_VISIBILITY
-        float u = l.w0[k];
-#else
-        float u = l.w[k];
-#endif
-        if (!(l.w[k] > 0.0) && !(u > 0.0)) continue;
+        if (!(l.w[k] > 0.0)) continue;
         ivec3 t = clamp(l.base + lpvStencilOffset(k), ivec3(0), top);
-        vec4 sr = texelFetch(tr, t, 0), sg = texelFetch(tg, t, 0), sb = texelFetch(tb, t, 0);
-        r += l.w[k] * sr;
-        g += l.w[k] * sg;
-        b += l.w[k] * sb;
-        r0 += u * sr;
-        g0 += u * sg;
-        b0 += u * sb;
+        r += l.w[k] * texelFetch(tr, t, 0);
+        g += l.w[k] * texelFetch(tg, t, 0);
+        b += l.w[k] * texelFetch(tb, t, 0);
     }
 }
 
 // Whether the lookup point lies in the grid (uvw in [0, 1]^3); outside it there is no LPV light.
 bool lpvInGrid(LpvLookup lk) { return all(greaterThanEqual(lk.uvw, vec3(0.0))) && all(lessThanEqual(lk.uvw, vec3(1.0))); }
-
-// The light volumes' SH of one lookup: r, g, b with its weights, r0, g0, b0 with the unbiased ones
-// (lpvUnbiased; SH order 1 from the same fetches).
-void lpvFetchLight(LpvLookup lk, out LpvSh r, out LpvSh g, out LpvSh b, out LpvSh r0, out LpvSh g0, out LpvSh b0) {
-#ifdef RTGI_LPV_SH2
-    vec4 last = lpvFetch(uLightLast, lk);
-    r = shFromParts(lpvFetch(uLightR, lk), lpvFetch(uLightHiR, lk), last.r);
-    g = shFromParts(lpvFetch(uLightG, lk), lpvFetch(uLightHiG, lk), last.g);
-    b = shFromParts(lpvFetch(uLightB, lk), lpvFetch(uLightHiB, lk), last.b);
-    LpvLookup l0 = lpvUnbiased(lk);
-    vec4 last0 = lpvFetch(uLightLast, l0);
-    r0 = shFromParts(lpvFetch(uLightR, l0), lpvFetch(uLightHiR, l0), last0.r);
-    g0 = shFromParts(lpvFetch(uLightG, l0), lpvFetch(uLightHiG, l0), last0.g);
-    b0 = shFromParts(lpvFetch(uLightB, l0), lpvFetch(uLightHiB, l0), last0.b);
-#else
-    lpvFetchRgb(uLightR, uLightG, uLightB, lk, r, g, b, r0, g0, b0);
-#endif
-}
-
-#ifdef RTGI_LPV_CASCADED
-void lpvFetchNear(LpvLookup lk, out LpvSh r, out LpvSh g, out LpvSh b, out LpvSh r0, out LpvSh g0, out LpvSh b0) {
-#ifdef RTGI_LPV_SH2
-    vec4 nl = lpvFetch(uNearLast, lk);
-    r = shFromParts(lpvFetch(uNearR, lk), lpvFetch(uNearHiR, lk), nl.r);
-    g = shFromParts(lpvFetch(uNearG, lk), lpvFetch(uNearHiG, lk), nl.g);
-    b = shFromParts(lpvFetch(uNearB, lk), lpvFetch(uNearHiB, lk), nl.b);
-    LpvLookup l0 = lpvUnbiased(lk);
-    vec4 nl0 = lpvFetch(uNearLast, l0);
-    r0 = shFromParts(lpvFetch(uNearR, l0), lpvFetch(uNearHiR, l0), nl0.r);
-    g0 = shFromParts(lpvFetch(uNearG, l0), lpvFetch(uNearHiG, l0), nl0.g);
-    b0 = shFromParts(lpvFetch(uNearB, l0), lpvFetch(uNearHiB, l0), nl0.b);
-#else
-    lpvFetchRgb(uNearR, uNearG, uNearB, lk, r, g, b, r0, g0, b0);
-#endif
-}
-#endif
 
 // Trilinear (or weighted) lookup; outside the grid there is no LPV light. Cascade i > 0:
 // u_i near + U_i (total - near), for i = 0 w_0 total (docs/lpv.md); w = (u_i, U_i) at `world`
@@ -290,53 +230,45 @@ void lpvFetchNear(LpvLookup lk, out LpvSh r, out LpvSh g, out LpvSh b, out LpvSh
 // Exact shortcuts (docs/lpv.md, "Apply cost"): where U_i = 0 (so u_i = 0) the cascade adds
 // nothing and nothing is fetched; where u_i = U_i (no finer cascade there) the near part's
 // weight u_i - U_i is 0 and only the total is fetched (U_i T_i, the same up to float rounding).
-// r0, g0, b0: the same with the unbiased weights (lpvUnbiased).
-bool lpvSample(vec3 world, LpvLookup lk, vec2 w, out LpvSh r, out LpvSh g, out LpvSh b, out LpvSh r0, out LpvSh g0,
-               out LpvSh b0) {
-    r = g = b = r0 = g0 = b0 = LpvSh(0.0);
+bool lpvSample(vec3 world, LpvLookup lk, vec2 w, out LpvSh r, out LpvSh g, out LpvSh b) {
+    r = g = b = LpvSh(0.0);
     if (!lpvInGrid(lk)) return false;
 #ifdef RTGI_LPV_CASCADED
     if (w.y == 0.0) return true;
 #endif
-    lpvFetchLight(lk, r, g, b, r0, g0, b0);
+#ifdef RTGI_LPV_SH2
+    vec4 last = lpvFetch(uLightLast, lk);
+    r = shFromParts(lpvFetch(uLightR, lk), lpvFetch(uLightHiR, lk), last.r);
+    g = shFromParts(lpvFetch(uLightG, lk), lpvFetch(uLightHiG, lk), last.g);
+    b = shFromParts(lpvFetch(uLightB, lk), lpvFetch(uLightHiB, lk), last.b);
+#else
+    lpvFetchRgb(uLightR, uLightG, uLightB, lk, r, g, b);
+#endif
 #ifdef RTGI_LPV_CASCADED
-    if (lpv.cascade.x == 0 || w.x == w.y) {
-        float s = lpv.cascade.x == 0 ? w.x : w.y;
-        r *= s;
-        g *= s;
-        b *= s;
-        r0 *= s;
-        g0 *= s;
-        b0 *= s;
+    if (lpv.cascade.x == 0) {
+        r *= w.x;
+        g *= w.x;
+        b *= w.x;
+    } else if (w.x == w.y) {
+        r *= w.y;
+        g *= w.y;
+        b *= w.y;
     } else {
-        LpvSh nr, ng, nb, nr0, ng0, nb0;
-        lpvFetchNear(lk, nr, ng, nb, nr0, ng0, nb0);
+#ifdef RTGI_LPV_SH2
+        vec4 nl = lpvFetch(uNearLast, lk);
+        mat3 nr = shFromParts(lpvFetch(uNearR, lk), lpvFetch(uNearHiR, lk), nl.r);
+        mat3 ng = shFromParts(lpvFetch(uNearG, lk), lpvFetch(uNearHiG, lk), nl.g);
+        mat3 nb = shFromParts(lpvFetch(uNearB, lk), lpvFetch(uNearHiB, lk), nl.b);
+#else
+        vec4 nr, ng, nb;
+        lpvFetchRgb(uNearR, uNearG, uNearB, lk, nr, ng, nb);
+#endif
         r = w.x * nr + w.y * (r - nr);
         g = w.x * ng + w.y * (g - ng);
         b = w.x * nb + w.y * (b - nb);
-        r0 = w.x * nr0 + w.y * (r0 - nr0);
-        g0 = w.x * ng0 + w.y * (g0 - ng0);
-        b0 = w.x * nb0 + w.y * (b0 - nb0);
     }
 #endif
     return true;
-}
-bool lpvSample(vec3 world, LpvLookup lk, vec2 w, out LpvSh r, out LpvSh g, out LpvSh b) {
-    LpvSh r0, g0, b0;
-    return lpvSample(world, lk, w, r, g, b, r0, g0, b0);
-}
-
-// The irradiance (times s^2) of a lookup's light r, g, b at the pixel: its product with the S3HO visibility
-// s3ho (world-space band-1 SH; S3HO is band 1, the band-2 part of the light has no visibility to meet), else
-// the cosine integral about the lookup normal N.
-vec3 lpvIrradianceOf(LpvSh r, LpvSh g, LpvSh b, vec4 s3ho, vec3 N) {
-#if defined(RTGI_LPV_S3HO) && defined(RTGI_LPV_SH2)
-    return vec3(dot(shLo(shMirror(r)), s3ho), dot(shLo(shMirror(g)), s3ho), dot(shLo(shMirror(b)), s3ho));
-#elif defined(RTGI_LPV_S3HO)
-    return vec3(dot(shMirror(r), s3ho), dot(shMirror(g), s3ho), dot(shMirror(b), s3ho));
-#else
-    return vec3(shCosineIntegral(shMirror(r), N), shCosineIntegral(shMirror(g), N), shCosineIntegral(shMirror(b), N));
-#endif
 }
 
 // The AO pass writes bent normals / S3HO at AO resolution (half by default):
@@ -426,8 +358,7 @@ void main() {
         LpvLookup lk;
         if (cw.y != 0.0) lk = lpvSurfaceLookup(lookupAt, wp, n);
         else lk = lpvPlainLookup(lookupAt);
-        LpvSh r0, g0, b0;
-        if (lpvSample(lookupAt, lk, cw, r, g, b, r0, g0, b0)) {
+        if (lpvSample(lookupAt, lk, cw, r, g, b)) {
 #ifdef RTGI_LPV_SKY
             // Not mirrored: V(w) is a function of the direction looked along, I(w) of the flow.
             // Weighted by u_i: nothing to fetch where it is 0.
@@ -435,14 +366,16 @@ void main() {
             if (skyWeight != 0.0) skyVisible = clamp(shCosineIntegral(lpvFetch(uSky, lk), n) * INV_PI, 0.0, 1.0);
 #endif
 #ifdef RTGI_LPV_S3HO
-            vec4 s3ho = shRotate(directionalAt(uv), mat3(frame.invView));
+            // S3HO is band 1: the band-2 part of the light has no visibility to meet.
+            vec4 w = shRotate(directionalAt(uv), mat3(frame.invView));
+#ifdef RTGI_LPV_SH2
+            vec3 e = vec3(dot(shLo(shMirror(r)), w), dot(shLo(shMirror(g)), w), dot(shLo(shMirror(b)), w));
 #else
-            vec4 s3ho = vec4(0.0);
+            vec3 e = vec3(dot(shMirror(r), w), dot(shMirror(g), w), dot(shMirror(b), w));
 #endif
-            vec3 e = lpvIrradianceOf(r, g, b, s3ho, lookupN);
-#ifdef RTGI_LPV_LOOKUP_VISIBILITY
-            // The view bias only removes light (lpvVisibilityWeightPair): the darker of the two lookups.
-            e = min(e, lpvIrradianceOf(r0, g0, b0, s3ho, lookupN));
+#else
+            vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
+                          shCosineIntegral(shMirror(b), lookupN));
 #endif
 #ifdef RTGI_LPV_DAMPING
             // The same irradiance one cell further back (half a cell behind the surface), plain trilinear.

@@ -95,22 +95,16 @@ void lpvGlobalAdd(uint key, int channel, float value) {
 // (normal n), read at q = x + n s / 2 as lpv/apply.comp reads it for the receiver (with its view bias).
 float lpvSkyVisibleAt(vec3 x, vec3 n) {
     vec3 q = lpvCellCoord(x + 0.5 * lpvCellSize() * n);
-    float w[8];
-#ifdef RTGI_LPV_LOOKUP_VISIBILITY
-    // The darker of the view-biased and the unbiased lookup (lpvVisibilityWeightPair).
-    float w0[8];
-    lpvVisibilityWeightPair(uVisibility, q, lpvCellCoord(x), n, normalize(frame.cameraPos.xyz - x), lpv.grid.xyz, w, w0);
-    float visible0 = shCosineIntegral(lpvStencilFetch(uSkyVisibility, lpvStencilBase(q), w0, lpv.grid.xyz), n);
-#else
     float blocked[8];
-    for (int k = 0; k < 8; ++k) blocked[k] = 0.0;
-    lpvGeometryWeights(q, lpvCellCoord(x), n, blocked, w);
-#endif
-    float visible = shCosineIntegral(lpvStencilFetch(uSkyVisibility, lpvStencilBase(q), w, lpv.grid.xyz), n);
 #ifdef RTGI_LPV_LOOKUP_VISIBILITY
-    visible = min(visible, visible0);
+    lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - x), lpv.grid.xyz, blocked);
+#else
+    for (int k = 0; k < 8; ++k) blocked[k] = 0.0;
 #endif
-    return clamp(visible * INV_PI, 0.0, 1.0);
+    float w[8];
+    lpvGeometryWeights(q, lpvCellCoord(x), n, blocked, w);
+    vec4 p = lpvStencilFetch(uSkyVisibility, lpvStencilBase(q), w, lpv.grid.xyz);
+    return clamp(shCosineIntegral(p, n) * INV_PI, 0.0, 1.0);
 }
 #endif
 

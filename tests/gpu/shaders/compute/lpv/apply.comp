@@ -172,9 +172,8 @@ LpvLookup lpvPlainLookup(vec3 world) {
     return l;
 }
 
-// The diffuse lookup at `world` for the surface point wp with normal n (the visibility test with the
-// view bias, or without it: the current apply takes the darker of the two, lpvVisibilityWeightPair).
-LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n, bool viewBiased) {
+// The diffuse lookup at `world` for the surface point wp with normal n.
+LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n) {
     LpvLookup l = lpvPlainLookup(world);
 #ifdef RTGI_LPV_LOOKUP_GEOMETRY
     vec3 q = lpvCellCoord(world);
@@ -188,10 +187,7 @@ LpvLookup lpvSurfaceLookup(vec3 world, vec3 wp, vec3 n, bool viewBiased) {
     // instead of the geometry volume's blocking, tested with the current apply's view bias.
     vec3 q = lpvCellCoord(world);
     float blocked[8];
-    if (viewBiased)
-        lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - wp), lpv.grid.xyz, blocked);
-    else
-        lpvVisibilityBlocking(uVisibility, q, lpv.grid.xyz, blocked);
+    lpvVisibilityBlockingFromView(uVisibility, q, normalize(frame.cameraPos.xyz - wp), lpv.grid.xyz, blocked);
     lpvGeometryWeights(q, lpvCellCoord(wp), n, blocked, l.w);
     l.base = lpvStencilBase(q);
     l.weighted = true;
@@ -314,7 +310,7 @@ void main() {
         LpvSh r, g, b;
         // Half a cell along the normal: the light in front of the surface, as injected (3.3).
         vec3 lookupAt = wp + 0.5 * lpvCellSize() * n;
-        LpvLookup lk = lpvSurfaceLookup(lookupAt, wp, n, true);
+        LpvLookup lk = lpvSurfaceLookup(lookupAt, wp, n);
         if (lpvSample(lookupAt, lk, r, g, b)) {
 #ifdef RTGI_LPV_SKY
             // Not mirrored: V(w) is a function of the direction looked along, I(w) of the flow.
@@ -336,15 +332,6 @@ void main() {
 #else
             vec3 e = vec3(shCosineIntegral(shMirror(r), lookupN), shCosineIntegral(shMirror(g), lookupN),
                           shCosineIntegral(shMirror(b), lookupN));
-#endif
-#if defined(RTGI_LPV_LOOKUP_VISIBILITY) && !defined(RTGI_LPV_S3HO)
-            // The unbiased lookup as a second lookup of its own; the darker is taken.
-            {
-                LpvSh r0, g0, b0;
-                if (lpvSample(lookupAt, lpvSurfaceLookup(lookupAt, wp, n, false), r0, g0, b0))
-                    e = min(e, vec3(shCosineIntegral(shMirror(r0), lookupN), shCosineIntegral(shMirror(g0), lookupN),
-                                    shCosineIntegral(shMirror(b0), lookupN)));
-            }
 #endif
 #ifdef RTGI_LPV_DAMPING
             // The same irradiance one cell further back (half a cell behind the surface), plain trilinear.
