@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #if defined(__SANITIZE_ADDRESS__)
 #include <dlfcn.h>
@@ -37,17 +39,30 @@ void keepLoadedLibrariesMapped() {
 
 int gDebugErrors = 0;
 
-void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei, const GLchar* msg,
+// The open debug groups (the profiler's pass scopes, glPushDebugGroup): a message names the pass it came from.
+// The driver reports every push and pop to the callback (synchronous output, one context per thread).
+thread_local std::vector<std::string> tDebugGroups;
+
+void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length, const GLchar* msg,
                               const void*) {
     (void)source;
     (void)id;
+    if (type == GL_DEBUG_TYPE_PUSH_GROUP) {
+        tDebugGroups.emplace_back(msg, length >= 0 ? std::size_t(length) : std::strlen(msg));
+        return;
+    }
+    if (type == GL_DEBUG_TYPE_POP_GROUP) {
+        if (!tDebugGroups.empty()) tDebugGroups.pop_back();
+        return;
+    }
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
     if (type == GL_DEBUG_TYPE_ERROR) ++gDebugErrors;
     // Performance chatter from drivers is not an error; print only the rest
     // (all of it with RTGI_TRACE=1).
     static const bool all = std::getenv("RTGI_TRACE") && std::string(std::getenv("RTGI_TRACE")) != "0";
     if (!all && (type == GL_DEBUG_TYPE_PERFORMANCE || type == GL_DEBUG_TYPE_OTHER)) return;
-    std::fprintf(stderr, "GL debug: %s\n", msg);
+    if (tDebugGroups.empty()) std::fprintf(stderr, "GL debug: %s\n", msg);
+    else std::fprintf(stderr, "GL debug (in %s): %s\n", debugGroupPath().c_str(), msg);
 }
 
 
@@ -61,6 +76,12 @@ const char* deviceName(EGLDeviceEXT dev) {
 }
 
 }  // namespace
+
+std::string debugGroupPath() {
+    std::string where;
+    for (const std::string& g : tDebugGroups) where += (where.empty() ? "" : "/") + g;
+    return where;
+}
 
 int takeDebugErrorCount() {
     int n = gDebugErrors;

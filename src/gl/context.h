@@ -45,6 +45,9 @@ private:
 ContextInfo queryContextInfo(bool debug);
 // GL errors reported through KHR_debug since the last call (tests assert 0).
 int takeDebugErrorCount();
+// The debug groups open on this thread's context, outermost first, joined by '/' (the profiler's pass scopes;
+// "" outside any): the debug callback prints it with every message so a driver warning names its pass.
+std::string debugGroupPath();
 // Whether the current context lists the extension (false without a loaded context).
 bool hasExtension(const char* name);
 

@@ -43,6 +43,29 @@ TEST_CASE("an object label longer than GL_MAX_LABEL_LENGTH is cut to fit, withou
     CHECK(got.substr(0, std::size_t(length)) == name.substr(0, std::size_t(maxLength) - 1));
 }
 
+TEST_CASE("a GL debug message names the pass it came from: the debug callback follows the profiler's groups") {
+    // NVIDIA printed an undefined-behaviour warning in the GPU tier with nothing to tell which pass drew it; the
+    // callback now keeps the open debug groups (the profiler's pass scopes) and prints their path with a message.
+    GpuFixture gpu;
+    REQUIRE(gl::debugGroupPath().empty());
+    gl::Profiler prof(true);
+    prof.beginFrame();
+    {
+        auto outer = prof.scope("outer.pass");
+        CHECK(gl::debugGroupPath() == "outer.pass");
+        {
+            auto inner = prof.scope("inner");
+            CHECK(gl::debugGroupPath() == "outer.pass/inner");
+            // An error inside the group is still counted (and printed with the path).
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1u << 20, 0);
+            CHECK(gl::takeDebugErrorCount() == 1);
+        }
+        CHECK(gl::debugGroupPath() == "outer.pass");
+    }
+    prof.endFrame();
+    CHECK(gl::debugGroupPath().empty());
+}
+
 TEST_CASE("an invalid --device index is a clear error, not a crash") {
     CHECK_THROWS_WITH_AS(gl::HeadlessContext::create({63, false}), doctest::Contains("--device 63"),
                          std::runtime_error);
