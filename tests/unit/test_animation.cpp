@@ -149,6 +149,7 @@ TEST_CASE("path: the named paths load for their scenes") {
                                                                               {"atrium", "atrium-fast-pan"},
                                                                               {"restaurant", "restaurant-walk"},
                                                                               {"gallery", "gallery-lamp-switch"},
+                                                                              {"gallery", "gallery-sphere-move"},
                                                                               {"cornell", "cornell-moving-box"}}) {
         CAPTURE(name);
         Scene s = loadBuiltin(scene);
