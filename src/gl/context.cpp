@@ -105,6 +105,7 @@ ContextInfo queryContextInfo(bool debug) {
     GLint bits = 0;
     glGetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &bits);
     i.timerQuery = bits > 0;
+    tDebugGroups.clear();  // a new context: no group of an earlier one is open (one left by an unwound pass)
     if (debug && glDebugMessageCallback) {
         glEnable(GL_DEBUG_OUTPUT);
         glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
