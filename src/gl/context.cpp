@@ -56,7 +56,9 @@ void GLAPIENTRY debugCallback(GLenum source, GLenum type, GLuint id, GLenum seve
         return;
     }
     if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
-    if (type == GL_DEBUG_TYPE_ERROR) ++gDebugErrors;
+    // Errors, and the driver's undefined-behaviour reports (NVIDIA validates sampler and texture state): tests
+    // assert none of either.
+    if (type == GL_DEBUG_TYPE_ERROR || type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR) ++gDebugErrors;
     // Performance chatter from drivers is not an error; print only the rest
     // (all of it with RTGI_TRACE=1).
     static const bool all = std::getenv("RTGI_TRACE") && std::string(std::getenv("RTGI_TRACE")) != "0";

@@ -43,7 +43,7 @@ private:
 // Fills info strings/capabilities and installs the debug callback; called by
 // every host after glad has loaded the GL functions.
 ContextInfo queryContextInfo(bool debug);
-// GL errors reported through KHR_debug since the last call (tests assert 0).
+// GL errors and undefined-behaviour reports through KHR_debug since the last call (tests assert 0).
 int takeDebugErrorCount();
 // The debug groups open on this thread's context, outermost first, joined by '/' (the profiler's pass scopes;
 // "" outside any): the debug callback prints it with every message so a driver warning names its pass.

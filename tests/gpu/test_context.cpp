@@ -1,5 +1,6 @@
 #include "gpu_fixture.h"
 
+#include "gl/bindings.h"
 #include "gl/embedded.h"
 #include "gl/program.h"
 #include "gl/profiler.h"
@@ -64,6 +65,37 @@ TEST_CASE("a GL debug message names the pass it came from: the debug callback fo
     }
     prof.endFrame();
     CHECK(gl::debugGroupPath().empty());
+}
+
+TEST_CASE("a pass's bindings end with no program current: the units it emptied are not validated against it") {
+    // NVIDIA validates the current program at clears and copies too: post/direct.comp left current with its
+    // shadow-sampler unit emptied drew "Program undefined behavior" warnings in the next pass's render-target
+    // clear (lpv.rsm, lpv.inject; 141 in the device's GPU tier). ScopedBindings now ends with glUseProgram(0).
+    GpuFixture gpu;
+    gl::ProgramCache cache;
+    const gl::Program& prog = cache.computeFromSource(
+        "test/sampler.comp", "layout(local_size_x = 1) in;\nlayout(binding = 3) uniform sampler2D uTex;\n"
+                             "layout(binding = 0, std430) buffer Out { vec4 v; };\nvoid main() { v = texelFetch(uTex, ivec2(0), 0); }\n");
+    gl::MemoryLedger ledger;
+    gl::Texture tex(ledger, "test.tex", gl::TextureDesc{GL_TEXTURE_2D, GL_RGBA8, 1, 1});
+    gl::Buffer out(ledger, "test.out", 16);
+    GLint current = -1;
+    {
+        gl::ScopedBindings b;
+        b.texture(3, tex);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, out.id());
+        gl::dispatch(prog, 1, 1);
+        glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+        CHECK(current == GLint(prog.id()));
+    }
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    CHECK(current == 0);
+    GLint unit = -1;
+    glActiveTexture(GL_TEXTURE3);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &unit);
+    glActiveTexture(GL_TEXTURE0);
+    CHECK(unit == 0);
+    CHECK(gl::takeDebugErrorCount() == 0);
 }
 
 TEST_CASE("an invalid --device index is a clear error, not a crash") {
