@@ -20,10 +20,10 @@ public:
     ~ScopedBindings() {
         for (GLuint u : textures_) glBindTextureUnit(u, 0);
         for (GLuint u : images_) glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R8);
-        // The program that read these units stops being current with them: NVIDIA validates the current program
+        // The program that used these units stops being current with them: NVIDIA validates the current program
         // at later clears and copies too, and warned of post/direct.comp's shadow sampler on its emptied unit in
         // the next pass's render-target clear (docs/STABILITY.md).
-        if (!textures_.empty()) glUseProgram(0);
+        if (!textures_.empty() || !images_.empty()) glUseProgram(0);
     }
 
     // Samples `t` at texture unit `unit`; null leaves the unit empty (an input the variant does not read).
