@@ -98,6 +98,12 @@ nlohmann::json runBenchmark(const gl::ContextInfo& info, Renderer& renderer, con
     nlohmann::json cfg = nlohmann::json::object();
     for (auto& [k, v] : describe(settings)) cfg[k] = typedValue(v);  // numbers as numbers
     r["config"] = cfg;
+    if (const auto& e = renderer.enclosure()) {  // what lpv.coarse_iterations=auto was resolved from (docs/lpv.md, "Closed scenes")
+        r["enclosure"] = {{"escaped", e->escaped},
+                          {"rays", e->rays},
+                          {"lit", e->lit},
+                          {"closed", e->rays > 0 && e->escaped < double(settings.lpv.closedEscape)}};
+    }
     // Which rasterizer produced the G-buffer, shadow map and RSM (docs/visibility.md);
     // "compute-32" / "compute-64": the two-pass 32-bit or the 64-bit atomic path.
     const std::string computeKind =

@@ -93,6 +93,7 @@ void Renderer::configure(const Settings& settings) {
     bool sceneChanged = !gpuScene_ || settings.light.emissiveScale != settings_.light.emissiveScale ||
                         settings.floorRoughness != settings_.floorRoughness;
     settings_ = settings;
+    resolveSceneAutos();
     plan_ = FramePlan{};
     finite_.clear();  // --check counts belong to one configuration
     res_ = FrameResources{};  // release everything; the new frame allocates what it writes
@@ -100,6 +101,27 @@ void Renderer::configure(const Settings& settings) {
     if (sceneChanged) gpuScene_ = std::make_unique<GpuScene>(ledger_, scene_, settings_, restVertices_.empty());
     plan_ = FramePlan::build(frameScript(), frameFamilies(), scene_, settings_);
     resolveLights();
+}
+
+// lpv.coarse_iterations=auto: the open scene's value (the setting's default) unless less than
+// lpv.closed_escape of the light scattered by the scene's surfaces leaves it (docs/lpv.md, "Closed
+// scenes"); settings() then shows the value in effect.
+void Renderer::resolveSceneAutos() {
+    LpvSettings& l = settings_.lpv;
+    if (!l.coarseIterationsAuto) return;
+    if (l.mode != Toggle::Off) {
+        if (!enclosure_) {
+            traceStep("renderer: measuring the scene's enclosure");
+            enclosure_ = measureEnclosure(restVertices_.empty() ? scene_ : [&] {
+                Scene rest = scene_;
+                rest.vertices = restVertices_;
+                return rest;
+            }());
+        }
+        if (enclosure_->rays > 0 && enclosure_->escaped < double(l.closedEscape))
+            l.coarseIterations = LpvSettings::kClosedCoarseIterations;
+    }
+    l.coarseIterationsAuto = false;
 }
 
 // Local lights: the per-frame list and the shadow matrices live as long as

@@ -9,8 +9,10 @@
 #include "render/gpu_scene.h"
 #include "render/frame_plan.h"
 #include "render/pass.h"
+#include "scene/enclosure.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -86,7 +88,12 @@ public:
     const FrameResources& resources() const { return res_; }
     const Scene& scene() const { return scene_; }
     const GpuScene& gpuScene() const { return *gpuScene_; }
+    // The settings in effect: those given to configure() with lpv.coarse_iterations=auto resolved for
+    // this scene (docs/lpv.md, "Closed scenes").
     const Settings& settings() const { return settings_; }
+    // How closed the scene is (measured on the pose the renderer was built with, once, when
+    // lpv.coarse_iterations=auto first needs it); nullopt while nothing asked.
+    const std::optional<Enclosure>& enclosure() const { return enclosure_; }
     gl::MemoryLedger& ledger() { return ledger_; }
     gl::ProgramCache& programs() { return programs_; }
     gl::Profiler& profiler() { return profiler_; }
@@ -99,12 +106,14 @@ public:
 private:
     void uploadFrameUniforms(const View& view);
     void resolveLights();
+    void resolveSceneAutos();
     void allocateShared(const View& view);
     void checkOutputs(const Pass& pass);
     int indexOf(const Pass& pass) const;
 
     Scene scene_;
     Settings settings_;
+    std::optional<Enclosure> enclosure_;
     gl::Profiler& profiler_;
     gl::MemoryLedger ledger_;
     gl::ProgramCache programs_;

@@ -219,8 +219,14 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.iterations", "propagation iterations", "1..64",
             s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),
         KEY("lpv.coarse_iterations", "propagation iterations of the coarsest of several cascades (0: lpv.iterations; "
-            "docs/lpv.md, \"Coarse iterations\")", "0..64",
-            s.lpv.coarseIterations = parseInt("lpv.coarse_iterations", v, 0, 64), fmt(s.lpv.coarseIterations)),
+            "auto: 16, or 64 in a closed scene; docs/lpv.md, \"Coarse iterations\", \"Closed scenes\")", "auto|0..64",
+            (s.lpv.coarseIterationsAuto = v == "auto",
+             s.lpv.coarseIterations = v == "auto" ? LpvSettings{}.coarseIterations
+                                                  : parseInt("lpv.coarse_iterations", v, 0, 64)),
+            s.lpv.coarseIterationsAuto ? "auto" : fmt(s.lpv.coarseIterations)),
+        KEY("lpv.closed_escape", "a scene is closed (lpv.coarse_iterations=auto) when less than "
+            "this share of the light its surfaces scatter leaves it unblocked (docs/lpv.md, \"Closed scenes\")", "0..1",
+            s.lpv.closedEscape = parseFloat("lpv.closed_escape", v, 0, 1), fmt(s.lpv.closedEscape)),
         KEY("lpv.rsm", "reflective shadow map side", "16..4096", s.lpv.rsm = parseInt("lpv.rsm", v, 16, 4096),
             fmt(s.lpv.rsm)),
         KEY("lpv.format", "propagation volume format", "rgba16f|rgba32f",

@@ -74,6 +74,12 @@ struct LpvSettings {
     // (the finer cascade's reach). 16: the coarse cascade crosses the fitted scene (14 usable cells at 16^3),
     // chosen on the GI suite's minimum gain (docs/lpv.md, "Coarse iterations").
     int coarseIterations = 16;
+    // lpv.coarse_iterations=auto (the default): coarseIterations above is the open scene's value; a renderer
+    // whose scene is closed (measureEnclosure's escaped share of scattered light under closedEscape) uses
+    // kClosedCoarseIterations instead (docs/lpv.md, "Closed scenes").
+    bool coarseIterationsAuto = true;
+    float closedEscape = 0.3f;
+    static constexpr int kClosedCoarseIterations = 64;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
     bool occlusion = true;

@@ -46,6 +46,18 @@ TEST_CASE("values are typed and range-checked; errors name the key") {
     CHECK(*s.camera.position == glm::vec3(1, 2.5f, -3));
     applyAssignment(s, "camera.position=auto");
     CHECK_FALSE(s.camera.position.has_value());
+    // auto | a number (docs/lpv.md, "Closed scenes").
+    CHECK(s.lpv.coarseIterationsAuto);
+    applyAssignment(s, "lpv.coarse_iterations=24");
+    CHECK((s.lpv.coarseIterations == 24 && !s.lpv.coarseIterationsAuto));
+    CHECK(describe(s).at("lpv.coarse_iterations") == "24");
+    applyAssignment(s, "lpv.coarse_iterations=auto");
+    CHECK(describe(s).at("lpv.coarse_iterations") == "auto");
+    CHECK((s.lpv.coarseIterationsAuto && s.lpv.coarseIterations == LpvSettings{}.coarseIterations));
+    CHECK_THROWS_WITH_AS(applyAssignment(s, "lpv.coarse_iterations=65"), doctest::Contains("lpv.coarse_iterations"),
+                         ConfigError);
+    CHECK_THROWS_WITH_AS(applyAssignment(s, "lpv.closed_escape=1.5"), doctest::Contains("lpv.closed_escape"),
+                         ConfigError);
     CHECK_THROWS_WITH_AS(applyAssignment(s, "lpv.iterations=0"), doctest::Contains("lpv.iterations"), ConfigError);
     CHECK_THROWS_WITH_AS(applyAssignment(s, "lpv.iterations=65"), doctest::Contains("1..64"), ConfigError);
     CHECK_THROWS_WITH_AS(applyAssignment(s, "lpv.iterations=8x"), doctest::Contains("lpv.iterations"), ConfigError);
