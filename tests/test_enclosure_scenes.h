@@ -27,4 +27,15 @@ inline Light enclosureSun() {
     return sun;
 }
 
+// The 2 x 2 x 1.5 closed box lit by a point light inside it.
+inline Scene enclosureRoom() {
+    Scene s = enclosureBox(2.0f, 1.5f, true);
+    Light point;
+    point.type = LightType::Point;
+    point.position = {1.0f, 1.0f, 1.0f};
+    point.intensity = 5.0f;
+    s.lights.push_back(point);
+    return s;
+}
+
 }  // namespace rtgi::test

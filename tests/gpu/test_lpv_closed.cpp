@@ -9,15 +9,6 @@ using namespace rtgi;
 using namespace rtgi::test;
 
 namespace {
-Scene closedRoom() {
-    Scene s = enclosureBox(2.0f, 1.5f, true);
-    Light point;
-    point.type = LightType::Point;
-    point.position = {1.0f, 1.0f, 1.0f};
-    point.intensity = 5.0f;
-    s.lights.push_back(point);
-    return s;
-}
 Settings autoSettings() {
     Settings st;
     st.ao.variant = AoSettings::Variant::Off;
@@ -35,7 +26,7 @@ TEST_CASE("lpv auto settings: a closed room propagates its coarse cascade longer
     const LpvSettings defaults;
     REQUIRE(defaults.coarseIterationsAuto);
     REQUIRE(defaults.coarseIterations != LpvSettings::kClosedCoarseIterations);
-    const Scene room = closedRoom();
+    const Scene room = enclosureRoom();
     {
         Renderer r(room, autoSettings(), prof);
         REQUIRE(r.enclosure().has_value());

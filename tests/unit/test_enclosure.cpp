@@ -45,12 +45,7 @@ TEST_CASE("enclosure: an open-top box under a vertical sun lets out its floor's 
 }
 
 TEST_CASE("enclosure: a closed box keeps all light; with no light, points weigh by area") {
-    Scene closed = enclosureBox(2.0f, 1.5f, true);
-    Light point;
-    point.type = LightType::Point;
-    point.position = {1.0f, 1.0f, 1.0f};
-    point.intensity = 5.0f;
-    closed.lights.push_back(point);
+    const Scene closed = enclosureRoom();
     const Enclosure c = measureEnclosure(closed, 4096, 3);
     CHECK(c.lit);
     CHECK(c.escaped == 0.0);
