@@ -4,12 +4,14 @@
 #    (auto: closed, 64 steps), the open count (16) and band 2 (lpv.sh_order=2) -> $OUT/cb.txt.
 # 2. Frames at 1080p (common.sh: medians of 100 frames after 20), two repetitions: the Cornell box and the gallery
 #    with auto and with 16 steps, the atrium, restaurant and dragon (open: unchanged) -> $OUT/frames.md.
+# 3. Band 2's propagation cost at 1080p (30 frames): 64 steps with and without energy conservation, 16 steps, and
+#    band 1 at 64 steps -> $OUT/band2.md.
 # Run from the repo root: BENCH=./build/rtgi-bench OUT=/tmp/out SCENES=../shared/scenes benchmarks/device/closed_scenes.sh
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
 C="$SCENES/cornell-box/cornell-box.gltf"
 OPEN=(--set lpv.coarse_iterations=16)
-mkdir -p "$OUT/cb"
+mkdir -p "$OUT/cb" "$OUT/b2"
 cb() {
   local n=$1; shift
   "$BENCH" --scene "$C" --set view=front --res 480x270 --frames 20 --warmup 10 --no-images --reference \
@@ -43,4 +45,14 @@ for p in sorted(pathlib.Path(sys.argv[1]).glob("f*/*/results.json")):
     print(f'{str(p.parent.relative_to(sys.argv[1])):24s} frame {d["total_ms"]:.3f} lpv {lpv:.3f} '
           f'propagate {ps.get("lpv.propagate", -1):.3f} coarse {d["config"]["lpv.coarse_iterations"]}')
 PY
-cat "$OUT/cb.txt" "$OUT/frames.md"
+for v in "band2-64" "band2-64-noec lpv.energy_conserving=off" "band2-16 lpv.coarse_iterations=16" "band1-64 lpv.sh_order=1"; do
+  set -- $v; n=$1; shift; extra=(); for kv in "$@"; do extra+=(--set "$kv"); done
+  "$BENCH" --scene "$C" --set view=front --set lpv.sh_order=2 --set lpv.coarse_iterations=64 "${extra[@]}" \
+    --res 1920x1080 --frames 30 --warmup 10 --no-images --out "$OUT/b2/$n" >"$OUT/b2-$n.log" 2>&1 || echo "FAILED $n"
+  python3 - "$OUT/b2/$n/results.json" "$n" >>"$OUT/band2.md" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); ps = {q["name"]: q["gpu_ms"]["median"] for q in d["passes"]}
+print(f'{sys.argv[2]:16s} frame {d["total_ms"]:.3f} propagate {ps.get("lpv.propagate", -1):.3f}')
+PY
+done
+cat "$OUT/cb.txt" "$OUT/frames.md" "$OUT/band2.md"
