@@ -219,7 +219,7 @@ std::vector<SettingKey> buildKeys() {
         KEY("lpv.iterations", "propagation iterations", "1..64",
             s.lpv.iterations = parseInt("lpv.iterations", v, 1, 64), fmt(s.lpv.iterations)),
         KEY("lpv.coarse_iterations", "propagation iterations of the coarsest of several cascades (0: lpv.iterations; "
-            "auto: 16, or 64 in a closed scene; docs/lpv.md, \"Coarse iterations\", \"Closed scenes\")", "auto|0..64",
+            "auto: 16, or 48 in a closed scene; docs/lpv.md, \"Coarse iterations\", \"Closed scenes\")", "auto|0..64",
             (s.lpv.coarseIterationsAuto = v == "auto",
              s.lpv.coarseIterations = v == "auto" ? LpvSettings{}.coarseIterations
                                                   : parseInt("lpv.coarse_iterations", v, 0, 64)),

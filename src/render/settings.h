@@ -79,7 +79,7 @@ struct LpvSettings {
     // kClosedCoarseIterations instead (docs/lpv.md, "Closed scenes").
     bool coarseIterationsAuto = true;
     float closedEscape = 0.3f;
-    static constexpr int kClosedCoarseIterations = 64;
+    static constexpr int kClosedCoarseIterations = 48;
     int rsm = 256;
     enum class Format { Rgba16f, Rgba32f } format = Format::Rgba16f;
     bool occlusion = true;

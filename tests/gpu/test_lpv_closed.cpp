@@ -33,7 +33,7 @@ TEST_CASE("lpv auto settings: a closed room propagates its coarse cascade longer
         CHECK(r.enclosure()->escaped == 0.0);
         CHECK(r.settings().lpv.coarseIterations == LpvSettings::kClosedCoarseIterations);
         CHECK_FALSE(r.settings().lpv.coarseIterationsAuto);  // settings() shows what took effect
-        // The closed configuration renders (64 coarse steps), its light stays finite.
+        // The closed configuration renders (kClosedCoarseIterations coarse steps), its light stays finite.
         Camera cam;
         cam.position = {1.0f, 0.75f, 1.9f};
         cam.target = {1.0f, 0.5f, 0.0f};
