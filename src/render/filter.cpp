@@ -62,10 +62,10 @@ TemporalCamera temporalCamera(const View& view) {
 }
 
 std::uint32_t TemporalFilter::disoccludedPixels() const {
-    if (!counts_) return 0;
+    if (lastCount_ < 0) return 0;
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // producer: the last run's atomics
     std::uint32_t n = 0;
-    counts_.download(&n, sizeof(n));
+    counts_[lastCount_].download(&n, sizeof(n));
     return n;
 }
 
@@ -95,9 +95,11 @@ const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLed
     prog.set(RTGI_FILTER_LOC_RESET, (reset || !valid_) ? 1 : 0);
     prog.set(RTGI_FILTER_LOC_CUR_TO_PREV_VIEW, camera.curToPrevView);
     prog.set(RTGI_FILTER_LOC_PROJ_SCALE, camera.projScale);
-    if (!counts_) counts_ = gl::Buffer(ledger, label + ".disoccluded", sizeof(std::uint32_t));
-    counts_.clearZero();
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_FILTER_SSBO_COUNTS, counts_.id());
+    lastCount_ = (lastCount_ + 1) % kCountBuffers;
+    gl::Buffer& count = counts_[lastCount_];
+    if (!count) count = gl::Buffer(ledger, label + ".disoccluded", sizeof(std::uint32_t));
+    count.clearZero();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RTGI_FILTER_SSBO_COUNTS, count.id());
     glBindImageTexture(RTGI_FILTER_IMG_OUT, value_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
     glBindImageTexture(RTGI_FILTER_IMG_OUT_DEPTH, depth_[next].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     gl::dispatch(prog, w, h);

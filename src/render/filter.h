@@ -64,7 +64,12 @@ public:
 
 private:
     gl::Texture value_[2], depth_[2];
-    gl::Buffer counts_;
+    // The disocclusion counter, three in turn, so that a frame's clear never meets a buffer the previous frame's
+    // dispatch may still use (a suspect, not confirmed on the device, for the Cornell box's ao.temporal stall:
+    // docs/lpv.md "Closed scenes").
+    static constexpr int kCountBuffers = 3;
+    gl::Buffer counts_[kCountBuffers];
+    int lastCount_ = -1;
     int cur_ = 0;
     bool valid_ = false;
 };
