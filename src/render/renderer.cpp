@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include "render/passes/core_passes.h"
+#include "render/lpv/lpv_passes.h"
 #include "compute/lib/post_shared.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -109,7 +110,8 @@ void Renderer::configure(const Settings& settings) {
 void Renderer::resolveSceneAutos() {
     LpvSettings& l = settings_.lpv;
     if (!l.coarseIterationsAuto) return;
-    if (l.mode != Toggle::Off) {
+    // No measure (a BVH build) where the count is not used: LPV off or without light, one cascade, raster path.
+    if (lpvCoarseStepsUsed(scene_, settings_)) {
         if (!enclosure_) {
             traceStep("renderer: measuring the scene's enclosure");
             enclosure_ = measureEnclosure(restVertices_.empty() ? scene_ : [&] {

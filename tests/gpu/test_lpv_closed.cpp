@@ -1,7 +1,7 @@
 // lpv.coarse_iterations=auto (docs/lpv.md, "Closed scenes"): a renderer resolves it from the enclosure
 // measure of its scene (scene/enclosure.h, closed forms in tests/unit/test_enclosure.cpp): the closed
 // reach in a closed box, the open one in an open scene, an explicit value always wins, and no measure is
-// taken while the LPV is off.
+// taken where the count is not used (LPV off or without light, one cascade, the raster path).
 #include "gpu_fixture.h"
 #include "test_enclosure_scenes.h"
 
@@ -65,11 +65,22 @@ TEST_CASE("lpv auto settings: a closed room propagates its coarse cascade longer
         CHECK(r.enclosure()->escaped > double(defaults.closedEscape));
         CHECK(r.settings().lpv.coarseIterations == defaults.coarseIterations);
     }
-    {   // LPV off: no measure, the open value.
+    // No measure (a BVH build) where the count is not used: LPV off, one cascade, the raster path (one
+    // volume), a scene without light (no LPV pass runs).
+    for (int c = 0; c < 4; ++c) {
+        CAPTURE(c);
         Settings st = autoSettings();
-        st.lpv.mode = Toggle::Off;
-        Renderer r(room, st, prof);
+        Scene scene = room;
+        if (c == 0) st.lpv.mode = Toggle::Off;
+        if (c == 1) st.lpv.cascades = 1;
+        if (c == 2) st.lpv.path = LpvSettings::Path::Raster;
+        if (c == 3) {
+            scene.lights.clear();
+            st.lpv.mode = Toggle::Auto;  // "on" without light is a configuration error
+        }
+        Renderer r(scene, st, prof);
         CHECK_FALSE(r.enclosure().has_value());
         CHECK(r.settings().lpv.coarseIterations == defaults.coarseIterations);
+        CHECK_FALSE(r.settings().lpv.coarseIterationsAuto);
     }
 }

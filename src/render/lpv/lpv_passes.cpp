@@ -1154,6 +1154,10 @@ bool lpvActive(const Scene& scene, const Settings& s) {
     return skyBounceNeeded(s) && std::max({sky.x, sky.y, sky.z}) > 0.0f;
 }
 
+bool lpvCoarseStepsUsed(const Scene& scene, const Settings& s) {
+    return cascadeCount(s.lpv) > 1 && lpvActive(scene, s);
+}
+
 bool lpvSpecularActive(const Scene& scene, const Settings& s) {
     if (!lpvActive(scene, s) || s.lpv.specular == Toggle::Off) return false;
     if (s.lpv.specular == Toggle::On) return true;

@@ -14,6 +14,9 @@ void validateLpvSettings(const Scene& scene, const Settings& settings);
 Need lpvFamily(const Scene& scene, const Settings& settings);
 // Whether LPV runs for this scene + settings (auto: when the scene has a sun).
 bool lpvActive(const Scene& scene, const Settings& settings);
+// Whether lpv.coarse_iterations matters for this frame: the LPV runs, on the compute path, with more than one
+// cascade (the coarsest is the one stepped separately). lpv.coarse_iterations=auto measures the scene only then.
+bool lpvCoarseStepsUsed(const Scene& scene, const Settings& settings);
 // Whether LPV specular runs (auto: when a material is at most ssr.roughness_cutoff rough).
 bool lpvSpecularActive(const Scene& scene, const Settings& settings);
 }  // namespace rtgi
