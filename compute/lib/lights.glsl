@@ -162,10 +162,10 @@ bool localShadowCoord(GpuLight g, vec3 x, out vec4 coord) {
     return all(greaterThanEqual(s.xy, vec2(0.0))) && all(lessThanEqual(s.xy, vec2(1.0)));
 }
 
-// Point k of 16 on the emitting shape centre ± u ± v: a 4x4 stratified grid,
-// each point moved inside its cell by xi ∈ [0,1)².
-vec3 lightShapePoint(vec3 centre, vec3 u, vec3 v, int k, vec2 xi) {
-    vec2 t = (vec2(float(k & 3), float(k >> 2)) + xi) * 0.5 - 1.0;
+// Point k of m² on the emitting shape centre ± u ± v: an m x m stratified
+// grid, each point moved inside its cell by xi ∈ [0,1)².
+vec3 lightShapePoint(vec3 centre, vec3 u, vec3 v, int k, int m, vec2 xi) {
+    vec2 t = (vec2(float(k % m), float(k / m)) + xi) * (2.0 / float(m)) - 1.0;
     return centre + u * t.x + v * t.y;
 }
 
@@ -176,41 +176,32 @@ vec3 lightShapePoint(vec3 centre, vec3 u, vec3 v, int k, vec2 xi) {
 // a point l on the light crosses a blocker at distance r_B from o at
 // b = p' + (l − p')·(1 − r_B/|p' − o|), so the shadow map looked up in b's
 // direction answers "is that ray blocked" exactly for a blocker at r_B.
-// 1. blocker search: 16 rays p' -> l at four fractions s of the way (Latin
-//    square over the grid), the mean distance r_B of texels closer to o than
-//    the receiver's tangent plane in that direction (no self-shadowing of
-//    the plane) and than the receiver (cleared texels are no blockers);
-//    2. 16 compare taps (each bilinear, 2x2) at the receiver's
+// The rays go to an m x m grid on the light, m = sh.halfV.w (4 when 0): a
+// piece of an emissive.split panel takes 4/n per side, so the n² pieces
+// together sample the panel's 4x4 grid, each from its own map.
+// 1. blocker search: max(m², 4) rays p' -> l at four fractions s of the way
+//    (m = 4: a Latin square over the grid), the mean distance r_B of texels
+//    closer to o than the receiver's tangent plane in that direction (no
+//    self-shadowing of the plane) and than the receiver (cleared texels are
+//    no blockers);
+//    2. m² compare taps (each bilinear, 2x2) at the receiver's
 //    plane along the rays for that r_B: penumbra width 2h·(d − r_B)/r_B
 //    (similar triangles). Falls back to the 3x3 PCF for a punctual light.
-float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight g, GpuLightShape sh, vec3 p,
-                      vec3 n, float dist, vec2 xi) {
-    if (g.cone.z < 0.0) return 1.0;
+// The two steps for the m x m grid on the light (called with a literal m,
+// so each instance's loops have constant bounds).
+float softShadowGrid(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight g, vec3 centre, vec3 u, vec3 v,
+                     vec3 q, vec3 n, float far, vec2 xi, int m) {
     vec3 o = g.positionRange.xyz;
-    vec3 centre, u, v;
-    if (int(g.directionType.w) == RTGI_LIGHT_AREA) {
-        centre = sh.centerRadius.xyz;
-        u = sh.halfU.xyz;
-        v = sh.halfV.xyz;
-    } else {
-        float radius = sh.centerRadius.w;
-        if (!(radius > 0.0)) return localShadow(maps, g, p, n, dist);
-        vec3 w = normalize(p - o);
-        vec3 t = normalize(cross(abs(w.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0), w));
-        float h = radius * 0.886226925;  // √π / 2: the square of the disc's area
-        centre = o;
-        u = t * h;
-        v = cross(w, t) * h;
-    }
-    vec3 q = p + n * (g.cone.w * dist);
     float d = length(q - o);
-    float far = sh.halfU.w;
     float planeDist = dot(q - o, n);  // < 0: the light is in front of the receiver's plane
     float tolerance = 1.0 - 2.0 * g.cone.w;
+    int taps = m * m;
     float sum = 0.0, found = 0.0;
-    for (int k = 0; k < 16; ++k) {
-        float s = 0.35 + 0.2 * float((k + (k >> 2)) & 3);  // 0.35, 0.55, 0.75, 0.95 of the way
-        vec3 b = q + (lightShapePoint(centre, u, v, k, vec2(0.5)) - q) * s;
+    for (int j = 0; j < max(taps, 4); ++j) {
+        int k = j % taps;
+        // 0.35, 0.55, 0.75, 0.95 of the way
+        float s = 0.35 + 0.2 * float(m == 4 ? ((k & 3) + (k >> 2)) & 3 : j & 3);
+        vec3 b = q + (lightShapePoint(centre, u, v, k, m, vec2(0.5)) - q) * s;
         vec4 c;
         if (!localShadowCoord(g, b, c)) continue;
         vec3 dir = normalize(b - o);
@@ -231,14 +222,40 @@ float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight
     if (found == 0.0) return 1.0;
     float sf = clamp(1.0 - sum / found / d, 0.0, 1.0);
     float vis = 0.0;
-    for (int k = 0; k < 16; ++k) {
-        vec3 b = q + (lightShapePoint(centre, u, v, k, xi) - q) * sf;
+    for (int k = 0; k < taps; ++k) {
+        vec3 b = q + (lightShapePoint(centre, u, v, k, m, xi) - q) * sf;
         vec3 dir = normalize(b - o);
         float dn = dot(dir, n);
         vec3 x = dn < -1e-4 ? o + dir * (planeDist / dn) : b;
         vec4 c;
         vis += localShadowCoord(g, x, c) ? texture(maps, c) : 1.0;
     }
-    return vis / 16.0;
+    return vis / float(taps);
+}
+
+float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight g, GpuLightShape sh, vec3 p,
+                      vec3 n, float dist, vec2 xi) {
+    if (g.cone.z < 0.0) return 1.0;
+    vec3 o = g.positionRange.xyz;
+    vec3 centre, u, v;
+    if (int(g.directionType.w) == RTGI_LIGHT_AREA) {
+        centre = sh.centerRadius.xyz;
+        u = sh.halfU.xyz;
+        v = sh.halfV.xyz;
+    } else {
+        float radius = sh.centerRadius.w;
+        if (!(radius > 0.0)) return localShadow(maps, g, p, n, dist);
+        vec3 w = normalize(p - o);
+        vec3 t = normalize(cross(abs(w.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0), w));
+        float h = radius * 0.886226925;  // √π / 2: the square of the disc's area
+        centre = o;
+        u = t * h;
+        v = cross(w, t) * h;
+    }
+    vec3 q = p + n * (g.cone.w * dist);
+    int m = sh.halfV.w > 0.0 ? int(sh.halfV.w) : 4;  // uniform per light: no divergence
+    if (m >= 4) return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 4);
+    if (m >= 2) return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 2);
+    return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 1);
 }
 #endif

@@ -129,6 +129,8 @@ void Texture::zeroAllLevels() const {
 }
 
 void Texture::setSampling(GLenum minFilter, GLenum magFilter, GLenum wrap) const {
+    if (sampling_[0] == minFilter && sampling_[1] == magFilter && sampling_[2] == wrap) return;
+    sampling_[0] = minFilter, sampling_[1] = magFilter, sampling_[2] = wrap;
     glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, GLint(minFilter));
     glTextureParameteri(id(), GL_TEXTURE_MAG_FILTER, GLint(magFilter));
     glTextureParameteri(id(), GL_TEXTURE_WRAP_S, GLint(wrap));
@@ -159,6 +161,7 @@ bool Texture::ensure(MemoryLedger& ledger, const std::string& label, const Textu
 
 void Texture::reset() {
     handle_.reset();
+    sampling_[0] = sampling_[1] = sampling_[2] = 0;
     entry_ = LedgerEntry();
     desc_ = {};
 }

@@ -73,27 +73,46 @@ LocalLights resolveLocalLights(const Scene& scene, const Settings& settings, int
                                    std::to_string(regions.size() - cap) + " (" + pct +
                                    " % of the emitted power) only emit and light nothing in the real-time path");
         }
+        // emissive.split: each kept region's rectangle is cut into n × n
+        // rectangles of its radiance (the diffuse term sums to the whole
+        // rectangle's exactly); every piece is a light with its own cube
+        // shadow map and RSM, so the penumbrae are searched from n² origins.
+        const std::size_t kept = std::size_t(std::count(keep.begin(), keep.end(), char(1)));
+        int n = settings.light.emissiveSplit;
+        if (n == 0) n = kept * 4 <= cap ? 2 : 1;
+        out.emissiveSplit = n;
         int r = 0;
         for (std::size_t k = 0; k < regions.size(); ++k) {
             const EmissiveRegion& reg = regions[k];
             if (!keep[k]) continue;
-            LocalLight L;
-            L.name = "emissive region " + std::to_string(r++);
-            glm::vec3 n(reg.normal);
-            // Slightly in front of the emitting surface, so the region itself
-            // (behind the light, where the cosine lobe is 0) never shadows it.
-            glm::vec3 p = glm::vec3(reg.centroid) + n * float(0.01 * std::sqrt(reg.area));
-            glm::vec3 i0 = glm::vec3(reg.radiance * reg.area);  // I(θ) = Le·A·cos θ
-            L.gpu.positionRange = glm::vec4(p, 0);
-            L.gpu.colorIntensity = glm::vec4(i0, 0);
-            L.gpu.directionType = glm::vec4(n, RTGI_LIGHT_AREA);
-            L.gpu.cone = glm::vec4(0, 0, -1, 0);
-            L.shape.centerRadius = glm::vec4(glm::vec3(reg.centroid), 0);
-            L.shape.halfU = glm::vec4(glm::vec3(reg.halfU), 0);
-            L.shape.halfV = glm::vec4(glm::vec3(reg.halfV), 0);
-            L.peak = maxComponent(i0);
-            L.influence = influenceRadius(0.0f, L.peak, cutoff);
-            out.lights.push_back(L);
+            const std::string region = "emissive region " + std::to_string(r++);
+            const glm::dvec3 halfU = reg.halfU / double(n), halfV = reg.halfV / double(n);
+            const double area = reg.area / double(n * n);
+            glm::vec3 nrm(reg.normal);
+            for (int piece = 0; piece < n * n; ++piece) {
+                const int a = piece % n, b = piece / n;
+                const glm::dvec3 centre = reg.centroid + reg.halfU * (double(2 * a + 1) / n - 1.0) +
+                                          reg.halfV * (double(2 * b + 1) / n - 1.0);
+                LocalLight L;
+                L.name = n > 1 ? region + " piece " + std::to_string(piece) : region;
+                // Slightly in front of the emitting surface, so the region itself
+                // (behind the light, where the cosine lobe is 0) never shadows it.
+                glm::vec3 p = glm::vec3(centre) + nrm * float(0.01 * std::sqrt(area));
+                glm::vec3 i0 = glm::vec3(reg.radiance * area);  // I(θ) = Le·A·cos θ
+                L.gpu.positionRange = glm::vec4(p, 0);
+                L.gpu.colorIntensity = glm::vec4(i0, 0);
+                L.gpu.directionType = glm::vec4(nrm, RTGI_LIGHT_AREA);
+                L.gpu.cone = glm::vec4(0, 0, -1, 0);
+                L.shape.centerRadius = glm::vec4(glm::vec3(centre), 0);
+                L.shape.halfU = glm::vec4(glm::vec3(halfU), 0);
+                // 4/n soft-shadow rays per side: the pieces sample the panel's 4x4 grid together.
+                L.shape.halfV = glm::vec4(glm::vec3(halfV), float(std::max(1, 4 / n)));
+                L.peak = maxComponent(i0);
+                // The pieces reach as far as the whole region would: the
+                // cut must not move where the panel's light is culled.
+                L.influence = influenceRadius(0.0f, maxComponent(glm::vec3(reg.radiance * reg.area)), cutoff);
+                out.lights.push_back(L);
+            }
         }
     }
     // Faces, and shadow layers for the brightest lights first.

@@ -35,6 +35,7 @@ inline constexpr int kMaxShadowLayers = 2048;
 
 struct LocalLights {
     std::vector<LocalLight> lights;  // scene point/spot lights first, then the area lights
+    int emissiveSplit = 1;           // pieces per side of each emissive region (emissive.split, resolved)
     int sceneLights = 0;             // how many of them are the scene's own (the reference's lights)
     std::vector<std::pair<std::string, std::string>> leftOut;  // (light, reason): zero intensity
     int faces = 0;         // of every light (RSM faces, the budget's cache)

@@ -184,6 +184,9 @@ std::vector<SettingKey> buildKeys() {
             "auto|0..1e4", s.light.lightRadius = optFloat<float>("light.radius", v, 0, 1e4), fmtOpt(s.light.lightRadius)),
         KEY("emissive.max_lights", "emissive regions that become area lights: the brightest by power; the others only emit (a warning says how many and what share of the power)", "0..4096",
             s.light.maxAreaLights = parseInt("emissive.max_lights", v, 0, 4096), fmt(s.light.maxAreaLights)),
+        KEY("emissive.split", "each emissive region's rectangle becomes n x n area lights, each with its own cube shadow map and RSM: soft shadows searched from n^2 origins over the panel (auto: 2 while the pieces stay within emissive.max_lights, else 1; docs/lights.md, \"Penumbrae\")", "auto|1..4",
+            s.light.emissiveSplit = v == "auto" ? 0 : parseInt("emissive.split", v, 1, 4),
+            s.light.emissiveSplit == 0 ? "auto" : fmt(s.light.emissiveSplit)),
         KEY("light.budget", "local-light faces (spot map, cube face) drawn per frame into shadow maps and RSMs, by priority; the rest reuse their cached maps while static; also bounds the local RSMs' injected texels to budget x lpv.rsm^2 (0: every face every frame, no cache)", "0..100000",
             s.light.budget = parseInt("light.budget", v, 0, 100000), fmt(s.light.budget)),
         // ---- rasterization ----------------------------------------------------

@@ -44,6 +44,11 @@ struct LightSettings {
     // others are left out with a warning (issue 28: an emissive texture of
     // many islands became 120 lights = 720 shadow faces + 720 RSMs).
     int maxAreaLights = 32;
+    // Each emissive region's rectangle is cut into split × split area lights
+    // (0: auto, 2 while the pieces stay within maxAreaLights, else 1), each
+    // with its own cube shadow map and RSM: the penumbrae are searched from
+    // split² origins over the panel instead of its centre alone.
+    int emissiveSplit = 0;
     // Local-light faces (a spot map or a cube face) drawn per frame into the
     // shadow maps and, with the LPV, into the RSMs; the others keep their
     // cached maps while their light and the scene are static (docs/lights.md

@@ -337,6 +337,7 @@ TEST_CASE("Area lights: a rectangular emitter is one area light; unshadowed, the
     s.cameras[0].target = {0.0f, 0.15f, 0.0f};
     Settings st = lightSettings();
     st.post.passesOff = "shadow.local";  // unshadowed: the oracle has no occlusion
+    st.light.emissiveSplit = 1;
     LocalLights ll = resolveLocalLights(s, st);
     REQUIRE(ll.lights.size() == 1);
     const LocalLight& L = ll.lights[0];
@@ -351,38 +352,44 @@ TEST_CASE("Area lights: a rectangular emitter is one area light; unshadowed, the
     CHECK(std::min(lu, lv) == doctest::Approx(hv).epsilon(1e-5));
     CHECK(glm::normalize(glm::cross(glm::dvec3(L.shape.halfU), glm::dvec3(L.shape.halfV))).y == doctest::Approx(-1.0));
 
-    Frame f = render(s, st, prof);
-    Camera cam = resolveCamera(s, st);
-    const std::vector<glm::dvec3> quad = {{-hu, y0, -hv}, {hu, y0, -hv}, {hu, y0, hv}, {-hu, y0, hv}};
-    int floorN = 0, wallN = 0, clipped = 0, bad = 0;
-    double worst = 0;
-    forEachSurfacePixel(f, s, st, [&](int x, int y, glm::dvec3 p) {
-        glm::dvec3 n;
-        if (std::abs(p.y) < 1e-3 && std::abs(p.x) < 1.9 && std::abs(p.z) < 1.9 && p.x > 0.12) n = {0, 1, 0};
-        else if (std::abs(p.x - 0.1) < 1e-3 && p.y > 0.02 && p.y < 0.43 && std::abs(p.z) < 0.95) n = {1, 0, 0};
-        else return;
-        glm::dvec3 vdir = glm::normalize(glm::dvec3(cam.position) - p);
-        // Diffuse: ρ/π · Lambert's closed form; the small GGX lobe of the
-        // dielectric (F0 = 0.04, roughness 1) integrated by brute force.
-        double diffuse = albedo / M_PI * clippedPolygonIrradiance(p, n, quad, le);
-        double spec = integrateOverRectangle(p, n, {0, y0, 0}, {hu, 0, 0}, {0, 0, hv}, le, 64,
-                                             [&](glm::dvec3 w) { return ggxSpecular(n, vdir, w, 1.0); });
-        double expect = diffuse + spec, got = f.direct.at(x, y, 0);
-        double err = std::abs(got - expect) / expect;
-        worst = std::max(worst, err);
-        if (err > 0.01) ++bad;
-        (n.y > 0 ? floorN : wallN)++;
-        // The wall's tangent plane cuts the rectangle: without clipping, Lambert's formula would be off.
-        if (n.x > 0 && std::abs(polygonIrradiance(p, n, quad, le) / clippedPolygonIrradiance(p, n, quad, le) - 1) > 0.05)
-            ++clipped;
-    });
-    MESSAGE("floor pixels " << floorN << ", wall pixels " << wallN << " (" << clipped << " clipped), off by > 1 % "
-                            << bad << ", worst " << worst);
-    REQUIRE(floorN > 500);
-    REQUIRE(wallN > 100);
-    CHECK(clipped > wallN / 2);  // the wall pixels do test the clipping
-    CHECK(bad <= (floorN + wallN) / 200);  // ≤ 0.5 % of the pixels (the representative-point GGX is ~3 % of the total)
-    CHECK(worst < 0.03);
+    // emissive.split=2 cuts it into four lights whose diffuse terms sum to the same closed form.
+    for (int split : {1, 2}) {
+        CAPTURE(split);
+        st.light.emissiveSplit = split;
+        REQUIRE(resolveLocalLights(s, st).lights.size() == std::size_t(split * split));
+        Frame f = render(s, st, prof);
+        Camera cam = resolveCamera(s, st);
+        const std::vector<glm::dvec3> quad = {{-hu, y0, -hv}, {hu, y0, -hv}, {hu, y0, hv}, {-hu, y0, hv}};
+        int floorN = 0, wallN = 0, clipped = 0, bad = 0;
+        double worst = 0;
+        forEachSurfacePixel(f, s, st, [&](int x, int y, glm::dvec3 p) {
+            glm::dvec3 n;
+            if (std::abs(p.y) < 1e-3 && std::abs(p.x) < 1.9 && std::abs(p.z) < 1.9 && p.x > 0.12) n = {0, 1, 0};
+            else if (std::abs(p.x - 0.1) < 1e-3 && p.y > 0.02 && p.y < 0.43 && std::abs(p.z) < 0.95) n = {1, 0, 0};
+            else return;
+            glm::dvec3 vdir = glm::normalize(glm::dvec3(cam.position) - p);
+            // Diffuse: ρ/π · Lambert's closed form; the small GGX lobe of the
+            // dielectric (F0 = 0.04, roughness 1) integrated by brute force.
+            double diffuse = albedo / M_PI * clippedPolygonIrradiance(p, n, quad, le);
+            double spec = integrateOverRectangle(p, n, {0, y0, 0}, {hu, 0, 0}, {0, 0, hv}, le, 64,
+                                                 [&](glm::dvec3 w) { return ggxSpecular(n, vdir, w, 1.0); });
+            double expect = diffuse + spec, got = f.direct.at(x, y, 0);
+            double err = std::abs(got - expect) / expect;
+            worst = std::max(worst, err);
+            if (err > 0.01) ++bad;
+            (n.y > 0 ? floorN : wallN)++;
+            // The wall's tangent plane cuts the rectangle: without clipping, Lambert's formula would be off.
+            if (n.x > 0 && std::abs(polygonIrradiance(p, n, quad, le) / clippedPolygonIrradiance(p, n, quad, le) - 1) > 0.05)
+                ++clipped;
+        });
+        MESSAGE("floor pixels " << floorN << ", wall pixels " << wallN << " (" << clipped << " clipped), off by > 1 % "
+                                << bad << ", worst " << worst);
+        REQUIRE(floorN > 500);
+        REQUIRE(wallN > 100);
+        CHECK(clipped > wallN / 2);  // the wall pixels do test the clipping
+        CHECK(bad <= (floorN + wallN) / 200);  // ≤ 0.5 % of the pixels (the representative-point GGX is ~3 % of the total)
+        CHECK(worst < 0.03);
+    }
 }
 
 TEST_CASE("Area lights: the representative-point GGX term against numerical integration of GGX over the rectangle") {
@@ -507,22 +514,95 @@ TEST_CASE("Area lights: the penumbra of a plate's edge under a rectangular light
         addQuad(*sc, {-u, yf, -v}, {u, yf, -v}, {u, yf, v}, {-u, yf, v}, m);
     }
     Settings st = lightSettings();
-    Frame lit = render(open, st, prof), shadowed = render(s, st, prof);
-    // A ray from (x, 0) to the light point (l, H) passes the plate's plane at
-    // x + (l − x)·hB/H, so the penumbra spans |x| ≤ hx·hB/(H − hB) and the
-    // visibility rises linearly in l (uniform over the rectangle's width):
-    // 0.1 and 0.9 at ∓0.8·half.
-    const double half = hx * hB / (H - hB);
-    PenumbraProfile r = penumbraProfile(lit, shadowed, s, st, half);
-    MESSAGE("rectangle: penumbra 10-90 % width " << r.x90 - r.x10 << " (predicted " << 1.6 * half << "), x(0.5) "
-                                                 << r.x50);
-    REQUIRE(r.filled > 30);
-    REQUIRE(std::isfinite(r.x10));
-    REQUIRE(std::isfinite(r.x90));
-    CHECK(std::abs((r.x90 - r.x10) / (1.6 * half) - 1.0) < 0.25);
-    CHECK(std::abs(r.x50) < 0.15 * half);
-    CHECK(r.umbra < 0.05);  // deep in the umbra
-    CHECK(r.lit > 0.95);    // fully outside
+    for (int split : {1, 2}) {  // one light, or four (emissive.split) whose penumbrae add up to the same
+        CAPTURE(split);
+        st.light.emissiveSplit = split;
+        Frame lit = render(open, st, prof), shadowed = render(s, st, prof);
+        // A ray from (x, 0) to the light point (l, H) passes the plate's plane at
+        // x + (l − x)·hB/H, so the penumbra spans |x| ≤ hx·hB/(H − hB) and the
+        // visibility rises linearly in l (uniform over the rectangle's width):
+        // 0.1 and 0.9 at ∓0.8·half.
+        const double half = hx * hB / (H - hB);
+        PenumbraProfile r = penumbraProfile(lit, shadowed, s, st, half);
+        MESSAGE("rectangle, split " << split << ": penumbra 10-90 % width " << r.x90 - r.x10 << " (predicted "
+                                    << 1.6 * half << "), x(0.5) " << r.x50);
+        REQUIRE(r.filled > 30);
+        REQUIRE(std::isfinite(r.x10));
+        REQUIRE(std::isfinite(r.x90));
+        CHECK(std::abs((r.x90 - r.x10) / (1.6 * half) - 1.0) < 0.25);
+        CHECK(std::abs(r.x50) < 0.15 * half);
+        CHECK(r.umbra < 0.05);  // deep in the umbra
+        CHECK(r.lit > 0.95);    // fully outside
+    }
+}
+
+TEST_CASE("Area lights: the shadow of a tall box (a blocker spanning many depths) against the exact visible share of "
+          "the rectangle; the split light's shadow is at least as close") {
+    GpuFixture fx;
+    gl::Profiler prof(false);
+    // A 0.5 x 0.4 m panel 1 m up; a box 0.5 m wide and 0.55 m tall beside its centre, so the panel's centre
+    // sees its top and one side while its corners see the other sides: PCSS's one mean blocker depth per pixel.
+    const double le = 5.0, hx = 0.25, hz = 0.2, H = 1.0;
+    const glm::dvec3 lo(0.15, 0.0, -0.25), hi(0.65, 0.55, 0.25);
+    Scene s = floorScene(4.0f, glm::vec3(0.7f), false);
+    addBox(s, glm::vec3(lo), glm::vec3(hi), 0);
+    Material e;
+    e.baseColor = glm::vec4(0, 0, 0, 1);
+    e.emissive = glm::vec3(float(le));
+    s.materials.push_back(e);
+    addQuad(s, {-float(hx), float(H), -float(hz)}, {float(hx), float(H), -float(hz)}, {float(hx), float(H), float(hz)},
+            {-float(hx), float(H), float(hz)}, int(s.materials.size() - 1));
+    s.cameras[0].position = {0.2f, 0.95f, 1.4f};
+    s.cameras[0].target = {0.7f, 0.0f, 0.0f};
+    s.cameras[0].fovY = glm::radians(70.0f);
+    // The visible share of the panel from a floor point, weighted by the point-to-area form factor (double).
+    auto visibleShare = [&](glm::dvec3 p) {
+        const int k = 48;
+        double all = 0, seen = 0;
+        for (int j = 0; j < k; ++j)
+            for (int i = 0; i < k; ++i) {
+                const glm::dvec3 l(-hx + (i + 0.5) / k * 2 * hx, H, -hz + (j + 0.5) / k * 2 * hz), d = l - p;
+                const double r2 = glm::dot(d, d), w = (d.y / std::sqrt(r2)) * (d.y / std::sqrt(r2)) / r2;
+                all += w;
+                if (!segmentHitsBox(p, l, lo, hi, 0.0)) seen += w;
+            }
+        return seen / all;
+    };
+    double penErr[2] = {0, 0};
+    for (int split : {1, 2}) {
+        CAPTURE(split);
+        Settings st = lightSettings();
+        st.light.emissiveSplit = split;
+        Frame shadowed = render(s, st, prof);
+        st.post.passesOff = "shadow.local";
+        Frame open = render(s, st, prof);
+        int pen = 0, umbra = 0, umbraBad = 0, litN = 0, litBad = 0;
+        double sum = 0;
+        forEachSurfacePixel(shadowed, s, st, [&](int x, int y, glm::dvec3 p) {
+            if (std::abs(p.y) > 1e-3 || std::abs(p.x) > 1.5 || std::abs(p.z) > 1.5) return;
+            const double base = open.direct.at(x, y, 0);
+            if (!(base > 0)) return;
+            const double got = shadowed.direct.at(x, y, 0) / base, want = visibleShare(p);
+            if (want < 0.02) {
+                ++umbra, umbraBad += got > 0.15;
+            } else if (want > 0.98) {
+                ++litN, litBad += got < 0.85;
+            } else {
+                ++pen, sum += std::abs(got - want);
+            }
+        });
+        penErr[split - 1] = sum / std::max(pen, 1);
+        MESSAGE("split " << split << ": penumbra pixels " << pen << ", mean |visibility error| " << penErr[split - 1]
+                         << "; umbra " << umbra << " (" << umbraBad << " > 0.15), lit " << litN << " (" << litBad
+                         << " < 0.85)");
+        REQUIRE(pen > 300);
+        REQUIRE(umbra > 40);
+        REQUIRE(litN > 300);
+        CHECK(umbraBad <= umbra / 20);
+        CHECK(litBad <= litN / 50);
+        CHECK(penErr[split - 1] < 0.12);
+    }
+    CHECK(penErr[1] <= penErr[0]);
 }
 
 TEST_CASE("Area lights: a point light with light.radius casts the penumbra of a disc of that radius") {
@@ -570,7 +650,7 @@ TEST_CASE("The original Cornell box (emissive panel, no sun) runs with shadows a
     auto r = renderFrames(s, st, {48, 36}, prof);
     for (const char* p : {"shadow.local", "direct", "lpv.rsm", "lpv.inject", "lpv.propagate", "lpv.apply"})
         CHECK_MESSAGE(r->findPass(p) != nullptr, p);
-    CHECK(r->localLightsShadowed() == 1);  // the panel, as one area light
+    CHECK(r->localLightsShadowed() == 4);  // the panel, as 2 x 2 area lights (emissive.split=auto)
     FloatImage direct = readTexture(r->resources().direct), indirect = readTexture(r->resources().indirectDiffuse);
     double d = 0, ir = 0, ig = 0;
     for (int y = 0; y < 36; ++y)

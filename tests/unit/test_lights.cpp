@@ -151,6 +151,7 @@ TEST_CASE("local lights: area lights from regions, culling by influence sphere, 
     behind.intensity = 5.0f;
     s.lights.push_back(behind);
     Settings st;
+    st.light.emissiveSplit = 1;  // one light per region (emissive.split has its own test)
     LocalLights ll = resolveLocalLights(s, st);
     REQUIRE(ll.lights.size() == 4);  // spot, point, 2 area lights
     CHECK(ll.sceneLights == 2);
@@ -207,6 +208,71 @@ TEST_CASE("local lights: area lights from regions, culling by influence sphere, 
     // A sphere straddling a frustum plane is kept, one fully outside is not.
     CHECK(sphereInFrustum(proj * view, {0, 1.5f, 8.5f}, 1.0f));
     CHECK_FALSE(sphereInFrustum(proj * view, {0, 1.5f, 12.0f}, 1.0f));
+}
+
+TEST_CASE("emissive.split: each region's rectangle becomes n x n lights that tile it with its power and reach; "
+          "auto cuts in two while the pieces fit emissive.max_lights") {
+    Scene s = emitterScene();
+    Settings st;
+    st.light.emissiveSplit = 1;
+    const LocalLights whole = resolveLocalLights(s, st);
+    REQUIRE(whole.lights.size() == 2);
+    CHECK(whole.emissiveSplit == 1);
+    for (int n : {2, 3}) {
+        st.light.emissiveSplit = n;
+        const LocalLights ll = resolveLocalLights(s, st);
+        CHECK(ll.emissiveSplit == n);
+        REQUIRE(ll.lights.size() == std::size_t(2 * n * n));
+        for (std::size_t r = 0; r < 2; ++r) {
+            // The region's rectangle from its own light: centre c, half extents U, V.
+            const LocalLight& W = whole.lights[r];
+            const glm::dvec3 c(W.shape.centerRadius), U(W.shape.halfU), V(W.shape.halfV);
+            const glm::dvec3 nrm = glm::normalize(glm::cross(U, V));
+            glm::dvec3 power(0.0);
+            double area = 0;
+            // Every point of a fine grid over the rectangle lies in exactly one piece.
+            const int g = 24;
+            std::vector<int> cover(std::size_t(g * g), 0);
+            for (int k = 0; k < n * n; ++k) {
+                const LocalLight& L = ll.lights[r * std::size_t(n * n) + std::size_t(k)];
+                CHECK(int(L.gpu.directionType.w) == RTGI_LIGHT_AREA);
+                const glm::dvec3 pc(L.shape.centerRadius), pu(L.shape.halfU), pv(L.shape.halfV);
+                CHECK(glm::length(pu) == doctest::Approx(glm::length(U) / n).epsilon(1e-5));
+                CHECK(glm::length(pv) == doctest::Approx(glm::length(V) / n).epsilon(1e-5));
+                CHECK(std::abs(glm::dot(pc - c, nrm)) < 1e-5);  // in the panel's plane
+                CHECK(L.shape.halfV.w == float(std::max(1, 4 / n)));  // soft-shadow rays per side: 4x4 over the panel
+                CHECK(glm::dot(glm::dvec3(L.gpu.directionType), nrm) == doctest::Approx(1.0));
+                // The shadow origin sits in front of the piece's own centre.
+                const glm::dvec3 o(L.gpu.positionRange);
+                CHECK(glm::length(o - pc - nrm * glm::dot(o - pc, nrm)) < 1e-5);
+                CHECK(glm::dot(o - pc, nrm) > 0.0);
+                const double a = 4.0 * glm::length(pu) * glm::length(pv);
+                area += a;
+                power += glm::dvec3(L.gpu.colorIntensity);
+                // The cut must not move where the panel's light is culled.
+                CHECK(L.influence == doctest::Approx(W.influence));
+                for (int j = 0; j < g; ++j)
+                    for (int i = 0; i < g; ++i) {
+                        const glm::dvec3 x = c + U * ((i + 0.5) / g * 2 - 1) + V * ((j + 0.5) / g * 2 - 1);
+                        const double su = glm::dot(x - pc, pu) / glm::dot(pu, pu), sv = glm::dot(x - pc, pv) / glm::dot(pv, pv);
+                        if (std::abs(su) <= 1.0 && std::abs(sv) <= 1.0) ++cover[std::size_t(j * g + i)];
+                    }
+            }
+            CHECK(area == doctest::Approx(4.0 * glm::length(U) * glm::length(V)).epsilon(1e-5));
+            for (int ch = 0; ch < 3; ++ch)
+                CHECK(power[ch] == doctest::Approx(double(W.gpu.colorIntensity[ch])).epsilon(1e-5));
+            CHECK(std::count(cover.begin(), cover.end(), 1) == g * g);
+        }
+    }
+    // auto: two regions -> 8 pieces fit 32 lights (split 2); with a cap of 7 they do not (split 1).
+    st.light.emissiveSplit = 0;
+    CHECK(resolveLocalLights(s, st).emissiveSplit == 2);
+    CHECK(resolveLocalLights(s, st).lights.size() == 8);
+    st.light.maxAreaLights = 7;
+    CHECK(resolveLocalLights(s, st).emissiveSplit == 1);
+    CHECK(resolveLocalLights(s, st).lights.size() == 2);
+    st.light.maxAreaLights = 8;
+    CHECK(resolveLocalLights(s, st).emissiveSplit == 2);
 }
 
 namespace {

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Issue 26, session 14 (docs/lights.md "Penumbrae from several origins"): emissive.split on the device.
+# 1. The original Cornell box from view=front (480x270, 4096-path full reference, reference.split=on) with
+#    emissive.split 1, auto (2), 3 and 4 -> $OUT/cb.txt (interior relative RMSE, its direct and indirect parts).
+# 2. Frames at 1080p (common.sh: medians of 100 frames after 20), two repetitions, the Cornell box front with
+#    split 1, 2, 3 and 4, and the per-pass cost of the passes the split multiplies (direct, shadows, RSM, injection)
+#    -> $OUT/frames.md.
+# Run from the repo root: BENCH=./build/rtgi-bench OUT=/tmp/out SCENES=../shared/scenes benchmarks/device/area_split.sh
+set -uo pipefail
+source "$(dirname "$0")/common.sh"
+C="$SCENES/cornell-box/cornell-box.gltf"
+REFCACHE=${REFCACHE:-$OUT/cbref}
+mkdir -p "$OUT/cb"
+cb() {
+  local n=$1; shift
+  "$BENCH" --scene "$C" --set view=front --res 480x270 --frames 20 --warmup 10 --no-images --reference \
+    --set reference=full --set reference.spp=4096 --set reference.split=on --set reference.cache="$REFCACHE" "$@" \
+    --out "$OUT/cb/$n" >"$OUT/cb/$n.log" 2>&1 || echo "FAILED $n"
+  python3 - "$OUT/cb/$n/results.json" "$n" >>"$OUT/cb.txt" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); e = r["error"]; c = r["config"]
+print(f'{sys.argv[2]:8s} split {c["emissive.split"]} coarse {c["lpv.coarse_iterations"]} interior rel RMSE '
+      f'{e["interior"]["rel_rmse"]:.4f} bias {e["interior"]["bias"]:.5f} direct {e["split"]["direct"]["interior"]["rel_rmse"]:.4f} '
+      f'indirect {e["split"]["indirect"]["interior"]["rel_rmse"]:.4f}')
+PY
+}
+cb auto
+cb split1 --set emissive.split=1
+cb split3 --set emissive.split=3
+cb split4 --set emissive.split=4
+for rep in 1 2; do
+  for n in 1 2 3 4; do one "$BENCH" "$OUT/f$rep" "cornell-split$n" --scene "$C" --set view=front --set emissive.split=$n; done
+done
+python3 - "$OUT" >"$OUT/frames.md" <<'PY'
+import json, pathlib, sys
+for p in sorted(pathlib.Path(sys.argv[1]).glob("f*/*/results.json")):
+    d = json.loads(p.read_text()); ps = {q["name"]: q["gpu_ms"]["median"] for q in d["passes"]}
+    pick = {k: round(v, 3) for k, v in ps.items() if "/" not in k and any(s in k for s in ("direct", "shadow", "rsm", "inject"))}
+    slow = {q["name"]: round(q["gpu_ms"]["max"], 2) for q in d["passes"] if q["gpu_ms"]["max"] > 2.0}
+    print(f'{str(p.parent.relative_to(sys.argv[1])):24s} frame {d["total_ms"]:.3f} {pick} max>2ms {slow}')
+PY
+cat "$OUT/cb.txt" "$OUT/frames.md"
