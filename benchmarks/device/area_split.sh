@@ -9,25 +9,10 @@
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
 C="$SCENES/cornell-box/cornell-box.gltf"
-REFCACHE=${REFCACHE:-$OUT/cbref}
-mkdir -p "$OUT/cb"
-cb() {
-  local n=$1; shift
-  "$BENCH" --scene "$C" --set view=front --res 480x270 --frames 20 --warmup 10 --no-images --reference \
-    --set reference=full --set reference.spp=4096 --set reference.split=on --set reference.cache="$REFCACHE" "$@" \
-    --out "$OUT/cb/$n" >"$OUT/cb/$n.log" 2>&1 || echo "FAILED $n"
-  python3 - "$OUT/cb/$n/results.json" "$n" >>"$OUT/cb.txt" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1])); e = r["error"]; c = r["config"]
-print(f'{sys.argv[2]:8s} split {c["emissive.split"]} coarse {c["lpv.coarse_iterations"]} interior rel RMSE '
-      f'{e["interior"]["rel_rmse"]:.4f} bias {e["interior"]["bias"]:.5f} direct {e["split"]["direct"]["interior"]["rel_rmse"]:.4f} '
-      f'indirect {e["split"]["indirect"]["interior"]["rel_rmse"]:.4f}')
-PY
-}
-cb auto
-cb split1 --set emissive.split=1
-cb split3 --set emissive.split=3
-cb split4 --set emissive.split=4
+cornell_front auto
+cornell_front split1 --set emissive.split=1
+cornell_front split3 --set emissive.split=3
+cornell_front split4 --set emissive.split=4
 for rep in 1 2; do
   for n in 1 2 3 4; do one "$BENCH" "$OUT/f$rep" "cornell-split$n" --scene "$C" --set view=front --set emissive.split=$n; done
 done

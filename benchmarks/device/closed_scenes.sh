@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Issue 26, session 13 (docs/lpv.md "Closed scenes"): lpv.coarse_iterations=auto on the device.
 # 1. The original Cornell box from view=front (480x270, 4096-path full reference, reference.split=on): the defaults
-#    (auto: closed, 64 steps), the open count (16) and band 2 (lpv.sh_order=2) -> $OUT/cb.txt.
+#    (auto: closed, 48 steps), the open count (16) and band 2 (lpv.sh_order=2) -> $OUT/cb.txt.
 # 2. Frames at 1080p (common.sh: medians of 100 frames after 20), two repetitions: the Cornell box and the gallery
 #    with auto and with 16 steps, the atrium, restaurant and dragon (open: unchanged) -> $OUT/frames.md.
 # 3. Band 2's propagation cost at 1080p (30 frames): 64 steps with and without energy conservation, 16 steps, and
@@ -11,23 +11,10 @@ set -uo pipefail
 source "$(dirname "$0")/common.sh"
 C="$SCENES/cornell-box/cornell-box.gltf"
 OPEN=(--set lpv.coarse_iterations=16)
-mkdir -p "$OUT/cb" "$OUT/b2"
-cb() {
-  local n=$1; shift
-  "$BENCH" --scene "$C" --set view=front --res 480x270 --frames 20 --warmup 10 --no-images --reference \
-    --set reference=full --set reference.spp=4096 --set reference.split=on --set reference.cache="$OUT/cbref" "$@" \
-    --out "$OUT/cb/$n" >"$OUT/cb/$n.log" 2>&1 || echo "FAILED $n"
-  python3 - "$OUT/cb/$n/results.json" "$n" >>"$OUT/cb.txt" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1])); e = r["error"]; c = r["config"]
-print(sys.argv[2], "coarse", c["lpv.coarse_iterations"], "band", c["lpv.sh_order"], "enclosure", r.get("enclosure"),
-      "interior rel RMSE %.4f bias %.5f direct %.4f indirect %.4f" % (e["interior"]["rel_rmse"], e["interior"]["bias"],
-      e["split"]["direct"]["interior"]["rel_rmse"], e["split"]["indirect"]["interior"]["rel_rmse"]))
-PY
-}
-cb defaults
-cb open "${OPEN[@]}"
-cb band2 --set lpv.sh_order=2
+mkdir -p "$OUT/b2"
+cornell_front defaults
+cornell_front open "${OPEN[@]}"
+cornell_front band2 --set lpv.sh_order=2
 for rep in 1 2; do
   one "$BENCH" "$OUT/f$rep" cornell-auto --scene "$C" --set view=front
   one "$BENCH" "$OUT/f$rep" cornell-open --scene "$C" --set view=front "${OPEN[@]}"
