@@ -1,5 +1,7 @@
 // Half -> full resolution (SPEC 6.4): joint bilateral upsampling of any value
-// texture (FILTER_FORMAT), or plain bilinear when UPSAMPLE_DEPTH_AWARE is 0.
+// texture (FILTER_FORMAT), or plain bilinear when UPSAMPLE_DEPTH_AWARE is 0;
+// with UPSAMPLE_COPY a texel-for-texel copy of a texture of the output's size
+// (copyTexture: a dispatch in place of glCopyImageSubData).
 #include "lib/depth.glsl"
 #include "lib/filter_shared.h"
 #include "lib/filter.glsl"
@@ -22,7 +24,9 @@ void main() {
     ivec2 size = imageSize(uOut);
     if (any(greaterThanEqual(p, size))) return;
     vec2 uv = (vec2(p) + 0.5) / vec2(size);
-#if UPSAMPLE_DEPTH_AWARE
+#if defined(UPSAMPLE_COPY)
+    imageStore(uOut, p, texelFetch(uLow, p, 0));
+#elif UPSAMPLE_DEPTH_AWARE
     float dFull = texelFetch(uFullDepth, p, 0).r;
     imageStore(uOut, p, upsampleJoint(uLow, uLowDepth, uv, dFull, false, vec3(0.0)));
 #else

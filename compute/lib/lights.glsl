@@ -176,9 +176,9 @@ vec3 lightShapePoint(vec3 centre, vec3 u, vec3 v, int k, int m, vec2 xi) {
 // a point l on the light crosses a blocker at distance r_B from o at
 // b = p' + (l − p')·(1 − r_B/|p' − o|), so the shadow map looked up in b's
 // direction answers "is that ray blocked" exactly for a blocker at r_B.
-// The rays go to an m x m grid on the light, m = sh.halfV.w (4 when 0): a
-// piece of an emissive.split panel takes 4/n per side, so the n² pieces
-// together sample the panel's 4x4 grid, each from its own map.
+// The rays go to an m x m grid on the light, m = sh.halfV.w: 4 for a whole
+// light (or 0), 2 for a piece of an emissive.split panel, so the 2 x 2
+// pieces together sample the panel's 4x4 grid, each from its own map.
 // 1. blocker search: max(m², 4) rays p' -> l at four fractions s of the way
 //    (m = 4: a Latin square over the grid), the mean distance r_B of texels
 //    closer to o than the receiver's tangent plane in that direction (no
@@ -253,9 +253,9 @@ float localShadowSoft(sampler2DArrayShadow maps, sampler2DArray depths, GpuLight
         v = cross(w, t) * h;
     }
     vec3 q = p + n * (g.cone.w * dist);
-    int m = sh.halfV.w > 0.0 ? int(sh.halfV.w) : 4;  // uniform per light: no divergence
-    if (m >= 4) return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 4);
-    if (m >= 2) return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 2);
-    return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 1);
+    // Two instances only (4 and 2 rays per side; uniform per light, no divergence): a third (1) or one
+    // with a run-time m made the whole direct pass 1.5x slower on the H100 (docs/lights.md).
+    if (sh.halfV.w == 0.0 || sh.halfV.w >= 4.0) return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 4);
+    return softShadowGrid(maps, depths, g, centre, u, v, q, n, sh.halfU.w, xi, 2);
 }
 #endif

@@ -71,7 +71,7 @@ RTGI_STRUCT(GpuLight) {
 RTGI_STRUCT(GpuLightShape) {
     vec4 centerRadius;  // xyz rectangle centre (area lights), w: source radius (point/spot; area: 0)
     vec4 halfU;         // xyz half extent along the rectangle's first axis, w: shadow far plane (near = far/1000)
-    vec4 halfV;         // xyz half extent along its second axis (halfU × halfV along the emitting normal), w: soft-shadow rays per side (0: 4)
+    vec4 halfV;         // xyz half extent along its second axis (halfU × halfV along the emitting normal), w: soft-shadow rays per side, 4 or 2 (0: 4)
 };
 
 #define RTGI_LIGHT_POINT 1

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace rtgi {
 
@@ -106,6 +107,16 @@ const gl::Texture& TemporalFilter::run(gl::ProgramCache& programs, gl::MemoryLed
     cur_ = next;
     valid_ = true;
     return value_[cur_];
+}
+
+void copyTexture(gl::ProgramCache& programs, const FilterFormat& fmt, const gl::Texture& src, const gl::Texture& dst) {
+    if (src.desc() != dst.desc()) throw std::logic_error("copyTexture: '" + src.label() + "' and '" + dst.label() + "' differ");
+    gl::Defines defs = formatDefines(fmt);
+    defs.push_back({"UPSAMPLE_COPY", ""});
+    const gl::Program& prog = programs.compute("filter/upsample.comp", defs);
+    glBindTextureUnit(RTGI_FILTER_TEX_LOW, src.id());
+    glBindImageTexture(RTGI_FILTER_IMG_OUT, dst.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, fmt.internal);
+    gl::dispatch(prog, dst.width(), dst.height());
 }
 
 void upsample(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,

@@ -74,6 +74,11 @@ private:
     bool valid_ = false;
 };
 
+// dst = src texel for texel (same size and format), as a dispatch: glCopyImageSubData in the frame left the
+// GPU idle for 5-36 ms inside later passes' scopes on the H200 (docs/BENCHMARKS.md "Session 14 device run").
+// The caller orders src's producer (texture fetch); dst's readers need an image-access barrier.
+void copyTexture(gl::ProgramCache& programs, const FilterFormat& fmt, const gl::Texture& src, const gl::Texture& dst);
+
 // Half -> full resolution into `out` (allocated at fullDepth's size).
 void upsample(gl::ProgramCache& programs, gl::MemoryLedger& ledger, const std::string& label,
               const FilterFormat& fmt, const gl::Texture& low, const gl::Texture& lowDepth,

@@ -105,8 +105,9 @@ LocalLights resolveLocalLights(const Scene& scene, const Settings& settings, int
                 L.gpu.cone = glm::vec4(0, 0, -1, 0);
                 L.shape.centerRadius = glm::vec4(glm::vec3(centre), 0);
                 L.shape.halfU = glm::vec4(glm::vec3(halfU), 0);
-                // 4/n soft-shadow rays per side: the pieces sample the panel's 4x4 grid together.
-                L.shape.halfV = glm::vec4(glm::vec3(halfV), float(std::max(1, 4 / n)));
+                // Soft-shadow rays per side: 4 for a whole panel, 2 for a piece (2 x 2 pieces sample the
+                // panel's 4x4 grid together; finer splits trace more).
+                L.shape.halfV = glm::vec4(glm::vec3(halfV), n == 1 ? 4.0f : 2.0f);
                 L.peak = maxComponent(i0);
                 // The pieces reach as far as the whole region would: the
                 // cut must not move where the panel's light is culled.

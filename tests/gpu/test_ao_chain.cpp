@@ -66,6 +66,27 @@ TEST_CASE("AO of every variant on a plane is 1 within 0.02 (16 samples, blur + t
         }
 }
 
+TEST_CASE("AO at full resolution ending in the temporal filter: res.ao holds the filter's output (copied), 1 on a plane") {
+    GpuFixture gpu;
+    gl::Profiler prof(false);
+    Scene s = floorScene(30, glm::vec3(0.5f), false);
+    Settings st = aoSettings(AoSettings::Variant::Gtao);
+    st.ao.halfResolution = false;  // blur, temporal: the last stage's output is copied into res.ao
+    REQUIRE(st.ao.temporal);
+    const glm::ivec2 res(48, 32);
+    auto r = renderFrames(s, st, res, prof, 3);
+    FloatImage ao = readTexture(r->resources().ao), depth = readTexture(r->resources().gbuffer.linearDepth);
+    int floor = 0;
+    for (int y = 1; y < res.y - 1; ++y)
+        for (int x = 2; x < res.x - 2; ++x)
+            if (depth.at(x, y, 0) > 0 && depth.at(x, y + 1, 0) > 0) {
+                INFO("pixel " << x << "," << y);
+                CHECK(std::abs(ao.at(x, y, 0) - 1.0f) <= 0.02f);
+                ++floor;
+            }
+    CHECK(floor > res.x * res.y / 4);
+}
+
 TEST_CASE("zero or NaN G-buffer normals never produce NaN AO") {
     GpuFixture gpu;
     gl::Profiler prof(false);

@@ -218,6 +218,7 @@ TEST_CASE("emissive.split: each region's rectangle becomes n x n lights that til
     const LocalLights whole = resolveLocalLights(s, st);
     REQUIRE(whole.lights.size() == 2);
     CHECK(whole.emissiveSplit == 1);
+    for (auto& L : whole.lights) CHECK(L.shape.halfV.w == 4.0f);
     for (int n : {2, 3}) {
         st.light.emissiveSplit = n;
         const LocalLights ll = resolveLocalLights(s, st);
@@ -240,7 +241,7 @@ TEST_CASE("emissive.split: each region's rectangle becomes n x n lights that til
                 CHECK(glm::length(pu) == doctest::Approx(glm::length(U) / n).epsilon(1e-5));
                 CHECK(glm::length(pv) == doctest::Approx(glm::length(V) / n).epsilon(1e-5));
                 CHECK(std::abs(glm::dot(pc - c, nrm)) < 1e-5);  // in the panel's plane
-                CHECK(L.shape.halfV.w == float(std::max(1, 4 / n)));  // soft-shadow rays per side: 4x4 over the panel
+                CHECK(L.shape.halfV.w == 2.0f);  // soft-shadow rays per side of a piece (4 for a whole panel)
                 CHECK(glm::dot(glm::dvec3(L.gpu.directionType), nrm) == doctest::Approx(1.0));
                 // The shadow origin sits in front of the piece's own centre.
                 const glm::dvec3 o(L.gpu.positionRange);

@@ -407,9 +407,8 @@ public:
         if (lastStage(ctx.settings.ao) == Stage::Temporal) {
             // The history must survive the next frame's passes, so res.ao gets a copy.
             // Producer: the temporal dispatch above (image stores).
-            glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            glCopyImageSubData(filtered.id(), GL_TEXTURE_2D, 0, 0, 0, 0, ctx.res.ao.id(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                               filtered.width(), filtered.height(), 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+            copyTexture(ctx.programs, kAoFormat, filtered, ctx.res.ao);
             c.current = &ctx.res.ao;
         }
     }

@@ -675,7 +675,7 @@ private:
                                      b.count, c.cache.volume.target(), ls.shOrder, st.stats, 1);
                     st.facesInjected += b.count;
                 }
-                lpv::copyInjectCache(c.cache.volume, c.volumes);
+                lpv::copyInjectCache(ctx.programs, c.cache.volume, c.volumes);
             } else if (coarsest) {
                 glClearNamedBufferSubData(st.stats.id(), GL_R32UI, sizeof(zero), sizeof(zero), GL_RED_INTEGER,
                                           GL_UNSIGNED_INT, &zero);

@@ -312,6 +312,7 @@ void Volumes::ensureRasterTargets() {
 gl::Defines formatDefines(GLenum format, int shOrder) {
     gl::Defines d;
     if (format == GL_RGBA32F) d = {{"RTGI_LPV_FORMAT", "rgba32f"}};
+    else if (format == GL_R32F) d = {{"RTGI_LPV_FORMAT", "r32f"}};  // the fp32 accumulation volumes (lpv::copyInjectCache)
     else d = {{"RTGI_LPV_FORMAT", "rgba16f"}, {"RTGI_LPV_HALF", ""}};
     if (shOrder == 2) d.push_back({"RTGI_LPV_SH2", ""});
     return d;
@@ -446,20 +447,26 @@ std::vector<gl::NamedTextureDesc> injectCacheTextures(glm::ivec3 g, int shOrder)
     return t;
 }
 
-void copyInjectCache(const InjectCache& cache, Volumes& v) {
-    // Producers: the injections into the cache (image atomics) and the zeroing of v.inject by
-    // lpv.pack (image stores). No barrier bit names glCopyImageSubData: all of them.
-    glMemoryBarrier(GL_ALL_BARRIER_BITS);
-    auto copy = [](const gl::Texture& src, const gl::Texture& dst) {
-        if (src.desc() != dst.desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
-        glCopyImageSubData(src.id(), GL_TEXTURE_3D, 0, 0, 0, 0, dst.id(), GL_TEXTURE_3D, 0, 0, 0, 0, dst.width(),
-                           dst.height(), dst.depth());
+void copyInjectCache(gl::ProgramCache& programs, const InjectCache& cache, Volumes& v) {
+    // Producers: the injections into the cache (image atomics, read here as textures) and the zeroing of
+    // v.inject by lpv.pack (image stores, overwritten here by image stores).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    // Dispatches, not glCopyImageSubData: with the copy in the frame the H200 idled 5-36 ms inside later
+    // passes' scopes (docs/BENCHMARKS.md "Session 14 device run").
+    auto copy = [&](const Rgb& from, Rgb& to) {
+        for (std::size_t c = 0; c < 3; ++c)
+            if (from[c].desc() != to[c].desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
+        copyVolumes(programs, from, to, {to[0].width(), to[0].height(), to[0].depth()}, to[0].format());
     };
-    for (std::size_t c = 0; c < 3; ++c) copy(cache.rgb[c], v.inject[c]);
+    copy(cache.rgb, v.inject);
     if (v.shOrder == 2) {
-        for (std::size_t c = 0; c < 3; ++c) copy(cache.hi[c], v.injectHi[c]);
-        copy(cache.last, v.injectLast);
+        copy(cache.hi, v.injectHi);
+        if (cache.last.desc() != v.injectLast.desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
+        glCopyImageSubData(cache.last.id(), GL_TEXTURE_3D, 0, 0, 0, 0, v.injectLast.id(), GL_TEXTURE_3D, 0, 0, 0, 0,
+                           v.injectLast.width(), v.injectLast.height(), v.injectLast.depth());
     }
+    // Consumer: the frame's further injections (image atomics) add onto the copy.
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
 void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v) {

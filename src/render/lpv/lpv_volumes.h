@@ -160,7 +160,7 @@ struct InjectCache {
 std::vector<gl::NamedTextureDesc> injectCacheTextures(glm::ivec3 grid, int shOrder);
 // v.inject (and band 2's) = the cache: a copy, on which the frame's other injections add.
 // v.inject must not be in use by a pending dispatch other than the ones the barrier orders.
-void copyInjectCache(const InjectCache& cache, Volumes& v);
+void copyInjectCache(gl::ProgramCache& programs, const InjectCache& cache, Volumes& v);
 // fp32 accumulation -> step[0] in the propagation format; zeroes v.inject behind
 // (the first propagation step starts accum from step[0]).
 void packLight(gl::ProgramCache& programs, const gl::Buffer& ubo, Volumes& v);
