@@ -79,7 +79,7 @@ LocalLights resolveLocalLights(const Scene& scene, const Settings& settings, int
         // shadow map and RSM, so the penumbrae are searched from n² origins.
         const std::size_t kept = std::size_t(std::count(keep.begin(), keep.end(), char(1)));
         int n = settings.light.emissiveSplit;
-        if (n == 0) n = kept * 4 <= cap ? 2 : 1;
+        if (n == 0) n = kept > 0 && kept * 4 <= cap ? 2 : 1;
         out.emissiveSplit = n;
         int r = 0;
         for (std::size_t k = 0; k < regions.size(); ++k) {

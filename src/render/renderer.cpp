@@ -131,6 +131,9 @@ void Renderer::resolveSceneAutos() {
 void Renderer::resolveLights() {
     skipped_ = plan_.skipped();
     localLights_ = resolveLocalLights(scene_, settings_);
+    // emissive.split=auto: settings() (and results.json "config") show the value in effect, which also
+    // keeps the light count fixed while a moving scene re-resolves its lights.
+    if (settings_.light.emissiveSplit == 0) settings_.light.emissiveSplit = localLights_.emissiveSplit;
     for (auto& [light, reason] : localLights_.leftOut) skipped_.push_back({"light:" + light, reason});
     res_.localShadowLayers = std::max(1, localLights_.shadowLayers);
     res_.localRsmSize = localRsmSize(settings_, localLights_.faces);

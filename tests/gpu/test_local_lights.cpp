@@ -651,6 +651,7 @@ TEST_CASE("The original Cornell box (emissive panel, no sun) runs with shadows a
     for (const char* p : {"shadow.local", "direct", "lpv.rsm", "lpv.inject", "lpv.propagate", "lpv.apply"})
         CHECK_MESSAGE(r->findPass(p) != nullptr, p);
     CHECK(r->localLightsShadowed() == 4);  // the panel, as 2 x 2 area lights (emissive.split=auto)
+    CHECK(r->settings().light.emissiveSplit == 2);  // auto, shown resolved
     FloatImage direct = readTexture(r->resources().direct), indirect = readTexture(r->resources().indirectDiffuse);
     double d = 0, ir = 0, ig = 0;
     for (int y = 0; y < 36; ++y)

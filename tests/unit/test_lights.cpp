@@ -274,6 +274,9 @@ TEST_CASE("emissive.split: each region's rectangle becomes n x n lights that til
     CHECK(resolveLocalLights(s, st).lights.size() == 2);
     st.light.maxAreaLights = 8;
     CHECK(resolveLocalLights(s, st).emissiveSplit == 2);
+    st.light.maxAreaLights = 32;
+    st.light.emissiveLights = false;  // no emissive light: nothing to split
+    CHECK(resolveLocalLights(s, st).emissiveSplit == 1);
 }
 
 namespace {
