@@ -700,3 +700,33 @@ TEST_CASE("The original Cornell box with the defaults is within relative RMSE 0.
     CHECK(shadowed);
     CHECK(lpv);
 }
+
+// Issue 26 acceptance on llvmpipe: the classic view of the original Cornell
+// box (view=front: through the open side, the panel in the picture) with the
+// defaults is within interior relative RMSE 0.30 of the full path-traced
+// reference at 96x96 with 256 paths. The reference's noise only raises the
+// measured error, so the bound holds for the noise-free error too.
+TEST_CASE("The original Cornell box from view=front with the defaults is within relative RMSE 0.30 of the path tracer") {
+    const std::string scene = std::string(RTGI_SHARED_SCENES) + "/cornell-box/cornell-box.gltf";
+    if (!std::ifstream(scene)) {
+        MESSAGE("skipped: " << scene << " is not present");
+        return;
+    }
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("rtgi-cornell-front-" + std::to_string(getpid()));
+    const std::string cmd = std::string(RTGI_BENCH_EXE) + " --scene " + scene +
+                            " --set view=front --res 96x96 --frames 1 --warmup 1 --no-images --reference"
+                            " --set reference=full --set reference.spp=256 --set reference.cache=off --out " +
+                            dir.string() + " > /dev/null 2>&1";
+    int rc = std::system(cmd.c_str());
+    REQUIRE((WIFEXITED(rc) && WEXITSTATUS(rc) == 0));
+    nlohmann::json j = nlohmann::json::parse(std::ifstream(dir / "results.json"));
+    fs::remove_all(dir);
+    const auto& e = j.at("error");
+    REQUIRE(e.at("kind").get<std::string>() == "full");
+    const double rel = e.at("interior").at("rel_rmse").get<double>();
+    MESSAGE("interior relative RMSE " << rel << " (reference noise " << e.at("reference").at("mean_stderr").get<double>()
+                                      << "), emissive.split " << j.at("config").at("emissive.split").dump());
+    CHECK(rel <= 0.30);
+    CHECK(j.at("config").at("emissive.split").dump() == "2");  // auto: the panel as 2 x 2 lights
+}
