@@ -65,8 +65,8 @@ public:
 private:
     gl::Texture value_[2], depth_[2];
     // The disocclusion counter, three in turn, so that a frame's clear never meets a buffer the previous frame's
-    // dispatch may still use (a suspect, not confirmed on the device, for the Cornell box's ao.temporal stall:
-    // docs/lpv.md "Closed scenes").
+    // dispatch may still use (session 13's suspect for the Cornell box's ao.temporal stall, whose causes were
+    // elsewhere: docs/lpv.md "Closed scenes"; kept, it costs two words).
     static constexpr int kCountBuffers = 3;
     gl::Buffer counts_[kCountBuffers];
     int lastCount_ = -1;
