@@ -282,3 +282,15 @@ TEST_CASE_FIXTURE(GpuFixture, "LPV sun injection cache: kept while static, redra
         CHECK(kept(p.cached) == 1.0);
     }
 }
+
+TEST_CASE_FIXTURE(GpuFixture, "LPV injection cache with band 2 (lpv.sh_order=2): the frames taken from the cache equal the uncached ones") {
+    // Band 2 copies three more volumes out of the cache (hi r, g, b: a dispatch; last: glCopyImageSubData).
+    Settings on = cacheSettings(true), off = cacheSettings(false);
+    applyAssignment(on, "lpv.sh_order=2");
+    applyAssignment(off, "lpv.sh_order=2");
+    Pair p(cacheScene(), on, off);
+    for (int f = 0; f < 3; ++f) p.render();  // each render checks the cached frame against the uncached one
+    CHECK(p.injected() == 0.0);
+    CHECK(p.fromCache() > 0.0);
+    CHECK(ledgerBytes(p.cached, "lpv.inject_cache_hi") > 0);
+}

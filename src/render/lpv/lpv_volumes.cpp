@@ -449,8 +449,9 @@ std::vector<gl::NamedTextureDesc> injectCacheTextures(glm::ivec3 g, int shOrder)
 
 void copyInjectCache(gl::ProgramCache& programs, const InjectCache& cache, Volumes& v) {
     // Producers: the injections into the cache (image atomics, read here as textures) and the zeroing of
-    // v.inject by lpv.pack (image stores, overwritten here by image stores).
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    // v.inject by lpv.pack (image stores, overwritten here by image stores). Band 2's last volume is still
+    // copied by glCopyImageSubData, which no barrier bit names: all of them.
+    glMemoryBarrier(v.shOrder == 2 ? GL_ALL_BARRIER_BITS : GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     // Dispatches, not glCopyImageSubData: with the copy in the frame the H200 idled 5-36 ms inside later
     // passes' scopes (docs/BENCHMARKS.md "Session 14 device run").
     auto copy = [&](const Rgb& from, Rgb& to) {
