@@ -1,6 +1,7 @@
 #include "scene/enclosure.h"
 
 #include "scene/bvh.h"
+#include "scene/color.h"
 #include "scene/emitters.h"
 #include "scene/scene.h"
 
@@ -14,7 +15,6 @@
 namespace rtgi {
 
 namespace {
-double luminance(glm::vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 // One source of direct light as the measure sees it: a direction to it from p, its distance (infinite
 // for the sun) and its unshadowed irradiance at p on a surface with normal n.
@@ -29,7 +29,7 @@ Source sourceAt(const Light& l, glm::vec3 p, glm::vec3 n) {
     if (l.type == LightType::Directional) {
         s.dir = -glm::normalize(l.direction);
         s.dist = 1e30f;
-        s.irradiance = l.intensity * luminance(l.color) * std::max(0.0f, glm::dot(n, s.dir));
+        s.irradiance = l.intensity * luminance(l.color.x, l.color.y, l.color.z) * std::max(0.0f, glm::dot(n, s.dir));
         return s;
     }
     const glm::vec3 d = l.position - p;
@@ -43,7 +43,7 @@ Source sourceAt(const Light& l, glm::vec3 p, glm::vec3 n) {
         const double ci = std::cos(l.innerCone), co = std::cos(l.outerCone);
         cone = std::clamp((c - co) / std::max(ci - co, 1e-6), 0.0, 1.0);
     }
-    s.irradiance = l.intensity * luminance(l.color) * cone * std::max(0.0f, glm::dot(n, s.dir)) / d2;
+    s.irradiance = l.intensity * luminance(l.color.x, l.color.y, l.color.z) * cone * std::max(0.0f, glm::dot(n, s.dir)) / d2;
     return s;
 }
 }  // namespace
@@ -105,7 +105,7 @@ Enclosure measureEnclosure(const Scene& scene, int rays, std::uint32_t seed) {
                     src.dist = std::sqrt(d2);
                     src.dir = d / src.dist;
                     // Either side of the triangle may face p (winding is not the emitting side's guarantee here).
-                    src.irradiance = luminance(em.radiance) * em.area * std::abs(glm::dot(en, src.dir)) *
+                    src.irradiance = luminance(em.radiance.x, em.radiance.y, em.radiance.z) * em.area * std::abs(glm::dot(en, src.dir)) *
                                      std::max(0.0f, glm::dot(nrm, src.dir)) / d2;
                     src.dist *= 0.999f;  // stop short of the emitter itself
                 }

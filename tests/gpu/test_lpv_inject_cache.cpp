@@ -284,7 +284,7 @@ TEST_CASE_FIXTURE(GpuFixture, "LPV sun injection cache: kept while static, redra
 }
 
 TEST_CASE_FIXTURE(GpuFixture, "LPV injection cache with band 2 (lpv.sh_order=2): the frames taken from the cache equal the uncached ones") {
-    // Band 2 copies three more volumes out of the cache (hi r, g, b: a dispatch; last: glCopyImageSubData).
+    // Band 2 copies four more volumes out of the cache (hi r, g, b in one dispatch, last in another).
     Settings on = cacheSettings(true), off = cacheSettings(false);
     applyAssignment(on, "lpv.sh_order=2");
     applyAssignment(off, "lpv.sh_order=2");

@@ -449,22 +449,27 @@ std::vector<gl::NamedTextureDesc> injectCacheTextures(glm::ivec3 g, int shOrder)
 
 void copyInjectCache(gl::ProgramCache& programs, const InjectCache& cache, Volumes& v) {
     // Producers: the injections into the cache (image atomics, read here as textures) and the zeroing of
-    // v.inject by lpv.pack (image stores, overwritten here by image stores). Band 2's last volume is still
-    // copied by glCopyImageSubData, which no barrier bit names: all of them.
-    glMemoryBarrier(v.shOrder == 2 ? GL_ALL_BARRIER_BITS : GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    // v.inject by lpv.pack (image stores, overwritten here by image stores).
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     // Dispatches, not glCopyImageSubData: with the copy in the frame the H200 idled 5-36 ms inside later
     // passes' scopes (docs/BENCHMARKS.md "Session 14 device run").
+    auto check = [](const gl::Texture& from, const gl::Texture& to) {
+        if (from.desc() != to.desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
+    };
     auto copy = [&](const Rgb& from, Rgb& to) {
-        for (std::size_t c = 0; c < 3; ++c)
-            if (from[c].desc() != to[c].desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
+        for (std::size_t c = 0; c < 3; ++c) check(from[c], to[c]);
         copyVolumes(programs, from, to, {to[0].width(), to[0].height(), to[0].depth()}, to[0].format());
     };
     copy(cache.rgb, v.inject);
     if (v.shOrder == 2) {
         copy(cache.hi, v.injectHi);
-        if (cache.last.desc() != v.injectLast.desc()) throw std::logic_error("lpv: injection cache and volume differ in layout");
-        glCopyImageSubData(cache.last.id(), GL_TEXTURE_3D, 0, 0, 0, 0, v.injectLast.id(), GL_TEXTURE_3D, 0, 0, 0, 0,
-                           v.injectLast.width(), v.injectLast.height(), v.injectLast.depth());
+        check(cache.last, v.injectLast);
+        gl::Defines d = formatDefines(v.injectLast.format());
+        d.push_back({"RTGI_LPV_COPY_ONE", ""});
+        const gl::Program& prog = programs.compute("lpv/copy.comp", d);
+        glBindTextureUnit(RTGI_LPV_TEX_SRC_R, cache.last.id());
+        glBindImageTexture(RTGI_LPV_IMG_DST_R, v.injectLast.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, v.injectLast.format());
+        gl::dispatch(prog, v.injectLast.width(), v.injectLast.height(), v.injectLast.depth());
     }
     // Consumer: the frame's further injections (image atomics) add onto the copy.
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

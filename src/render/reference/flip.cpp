@@ -1,5 +1,7 @@
 #include "render/reference/flip.h"
 
+#include "scene/color.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -469,7 +471,7 @@ FlipResult hdrFlip(const FloatImage& test, const FloatImage& ref, const FlipOpti
         for (std::size_t i = 0; i < in.use.size(); ++i)
             if (in.use[i]) {
                 const float* p = &in.ref[3 * i];
-                double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+                double y = luminance(p[0], p[1], p[2]);
                 lum.push_back(y);
                 if (y > 0) positive.push_back(y);
             }

@@ -1,5 +1,7 @@
 #include "render/reference/metrics.h"
 
+#include "scene/color.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,7 +15,7 @@ namespace rtgi {
 double pixelLuminance(const FloatImage& img, std::size_t i, int channels) {
     const float* p = &img.data[i * std::size_t(img.channels)];
     if (channels == 1 || img.channels == 1) return p[0];
-    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    return luminance(p[0], p[1], p[2]);
 }
 
 namespace {
